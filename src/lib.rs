@@ -1,0 +1,16 @@
+//! mx: a motion expression language, its interpreter, and a multibody dynamics
+//! engine with spline joints.
+//!
+//! Layers, each using only the ones listed before it (see ARCHITECTURE.md):
+//! `lie` → `spline` → `model` → `dynamics` → `motion` → `spacetime` → `io` → `lang`.
+//! Everything up to `io` is a library that knows nothing of the language.
+
+pub mod cancel;
+pub mod dynamics;
+pub mod io;
+pub mod lang;
+pub mod lie;
+pub mod model;
+pub mod motion;
+pub mod spacetime;
+pub mod spline;

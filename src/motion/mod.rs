@@ -1,0 +1,1 @@
+//! motion (being built).

@@ -1,0 +1,1 @@
+//! spacetime (being built).

@@ -1,0 +1,1 @@
+//! spline (being built).
