@@ -6,3 +6,5 @@ pub mod fit;
 
 pub use bspline::{BSplineBasis, BSplineCurve, MAX_DEGREE, SplineError};
 pub use fit::{fit_least_squares, fit_weighted};
+pub mod simm;
+pub use simm::SimmSpline;
