@@ -17,7 +17,9 @@ mod adjoint;
 mod crba;
 mod derivatives;
 mod energy;
+mod integrate;
 mod rnea;
+mod scene;
 mod workspace;
 
 pub use aba::{forward_dynamics, forward_dynamics_ext};
@@ -25,7 +27,9 @@ pub use adjoint::torque_sq_gradient;
 pub use crba::mass_matrix;
 pub use derivatives::rnea_derivatives;
 pub use energy::{kinetic_energy, potential_energy};
+pub use integrate::{Integrator, State, Trajectory, simulate};
 pub use rnea::{inverse_dynamics, inverse_dynamics_ext, nonlinear_effects};
+pub use scene::{ExternalForce, LimitPenalty, Scene, SceneWorkspace, Spring};
 pub use workspace::Workspace;
 
 use crate::model::ModelError;
