@@ -163,7 +163,7 @@ pub struct BvhFile {
 impl BvhFile {
     pub fn frame_count(&self) -> usize {
         let n = self.skeleton.channel_count();
-        if n == 0 { 0 } else { self.values.len() / n }
+        self.values.len().checked_div(n).unwrap_or(0)
     }
 
     /// The values of one frame.
@@ -196,20 +196,18 @@ impl BvhFile {
     /// Returns how many wraps were removed.
     pub fn unwrap_rotations(&mut self) -> usize {
         let mut wraps = 0;
-        let mut c = 0;
         let kinds: Vec<Channel> = self
             .skeleton
             .joints
             .iter()
             .flat_map(|j| j.channels.clone())
             .collect();
-        for kind in kinds {
+        for (c, kind) in kinds.into_iter().enumerate() {
             if kind.is_rotation() {
                 let mut col = self.column(c);
                 wraps += unwrap_degrees(&mut col);
                 self.set_column(c, &col);
             }
-            c += 1;
         }
         wraps
     }

@@ -248,8 +248,7 @@ fn parse_hierarchy(mut c: Cursor<'_>) -> Result<Skeleton, BvhError> {
     c.expect("HIERARCHY")?;
     let mut joints: Vec<BvhJoint> = Vec::new();
     let mut stack: Vec<Open> = Vec::new();
-    loop {
-        let Some(t) = c.peek() else { break };
+    while let Some(t) = c.peek() {
         c.pos += 1;
         let kw = t.text.to_ascii_uppercase();
         match kw.as_str() {

@@ -17,7 +17,7 @@ pub fn write_file(file: &BvhFile, path: &Path) -> Result<(), BvhError> {
 /// The text of a BVH file.
 pub fn to_string(file: &BvhFile) -> Result<String, BvhError> {
     let nch = file.skeleton.channel_count();
-    if nch == 0 && !file.values.is_empty() || nch > 0 && file.values.len() % nch != 0 {
+    if nch == 0 && !file.values.is_empty() || nch > 0 && !file.values.len().is_multiple_of(nch) {
         return Err(BvhError::Invalid(format!(
             "{} values do not fill whole frames of {nch} channels",
             file.values.len()
