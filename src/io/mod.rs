@@ -1,1 +1,3 @@
 //! io (being built).
+
+pub mod plot;
