@@ -199,14 +199,10 @@ pub fn terminal(series: &[Series], width: usize, height: usize) -> String {
     };
     for s in series {
         for (a, b) in &s.gaps {
-            for c in col(*a)..=col(*b) {
-                grid[h - 1][c] = '░';
-            }
+            grid[h - 1][col(*a)..=col(*b)].fill('░');
         }
         for (a, b) in &s.conflicts {
-            for c in col(*a)..=col(*b) {
-                grid[h - 1][c] = '!';
-            }
+            grid[h - 1][col(*a)..=col(*b)].fill('!');
         }
     }
     for (i, s) in series.iter().enumerate() {
