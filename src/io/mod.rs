@@ -1,3 +1,4 @@
 //! io (being built).
 
 pub mod plot;
+pub mod viewer;

@@ -283,7 +283,7 @@ mod tests {
             pieces: vec![vec![(1.0, 2.0)]],
             ..Default::default()
         };
-        assert!(svg(&[one.clone()], "one point", 400, 300).is_ok());
+        assert!(svg(std::slice::from_ref(&one), "one point", 400, 300).is_ok());
         let nan = Series {
             name: "n".into(),
             pieces: vec![vec![(0.0, f64::NAN), (1.0, 1.0)]],
