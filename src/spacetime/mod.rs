@@ -1,1 +1,15 @@
-//! spacetime (being built).
+//! Spacetime transitions (Rose et al. 1996, §3): fill the interior gaps of a
+//! motion with cubic B-spline curves that minimise ∫Σwτ² dt, keep support
+//! limbs planted by IK, move the root kinematically, and cyclify loops.
+//!
+//! Layering: this module uses `spline`, `model`, `dynamics`, `motion`; it knows
+//! nothing of the language.
+
+pub mod basis;
+pub mod error;
+pub mod hermite;
+pub mod quadrature;
+pub mod transition;
+
+pub use error::SpError;
+pub use transition::{Continuity, EndState, TransitionCurve};
