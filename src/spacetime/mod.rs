@@ -13,3 +13,8 @@ pub mod transition;
 
 pub use error::SpError;
 pub use transition::{Continuity, EndState, TransitionCurve};
+pub mod planar2;
+pub mod torque;
+pub use torque::TorqueModel;
+pub mod objective;
+pub use objective::{GapDof, Objective, TransitionSettings};
