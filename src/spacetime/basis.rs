@@ -39,6 +39,13 @@ impl ClampedCubic {
         self.m
     }
 
+    /// The distinct knots t0 < … < t1 (ends of the polynomial pieces).
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let mut b = self.knots[DEGREE..self.knots.len() - DEGREE].to_vec();
+        b.dedup();
+        b
+    }
+
     pub fn is_empty(&self) -> bool {
         self.m == 0
     }

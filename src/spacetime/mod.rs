@@ -18,3 +18,5 @@ pub mod torque;
 pub use torque::TorqueModel;
 pub mod objective;
 pub use objective::{GapDof, Objective, TransitionSettings};
+pub mod solve;
+pub use solve::{GapReport, GroupSolution, SolveOptions, solve_group};

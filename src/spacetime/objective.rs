@@ -11,6 +11,7 @@ use super::error::{SpError, invalid};
 use super::quadrature::GaussLegendre;
 use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
+use nalgebra::DMatrix;
 
 /// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has
 /// the given states at the ends.
@@ -42,6 +43,47 @@ impl Default for TransitionSettings {
             continuity: Continuity::C1,
         }
     }
+}
+
+/// Quadrature nodes and weights for the curves of one group: Gauss rules on
+/// every piece between consecutive knots of any curve (so neither a gap end,
+/// where a curve meets its data with a jump in q̈, nor a knot, where q̈ kinks,
+/// lies inside a rule), `samples` points in all, shared in proportion to the
+/// length of each piece but at least 2 per piece. Fewer nodes than pieces
+/// would let the optimiser hide torque between nodes (aliasing): the curve
+/// would wiggle so that τ ≈ 0 exactly where it is sampled.
+pub fn composite_nodes(
+    curves: &[TransitionCurve],
+    samples: usize,
+) -> Result<(Vec<f64>, Vec<f64>), SpError> {
+    if samples == 0 {
+        return Err(invalid(
+            "samples: 0 gives no quadrature points; use samples: 1 or more (default 20)",
+        ));
+    }
+    let mut breaks: Vec<f64> = curves.iter().flat_map(|c| c.breakpoints()).collect();
+    breaks.sort_by(f64::total_cmp);
+    // merge knots closer than a relative 1e-12 (rounding of equal knots of different curves)
+    let span = breaks.last().copied().unwrap_or(0.0) - breaks.first().copied().unwrap_or(0.0);
+    breaks.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * span.max(1e-300));
+    let mut nodes = vec![];
+    let mut weights = vec![];
+    let mut rules: Vec<Option<GaussLegendre>> = vec![];
+    for w in breaks.windows(2) {
+        let k = ((samples as f64 * (w[1] - w[0]) / span).ceil() as usize).max(2);
+        if rules.len() <= k {
+            rules.resize(k + 1, None);
+        }
+        if rules[k].is_none() {
+            rules[k] = Some(GaussLegendre::new(k).map_err(|e| invalid(e.to_string()))?);
+        }
+        if let Some(rule) = &rules[k] {
+            let (t, qw) = rule.on(w[0], w[1]);
+            nodes.extend(t);
+            weights.extend(qw);
+        }
+    }
+    Ok((nodes, weights))
 }
 
 /// The gap coordinate's curve at one node: q = offset + rows·x (per derivative order).
@@ -82,9 +124,7 @@ pub struct Scratch<W> {
 
 impl<'a, M: TorqueModel> Objective<'a, M> {
     /// Set up the objective: checks the gaps, lays the quadrature nodes
-    /// (K Gauss points on each segment between consecutive gap ends, so the
-    /// kinks where a DOF's curve meets its data are never inside a segment),
-    /// samples the inputs once, and tabulates the basis rows.
+    /// (see [`composite_nodes`]), samples the inputs once, and tabulates the basis rows.
     pub fn new(
         model: &'a M,
         dofs: Vec<GapDof>,
@@ -130,19 +170,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             .iter()
             .map(|d| TransitionCurve::new(d.t0, d.t1, settings.coefficients, settings.continuity))
             .collect::<Result<Vec<_>, _>>()?;
-        let rule = GaussLegendre::new(settings.samples).map_err(|e| invalid(e.to_string()))?;
 
-        let mut breaks: Vec<f64> = dofs.iter().flat_map(|d| [d.t0, d.t1]).collect();
-        breaks.sort_by(f64::total_cmp);
-        breaks.dedup();
-        let mut nodes = vec![];
-        let mut qweights = vec![];
-        for w in breaks.windows(2) {
-            let (t, qw) = rule.on(w[0], w[1]);
-            nodes.extend(t);
-            qweights.extend(qw);
-        }
-
+        let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
         let mut base = Vec::with_capacity(nodes.len());
         for &t in &nodes {
             let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
@@ -300,6 +329,73 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             ));
         }
         Ok(e)
+    }
+
+    /// A change of variables x = T y (block diagonal, one block per gap DOF)
+    /// under which the Hessian of e is close to 2·I, so quasi-Newton steps are
+    /// well scaled from the first iteration.
+    ///
+    /// Why: e is dominated by ∫ Σ wᵢ (M q̈)ᵢ² dt. For DOF d that is about
+    /// c_d · xᵀ P x with P = ∫ B''ᵀ B'' dt (the free basis rows) and
+    /// c_d = Σᵢ wᵢ M_{i,d}² at the middle of the gap. P's condition number grows
+    /// like (number of pieces)⁴ and c_d spans orders of magnitude between a hip
+    /// and a wrist; T_d = L_d⁻ᵀ / √c_d with P = L Lᵀ removes both.
+    pub fn preconditioner(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+    ) -> Result<Vec<DMatrix<f64>>, SpError> {
+        let nf = self.n_free;
+        if nf == 0 {
+            return Ok(vec![DMatrix::zeros(0, 0); self.dofs.len()]);
+        }
+        let coords: Vec<usize> = self.dofs.iter().map(|d| d.coord).collect();
+        let mid = self.nodes.len() / 2;
+        let x0 = self.hermite_start();
+        self.load_node(mid, &x0, s);
+        let mut c = self
+            .model
+            .acceleration_weights(&mut s.ws, &s.q, &self.weights, &coords)?;
+        // A DOF that moves no mass (or a massless body) must not get an
+        // infinite scale: floor at a millionth of the largest.
+        let cmax = c
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max);
+        let floor = if cmax > 0.0 { 1e-6 * cmax } else { 1.0 };
+        for v in &mut c {
+            if !v.is_finite() || *v < floor {
+                *v = floor;
+            }
+        }
+        let mut out = Vec::with_capacity(self.dofs.len());
+        for (d, act) in self.active.iter().enumerate() {
+            let mut p = DMatrix::<f64>::zeros(nf, nf);
+            for (k, r) in act.iter().enumerate() {
+                if let Some(r) = r {
+                    let w = self.qweights[k];
+                    for i in 0..nf {
+                        for j in 0..nf {
+                            p[(i, j)] += w * r.rows[2][i] * r.rows[2][j];
+                        }
+                    }
+                }
+            }
+            // P is positive definite (a free combination with zero q̈ is linear and
+            // vanishes with its slope at both ends, so it is zero); guard anyway.
+            let t = match p.clone().cholesky() {
+                Some(ch) => match ch.l().transpose().try_inverse() {
+                    Some(li) => li / c[d].sqrt(),
+                    None => DMatrix::identity(nf, nf) / c[d].sqrt(),
+                },
+                None => {
+                    let diag = p.diagonal().map(|v| 1.0 / v.max(1e-300).sqrt());
+                    DMatrix::from_diagonal(&diag) / c[d].sqrt()
+                }
+            };
+            out.push(t);
+        }
+        Ok(out)
     }
 
     /// Full coefficient vectors of every gap DOF for free coefficients x.

@@ -101,6 +101,11 @@ impl TransitionCurve {
         self.continuity
     }
 
+    /// Ends of the curve's polynomial pieces.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        self.basis.breakpoints()
+    }
+
     /// Index of the first free coefficient in the full coefficient vector.
     pub fn first_free(&self) -> usize {
         self.continuity.fixed_per_end()
