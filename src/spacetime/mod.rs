@@ -20,3 +20,7 @@ pub mod objective;
 pub use objective::{GapDof, Objective, TransitionSettings};
 pub mod solve;
 pub use solve::{GapReport, GroupSolution, SolveOptions, solve_group};
+pub mod root;
+pub use root::RootTransition;
+pub mod groups;
+pub use groups::{group_overlapping, solve_all};
