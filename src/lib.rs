@@ -10,6 +10,7 @@ pub mod dynamics;
 pub mod io;
 pub mod lang;
 pub mod lie;
+pub mod mocap;
 pub mod model;
 pub mod motion;
 pub mod spacetime;
