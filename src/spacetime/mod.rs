@@ -15,7 +15,7 @@ pub use error::SpError;
 pub use transition::{Continuity, EndState, TransitionCurve};
 pub mod planar2;
 pub mod torque;
-pub use torque::TorqueModel;
+pub use torque::{BodyDynamics, TorqueModel};
 pub mod objective;
 pub use objective::{GapDof, Objective, TransitionSettings};
 pub mod solve;
