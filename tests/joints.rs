@@ -326,7 +326,7 @@ fn spline_curve_joint_errors() {
     // just below π is fine
     assert!(SplineCurveJoint::from_knots(vec![f0, f2, f0, f2], &[0., 1., 2., 3.]).is_ok());
     // wrong knot counts, decreasing knots
-    assert!(SplineCurveJoint::from_knots(vec![f0; 5], &[0., 1., 2.]).is_err());
+    assert!(SplineCurveJoint::from_knots(vec![f0; 5], &[0., 1., 2., 3.]).is_err());
     assert!(SplineCurveJoint::from_knots(vec![f0; 4], &[0., 2., 1., 3.]).is_err());
     assert!(SplineCurveJoint::from_knots(vec![f0; 3], &[0., 1., 2.]).is_err());
     // coincident control frames: the Jacobian vanishes and it is reported
@@ -487,5 +487,22 @@ fn curve_joint_with_a_double_knot_is_c1_there_and_exact_elsewhere() {
             (rtr - nalgebra::Matrix3::identity()).abs().max() < 1e-9,
             "q = {q}"
         );
+    }
+}
+
+#[test]
+fn curve_joint_knot_forms_agree() {
+    // breakpoints (frames − 2) and the equivalent full clamped knot vector give the same joint
+    let mut rng = Lcg(9);
+    let frames = random_frames(&mut rng, 6, 0.4);
+    let a = SplineCurveJoint::from_knots(frames.clone(), &[0.0, 0.3, 1.0, 2.0]).unwrap();
+    let b =
+        SplineCurveJoint::from_knots(frames, &[0., 0., 0., 0., 0.3, 1.0, 2., 2., 2., 2.]).unwrap();
+    let (mut ka, mut kb) = (JointKinematics::default(), JointKinematics::default());
+    for q in [0.0, 0.2, 0.7, 1.5, 2.0] {
+        a.kinematics(&[q], Derivatives::Hessian, &mut ka);
+        b.kinematics(&[q], Derivatives::Hessian, &mut kb);
+        assert_eq!(ka.transform, kb.transform);
+        assert_eq!(ka.ds[0][0], kb.ds[0][0]);
     }
 }

@@ -337,7 +337,7 @@ pub fn register(reg: &mut Registry) {
     });
     reg.add(
         "spline_joint(frames, knots)",
-        "A 1-DOF spline curve joint through control frames (a list of 4×4 matrices), cumulative cubic B-spline on SE(3). `knots`: one value per frame, or a full knot vector (frames + 4); when omitted, natural knots from 0 (step ‖log(G⁻¹G')‖).",
+        "A 1-DOF spline curve joint through control frames (a list of 4×4 matrices), cumulative cubic B-spline on SE(3). `knots`: one value per frame, the frames − 2 breakpoints of a clamped cubic, or a full knot vector (frames + 4); when omitted, natural knots from 0 (step ‖log(G⁻¹G')‖).",
         |a, _| {
             let farg = a.arg("frames")?;
             let Some(list) = farg.value.as_list() else {
