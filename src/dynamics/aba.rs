@@ -9,6 +9,8 @@
 //! ```
 //! with `c_i = ad_{V_i} S_i q̇_i + Ṡ_i q̇_i` and `b̂_i = −ad*_{V_i} G_i V_i − F_ext,i` to start.
 
+#![allow(clippy::needless_range_loop)] // index loops over coupled arrays read clearer here
+
 use crate::dynamics::DynamicsError;
 use crate::dynamics::rnea::{check_fext, check_inputs, check_out};
 use crate::dynamics::workspace::{Workspace, base_acceleration, velocity_pass};
