@@ -274,40 +274,90 @@ fn effects() {
     }
 }
 
-fn work_precision() {
-    // Triple pendulum under gravity, 1 s from rest; reference: Dormand–Prince at 1e-13.
-    let model = chain(3);
-    let scene = Scene::new(model)
+fn jf(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .map(|a| a.iter().filter_map(|x| x.as_f64()).collect())
+        .unwrap_or_default()
+}
+
+/// The OpenSim knee pendulum (run `shank_foot_femur_flexed_50deg`): scene, initial state, reference q.
+fn knee_pendulum() -> Option<(Scene, State, Vec<f64>)> {
+    let dir = shared().join("data/opensim");
+    let read = |f: &str| -> Option<serde_json::Value> {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(f)).ok()?).ok()
+    };
+    let samples = read("knee_r_gait2392_samples.json")?;
+    let pend = read("knee_r_gait2392_pendulum.json")?;
+    let run = pend["runs"]
+        .as_array()?
+        .iter()
+        .find(|r| r["name"] == "shank_foot_femur_flexed_50deg")?;
+    let joint =
+        Arc::new(mx::model::joints::FunctionJoint::from_opensim_samples_json(&samples).ok()?);
+    let mut inertia = Inertia::zero();
+    for b in run["setup"]["bodies"].as_array()? {
+        let i = jf(&b["inertia_about_com_in_body"]
+            .as_array()?
+            .iter()
+            .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+            .collect());
+        let t = jf(&b["T_tibia_body"]
+            .as_array()?
+            .iter()
+            .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+            .collect());
+        let local = Inertia::from_com(
+            b["mass"].as_f64()?,
+            Vector3::from_vec(jf(&b["com_in_body"])),
+            Matrix3::from_row_slice(&i),
+        )
+        .ok()?;
+        inertia += local.transformed(&Se3::from_matrix(&nalgebra::Matrix4::from_row_slice(&t)));
+    }
+    let flex = run["femur_flexion_rad"].as_f64()?;
+    let mut m = Model::new("knee");
+    m.add_link(
+        "tibia_r",
+        None,
+        "knee_r",
+        joint,
+        Se3::from_rotation(
+            nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), flex).into_inner(),
+        ),
+        inertia,
+    )
+    .ok()?;
+    let scene = Scene::new(Arc::new(m))
         .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
-        .unwrap();
+        .ok()?;
     let init = State {
-        q: vec![1.2, -0.5, 0.8],
-        v: vec![0.0; 3],
+        q: vec![run["q0"].as_f64()?],
+        v: vec![run["u0"].as_f64()?],
     };
-    let tok = CancelToken::new();
-    let run = |m: Integrator, dt: f64| -> (f64, Option<Vec<f64>>, usize) {
-        let s = Instant::now();
-        let r = simulate(&scene, 1.0, dt, m, &init, &tok, &mut |_| {});
-        let el = s.elapsed().as_secs_f64() * 1e3;
-        match r {
-            Ok(tr) => (el, tr.q.last().cloned(), tr.evaluations),
-            Err(_) => (el, None, 0),
-        }
-    };
-    let (_, reference, _) = run(
-        Integrator::DormandPrince {
-            rtol: 1e-13,
-            atol: 1e-13,
-        },
-        1e-2,
-    );
-    let Some(reference) = reference else {
-        println!("work-precision: reference run failed");
+    Some((scene, init, jf(&run["q_accuracy_1e-12"])))
+}
+
+fn work_precision() {
+    let Some((scene, init, q_ref)) = knee_pendulum() else {
+        println!("\nwork-precision: OpenSim knee pendulum data not found");
         return;
     };
+    let tok = CancelToken::new();
+    // One knee spline-joint step (one forward-dynamics evaluation) for reference.
+    let mut sw = SceneWorkspace::new(&scene);
+    let mut qdd = [0.0];
+    let step = median_us(5000, |i| {
+        let q = [-(i as f64) * 1e-4];
+        scene
+            .accelerations(&mut sw, &q, &[0.3], &[], &mut qdd)
+            .unwrap();
+        black_box(&qdd);
+    });
     println!(
-        "\nIntegrators: triple pendulum (joint limits not declared), error in q at t = 1 s vs time"
+        "\nKnee spline joint (OpenSim gait2392): forward dynamics {step:.3} µs per evaluation (paper: 6 ms per step)"
     );
+    println!("\nIntegrators on the OpenSim knee pendulum (shank+foot, femur flexed 50°, 1 s):");
+    println!("max |q − q_OpenSim(accuracy 1e-12)| over the 1 ms grid vs run time");
     println!(
         "{:<34}{:>12}{:>12}{:>10}",
         "integrator", "max |Δq|", "ms", "evals"
@@ -322,28 +372,33 @@ fn work_precision() {
         ));
         cases.push((format!("rk4 dt={dt:e}"), Integrator::Rk4, dt));
     }
-    for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
         cases.push((
-            format!("dopri5 tol={tol:e} (out 1e-2)"),
+            format!("dopri5 tol={tol:e}"),
             Integrator::DormandPrince {
                 rtol: tol,
                 atol: tol,
             },
-            1e-2,
+            1e-3,
         ));
     }
     for (name, m, dt) in cases {
-        let (ms, q, ev) = run(m, dt);
-        match q {
-            Some(q) => {
-                let e = q
-                    .iter()
-                    .zip(&reference)
-                    .map(|(a, b)| (a - b).abs())
+        let s = Instant::now();
+        let r = simulate(&scene, 1.0, dt, m, &init, &tok, &mut |_| {});
+        let ms = s.elapsed().as_secs_f64() * 1e3;
+        match r {
+            Ok(tr) => {
+                // Compare on the common grid (every 1 ms for dt ≤ 1 ms, else every dt).
+                let stride_ref = ((dt / 1e-3).round() as usize).max(1);
+                let stride_sim = ((1e-3 / dt).round() as usize).max(1);
+                let e = (0..)
+                    .map(|k| (k * stride_sim, k * stride_ref))
+                    .take_while(|(a, b)| *a < tr.q.len() && *b < q_ref.len())
+                    .map(|(a, b)| (tr.q[a][0] - q_ref[b]).abs())
                     .fold(0.0, f64::max);
-                println!("{name:<34}{e:>12.2e}{ms:>12.3}{ev:>10}");
+                println!("{name:<34}{e:>12.2e}{ms:>12.3}{:>10}", tr.evaluations);
             }
-            None => println!("{name:<34}{:>12}{ms:>12.3}", "diverged"),
+            Err(e) => println!("{name:<34}{:>12}{ms:>12.3}   ({e})", "failed"),
         }
     }
 }
