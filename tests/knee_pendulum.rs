@@ -141,3 +141,93 @@ fn knee_pendulum_follows_opensim() {
         }
     }
 }
+
+/// The knee spline joint at the ends of its coordinate range (and just past
+/// them, where SimmSpline extends linearly): forward dynamics is finite and
+/// agrees with M q̈ = τ − nle, and the analytic ∂τ agrees with finite differences.
+#[test]
+fn knee_dynamics_at_the_range_ends() {
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
+    let path = dir.join("data/opensim/knee_r_gait2392_samples.json");
+    let samples: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let joint = Arc::new(FunctionJoint::from_opensim_samples_json(&samples).unwrap());
+    let mut model = Model::new("knee");
+    let inertia = Inertia::from_com(
+        3.7075,
+        Vector3::new(0.0, -0.1867, 0.0),
+        Matrix3::from_diagonal(&Vector3::new(0.0504, 0.0051, 0.0511)),
+    )
+    .unwrap();
+    model
+        .add_link("tibia_r", None, "knee_r", joint, Se3::identity(), inertia)
+        .unwrap();
+    let g = Vector3::new(0.0, -9.80665, 0.0);
+    let mut ws = mx::dynamics::Workspace::new(&model);
+    for q in [
+        -2.0943951,
+        -2.0943951 + 1e-9,
+        0.17453293,
+        0.17453293 + 1e-3,
+        -1.0,
+    ] {
+        for v in [0.0, 3.0, -7.0] {
+            let mut qdd = [0.0];
+            mx::dynamics::forward_dynamics(&model, &mut ws, &[q], &[v], &[0.5], &g, &mut qdd)
+                .unwrap();
+            let mut m = nalgebra::DMatrix::zeros(1, 1);
+            mx::dynamics::mass_matrix(&model, &mut ws, &[q], &mut m).unwrap();
+            let mut nle = [0.0];
+            mx::dynamics::nonlinear_effects(&model, &mut ws, &[q], &[v], &g, &mut nle).unwrap();
+            let expect = (0.5 - nle[0]) / m[(0, 0)];
+            assert!(
+                qdd[0].is_finite() && (qdd[0] - expect).abs() < 1e-10 * expect.abs().max(1.0),
+                "q={q} v={v}: {} vs {expect}",
+                qdd[0]
+            );
+            let (mut dq, mut dv) = (
+                nalgebra::DMatrix::zeros(1, 1),
+                nalgebra::DMatrix::zeros(1, 1),
+            );
+            mx::dynamics::rnea_derivatives(
+                &model,
+                &mut ws,
+                &[q],
+                &[v],
+                &[1.5],
+                &g,
+                &mut dq,
+                &mut dv,
+            )
+            .unwrap();
+            let h = 1e-6;
+            let tau = |ws: &mut mx::dynamics::Workspace, q: f64, v: f64| {
+                let mut t = [0.0];
+                mx::dynamics::inverse_dynamics(&model, ws, &[q], &[v], &[1.5], &g, &mut t).unwrap();
+                t[0]
+            };
+            // τ jumps at the ends of the knots (the spline's s'' does) when v ≠ 0:
+            // differentiate from inside the range there (one-sided, second order).
+            let fdq = if q == -2.0943951 || q == 0.17453293 {
+                let s = if q < 0.0 { h } else { -h };
+                (-3.0 * tau(&mut ws, q, v) + 4.0 * tau(&mut ws, q + s, v)
+                    - tau(&mut ws, q + 2.0 * s, v))
+                    / (2.0 * s)
+            } else {
+                (tau(&mut ws, q + h, v) - tau(&mut ws, q - h, v)) / (2.0 * h)
+            };
+            let fdv = (tau(&mut ws, q, v + h) - tau(&mut ws, q, v - h)) / (2.0 * h);
+            assert!(
+                (dv[(0, 0)] - fdv).abs() < 1e-6 * (1.0 + fdv.abs()),
+                "q={q}: ∂τ/∂v {} vs {fdv}",
+                dv[(0, 0)]
+            );
+            assert!(
+                (dq[(0, 0)] - fdq).abs() < 1e-5 * (1.0 + fdq.abs()),
+                "q={q} v={v}: ∂τ/∂q {} vs {fdq}",
+                dq[(0, 0)]
+            );
+        }
+    }
+}
