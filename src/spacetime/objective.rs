@@ -315,8 +315,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                         let c = dof.coord;
                         let (a0, a1, a2) = (wk * s.gq[c], wk * s.gv[c], wk * s.ga[c]);
                         let gd = &mut g[d * self.n_free..(d + 1) * self.n_free];
-                        for j in 0..self.n_free {
-                            gd[j] += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
+                        for (j, gj) in gd.iter_mut().enumerate() {
+                            *gj += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
                         }
                     }
                 }

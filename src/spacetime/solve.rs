@@ -69,6 +69,9 @@ pub struct GroupSolution {
     pub report: GapReport,
 }
 
+/// The last point evaluated: (y, e, ∂e/∂y).
+type LastEval = Option<(Vec<f64>, f64, Vec<f64>)>;
+
 struct Best {
     x: Vec<f64>,
     e: f64,
@@ -81,7 +84,7 @@ struct Problem<'o, 'a, M: TorqueModel> {
     t: Vec<DMatrix<f64>>,
     scratch: RefCell<Scratch<M::Workspace>>,
     /// The last evaluated point: argmin asks for cost and gradient separately at the same x.
-    last: RefCell<Option<(Vec<f64>, f64, Vec<f64>)>>,
+    last: RefCell<LastEval>,
     best: RefCell<Option<Best>>,
     evals: RefCell<u64>,
     cancel: CancelToken,

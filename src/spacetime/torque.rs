@@ -66,3 +66,64 @@ pub trait TorqueModel: Sync {
         Ok(out)
     }
 }
+
+/// The multibody engine as a [`TorqueModel`]: RNEA for τ, its adjoint for the
+/// gradient of Σwτ² (O(n) per sample).
+#[derive(Clone, Debug)]
+pub struct BodyDynamics<'m> {
+    pub model: &'m crate::model::Model,
+    pub gravity: nalgebra::Vector3<f64>,
+}
+
+impl<'m> BodyDynamics<'m> {
+    /// The body under its model's default gravity.
+    pub fn new(model: &'m crate::model::Model) -> Self {
+        BodyDynamics {
+            model,
+            gravity: model.default_gravity,
+        }
+    }
+}
+
+fn dyn_err(e: crate::dynamics::DynamicsError) -> SpError {
+    SpError::Evaluation(format!("dynamics: {e}"))
+}
+
+impl TorqueModel for BodyDynamics<'_> {
+    type Workspace = crate::dynamics::Workspace;
+
+    fn nq(&self) -> usize {
+        self.model.nq()
+    }
+
+    fn workspace(&self) -> Self::Workspace {
+        crate::dynamics::Workspace::new(self.model)
+    }
+
+    fn torques(
+        &self,
+        ws: &mut Self::Workspace,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        tau: &mut [f64],
+    ) -> Result<(), SpError> {
+        crate::dynamics::inverse_dynamics(self.model, ws, q, v, a, &self.gravity, tau)
+            .map_err(dyn_err)
+    }
+
+    fn torque_sq_grad(
+        &self,
+        ws: &mut Self::Workspace,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        w: &[f64],
+        gq: &mut [f64],
+        gv: &mut [f64],
+        ga: &mut [f64],
+    ) -> Result<f64, SpError> {
+        crate::dynamics::torque_sq_gradient(self.model, ws, q, v, a, &self.gravity, w, gq, gv, ga)
+            .map_err(dyn_err)
+    }
+}

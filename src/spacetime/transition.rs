@@ -79,7 +79,8 @@ impl TransitionCurve {
         }
         let m = n_free + 2 * continuity.fixed_per_end();
         Ok(TransitionCurve {
-            basis: ClampedCubic::new(t0, t1, m),
+            basis: ClampedCubic::new(t0, t1, m)
+                .map_err(|e| invalid(format!("transition basis: {e}")))?,
             continuity,
             n_free,
         })
@@ -139,6 +140,14 @@ impl TransitionCurve {
             c[i] = (e[d] - rest) / right[d][i];
         }
         c
+    }
+
+    /// The curve with full coefficients `c` as a spline of the `spline` module
+    /// (what is stored in the motion).
+    pub fn to_curve(&self, c: Vec<f64>) -> Result<crate::spline::BSplineCurve, SpError> {
+        self.basis
+            .curve(c)
+            .map_err(|e| SpError::Evaluation(format!("transition curve: {e}")))
     }
 
     /// [q, q̇, q̈] of the curve with full coefficients `c` at t.
