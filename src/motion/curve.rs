@@ -211,7 +211,16 @@ impl SampledCurve {
     }
 
     pub fn value(&self, t: f64) -> Result<f64, MotionError> {
-        Ok(self.eval(t)?[0])
+        let (i, s) = self.locate(t)?;
+        if self.values.len() == 1 {
+            return Ok(self.values[0]);
+        }
+        let h = self.dt;
+        let u = h - s;
+        let (y0, y1, m0, m1) = (self.values[i], self.values[i + 1], self.m[i], self.m[i + 1]);
+        Ok((m0 * u * u * u + m1 * s * s * s) / (6.0 * h)
+            + (y0 / h - m0 * h / 6.0) * u
+            + (y1 / h - m1 * h / 6.0) * s)
     }
 
     pub fn eval(&self, t: f64) -> Result<[f64; 3], MotionError> {
@@ -371,6 +380,7 @@ mod tests {
         for k in 0..=300 {
             let t = t0 + 3.0 * k as f64 / 300.0;
             let got = c.eval(t).unwrap();
+            assert_eq!(c.value(t).unwrap(), got[0]);
             let want = p(t);
             for i in 0..3 {
                 assert!(
