@@ -10,7 +10,10 @@ pub mod dynamics;
 pub mod io;
 pub mod lang;
 pub mod lie;
+pub mod mocap;
 pub mod model;
 pub mod motion;
 pub mod spacetime;
 pub mod spline;
+
+pub use lang::{Interpreter, Value};

@@ -4,6 +4,8 @@
 pub mod atomic;
 pub mod csv;
 pub mod motion_json;
+pub mod plot;
+pub mod viewer;
 
 use std::path::{Path, PathBuf};
 

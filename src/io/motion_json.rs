@@ -48,6 +48,7 @@ enum CurveJson {
     Samples(SampledCurve),
     Function { source: String },
     Hermite(HermiteCurve),
+    Spline(crate::spline::BSplineCurve),
 }
 
 #[derive(Serialize, Deserialize)]
@@ -143,6 +144,7 @@ fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, String> {
         Curve::Constant(v) => CurveJson::Constant { value: *v },
         Curve::Samples(s) => CurveJson::Samples(s.clone()),
         Curve::Hermite(h) => CurveJson::Hermite(h.clone()),
+        Curve::Spline(c) => CurveJson::Spline(c.clone()),
         Curve::Function(f) => CurveJson::Function {
             source: f.source().ok_or_else(|| {
                 format!(
@@ -177,6 +179,7 @@ pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, String> {
                 HermiteCurve::new(h.t0, h.q0, h.v0, h.t1, h.q1, h.v1)
                     .map_err(|e| format!("curve {k}: {e}"))?,
             ),
+            CurveJson::Spline(c) => Curve::Spline(c),
             CurveJson::Function { source } => Curve::Function(
                 compile_fn(&source)
                     .map_err(|e| format!("curve {k}: cannot compile `{source}`: {e}"))?,

@@ -32,6 +32,8 @@ pub enum Curve {
     Function(Arc<dyn TimeFunction>),
     /// The cubic that joins two end states (time, value, velocity).
     Hermite(HermiteCurve),
+    /// A B-spline (spacetime transitions, cyclified motions): exact derivatives.
+    Spline(crate::spline::BSplineCurve),
 }
 
 impl Curve {
@@ -52,6 +54,7 @@ impl Curve {
             Curve::Samples(s) => s.eval(t),
             Curve::Function(f) => eval_function(f.as_ref(), t),
             Curve::Hermite(h) => Ok(h.eval(t)),
+            Curve::Spline(c) => Ok(c.eval(t)),
         }
     }
 
@@ -62,6 +65,7 @@ impl Curve {
             Curve::Samples(s) => s.value(t),
             Curve::Function(f) => call(f.as_ref(), t),
             Curve::Hermite(h) => Ok(h.eval(t)[0]),
+            Curve::Spline(c) => Ok(c.eval(t)[0]),
         }
     }
 
@@ -72,6 +76,7 @@ impl Curve {
             (Curve::Constant(a), Curve::Constant(b)) => a.to_bits() == b.to_bits(),
             (Curve::Samples(a), Curve::Samples(b)) => a == b,
             (Curve::Hermite(a), Curve::Hermite(b)) => a == b,
+            (Curve::Spline(a), Curve::Spline(b)) => a == b,
             (Curve::Function(a), Curve::Function(b)) => {
                 Arc::ptr_eq(a, b) || (a.source().is_some() && a.source() == b.source())
             }

@@ -12,12 +12,17 @@ use std::path::PathBuf;
 pub fn shared_dir() -> Option<PathBuf> {
     let dir = match std::env::var_os("MX_SHARED") {
         Some(d) => PathBuf::from(d),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..").join("shared"),
+        None => PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join("shared"),
     };
     if dir.join("data").is_dir() {
         return Some(dir);
     }
-    let msg = format!("shared data folder not found at {} (set MX_SHARED)", dir.display());
+    let msg = format!(
+        "shared data folder not found at {} (set MX_SHARED)",
+        dir.display()
+    );
     if std::env::var("CI").is_ok_and(|v| v == "true" || v == "1") {
         panic!("{msg}: required in CI");
     }
@@ -28,13 +33,22 @@ pub fn shared_dir() -> Option<PathBuf> {
 /// Every file in `$MX_SHARED/data/<sub>` whose name ends with `suffix`, sorted.
 /// The folder is the input: a file dropped there becomes a case.
 pub fn shared_files(sub: &str, suffix: &str) -> Vec<PathBuf> {
-    let Some(dir) = shared_dir() else { return vec![] };
+    let Some(dir) = shared_dir() else {
+        return vec![];
+    };
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("data").join(sub))
         .unwrap_or_else(|e| panic!("cannot read data/{sub}: {e}"))
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.ends_with(suffix)))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.ends_with(suffix))
+        })
         .collect();
     files.sort();
-    assert!(!files.is_empty() || shared_dir().is_none(), "no *{suffix} files in data/{sub}");
+    assert!(
+        !files.is_empty() || shared_dir().is_none(),
+        "no *{suffix} files in data/{sub}"
+    );
     files
 }

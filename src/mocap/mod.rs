@@ -1,0 +1,7 @@
+//! Motion capture: BVH in and out, and (as the model and motion layers land)
+//! bodies built from a clip's skeleton and joint positions over time.
+//!
+//! Layering: uses `lie`, `spline`, `model`, `dynamics`, `motion`; used by
+//! `spacetime`, `io` and `lang`. Knows nothing of the language.
+
+pub mod bvh;
