@@ -47,6 +47,24 @@ impl Curve {
         Ok(Curve::Samples(SampledCurve::new(t0, dt, values)?))
     }
 
+    /// A B-spline curve, checked: one coefficient per basis function, all finite.
+    pub fn spline(c: crate::spline::BSplineCurve) -> Result<Curve, MotionError> {
+        let need = c.basis.n_coeffs();
+        if c.coeffs.len() != need {
+            return Err(MotionError::BadSamples(format!(
+                "B-spline needs {need} coefficients for its basis, got {}",
+                c.coeffs.len()
+            )));
+        }
+        if let Some(k) = c.coeffs.iter().position(|v| !v.is_finite()) {
+            return Err(MotionError::BadSamples(format!(
+                "B-spline coefficient {k} is {}, not a finite number",
+                c.coeffs[k]
+            )));
+        }
+        Ok(Curve::Spline(c))
+    }
+
     /// Value, first and second derivative at `t`.
     pub fn eval(&self, t: f64) -> Result<[f64; 3], MotionError> {
         match self {
