@@ -5,3 +5,4 @@
 //! `spacetime`, `io` and `lang`. Knows nothing of the language.
 
 pub mod bvh;
+pub mod synth;
