@@ -1,1 +1,61 @@
-//! dynamics (being built).
+//! Multibody dynamics on a [`Model`](crate::model::Model): inverse dynamics
+//! (RNEA, Lie-group form of the spline-joint paper eq. 7–16), forward dynamics
+//! (the O(n) articulated-body algorithm, paper appendix A), the mass matrix
+//! (composite rigid bodies), energies, analytic derivatives of inverse
+//! dynamics, and the adjoint gradient of a weighted sum of squared torques.
+//!
+//! Every algorithm works for any joint of the library: it uses the joint's
+//! `S(q)` and, unless `constant_jacobian()`, its Hessian `∂S/∂q`.
+//! Buffers live in a [`Workspace`] built once per model: calls allocate nothing.
+//!
+//! Gravity is an argument (a world-frame vector); models loaded from URDF carry
+//! `default_gravity = [0, 0, −9.81]` (Pinocchio's), and `τ = M q̈ + C q̇ + g(q)`
+//! with `g(q)` the torque that *holds* the body against gravity.
+
+mod aba;
+mod adjoint;
+mod crba;
+mod derivatives;
+mod energy;
+mod integrate;
+mod rnea;
+mod scene;
+mod workspace;
+
+pub use aba::{forward_dynamics, forward_dynamics_ext};
+pub use adjoint::torque_sq_gradient;
+pub use crba::mass_matrix;
+pub use derivatives::rnea_derivatives;
+pub use energy::{kinetic_energy, potential_energy};
+pub use integrate::{Integrator, State, Trajectory, simulate};
+pub use rnea::{inverse_dynamics, inverse_dynamics_ext, nonlinear_effects};
+pub use scene::{ExternalForce, LimitPenalty, Scene, SceneWorkspace, Spring};
+pub use workspace::Workspace;
+
+use crate::model::ModelError;
+
+/// Why a dynamics computation failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DynamicsError {
+    /// Bad input: wrong lengths, non-finite numbers, a workspace of another model.
+    #[error("{0}")]
+    Input(String),
+    /// The dynamics is singular at this state (e.g. a massless link at the tip).
+    #[error("{0}")]
+    Singular(String),
+    /// The computation was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<ModelError> for DynamicsError {
+    fn from(e: ModelError) -> Self {
+        DynamicsError::Input(e.to_string())
+    }
+}
+
+impl From<crate::cancel::Cancelled> for DynamicsError {
+    fn from(_: crate::cancel::Cancelled) -> Self {
+        DynamicsError::Cancelled
+    }
+}

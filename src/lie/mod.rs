@@ -6,6 +6,16 @@
 
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector6};
 
+pub mod se3exp;
+pub mod series;
+pub mod so3;
+
+pub use se3exp::{ad_bracket_matrix, exp_se3, log_se3};
+pub use so3::{
+    exp_so3, left_jacobian_inv_so3, left_jacobian_so3, log_so3, quat_from_matrix,
+    right_jacobian_so3, rotation_angle,
+};
+
 /// A twist `[ω; v]` (angular part first).
 pub type Twist = Vector6<f64>;
 /// A wrench `[μ; η]` (moment first), dual to a twist.

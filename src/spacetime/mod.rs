@@ -1,1 +1,26 @@
-//! spacetime (being built).
+//! Spacetime transitions (Rose et al. 1996, §3): fill the interior gaps of a
+//! motion with cubic B-spline curves that minimise ∫Σwτ² dt, keep support
+//! limbs planted by IK, move the root kinematically, and cyclify loops.
+//!
+//! Layering: this module uses `spline`, `model`, `dynamics`, `motion`; it knows
+//! nothing of the language.
+
+pub mod basis;
+pub mod error;
+pub mod hermite;
+pub mod quadrature;
+pub mod transition;
+
+pub use error::SpError;
+pub use transition::{Continuity, EndState, TransitionCurve};
+pub mod planar2;
+pub mod torque;
+pub use torque::{BodyDynamics, TorqueModel};
+pub mod objective;
+pub use objective::{GapDof, Objective, TransitionSettings};
+pub mod solve;
+pub use solve::{GapReport, GroupSolution, SolveOptions, solve_group};
+pub mod root;
+pub use root::RootTransition;
+pub mod groups;
+pub use groups::{group_overlapping, solve_all};

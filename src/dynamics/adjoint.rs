@@ -1,0 +1,131 @@
+//! The gradient of `J = Σ wᵢ τᵢ²` with respect to q, q̇ and q̈ by the adjoint
+//! (reverse) sweep of the RNEA: O(n) per sample, the spacetime objective's
+//! gradient (Rose 1996 §3 computes the O(n²) Jacobians instead).
+//!
+//! Reverse of the RNEA of [`rnea`](super::rnea), with `X_i = Ad_{X_i⁻¹}` and
+//! adjoint variables `F̄, V̄, Λ = V̄̇`:
+//!
+//! ```text
+//! τ̄ = 2 w τ
+//! F̄_i = X_i F̄_p + S_i τ̄_i                                  (root → leaves)
+//! Λ_i = G_i F̄_i + Σ_c X_cᵀ Λ_c
+//! V̄_i = ad*_{F̄_i}(G_i V_i) − G_i ad_{V_i} F̄_i − ad*_{S q̇}Λ_i + Σ_c X_cᵀ V̄_c    (leaves → root)
+//! q̈̄ = Sᵀ Λ,   q̇̄ = Sᵀ (V̄ + ad*_{V} Λ) (+ Hessian terms),
+//! q̄_k = s_k·(ad*_{X V_p} V̄ + ad*_{X V̇_p} Λ + ad*_{X F̄_p} F) (+ Hessian terms)
+//! ```
+
+use crate::dynamics::DynamicsError;
+use crate::dynamics::derivatives::sdot_v_dq;
+use crate::dynamics::rnea::{check_inputs, check_out, rnea_core};
+use crate::dynamics::workspace::Workspace;
+use crate::lie::{Twist, ad, ad_dual};
+use crate::model::Model;
+use nalgebra::Vector3;
+
+/// Returns `Σ wᵢ τᵢ²` with `τ` the inverse dynamics at `(q, q̇, q̈)`, and writes
+/// its gradient with respect to `q`, `q̇`, `q̈` into `gq`, `gv`, `ga`.
+#[allow(clippy::too_many_arguments)]
+pub fn torque_sq_gradient(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    gravity: &Vector3<f64>,
+    weights: &[f64],
+    gq: &mut [f64],
+    gv: &mut [f64],
+    ga: &mut [f64],
+) -> Result<f64, DynamicsError> {
+    check_inputs(
+        model,
+        ws,
+        &[("q", q), ("v", v), ("a", a), ("weights", weights)],
+        gravity,
+    )?;
+    check_out(model, "gq", gq)?;
+    check_out(model, "gv", gv)?;
+    check_out(model, "ga", ga)?;
+    let mut tau = std::mem::take(&mut ws.tau);
+    rnea_core(model, ws, q, v, a, gravity, None, &mut tau);
+    let mut cost = 0.0;
+    for i in 0..tau.len() {
+        cost += weights[i] * tau[i] * tau[i];
+        // τ̄ is kept in place of τ from here on.
+        tau[i] *= 2.0 * weights[i];
+    }
+    let tbar = &tau;
+    // Reuse the derivative buffers: dv = V̄, da = Λ, df = F̄.
+    for (i, l) in model.links().iter().enumerate() {
+        let mut fb = Twist::zeros();
+        for m in 0..l.dof {
+            fb += ws.kin[i].s[m] * tbar[l.q_index + m];
+        }
+        if let Some(p) = l.parent {
+            fb += ws.xt[i].inv_ad_twist(&ws.df[p]);
+        }
+        ws.df[i] = fb;
+        let g = &l.inertia;
+        ws.da[i] = g.mul_twist(&fb);
+        ws.dv[i] = ad_dual(&fb, &g.mul_twist(&ws.v[i])) - g.mul_twist(&ad(&ws.v[i], &fb));
+    }
+    for i in (0..model.num_links()).rev() {
+        let l = model.link(i);
+        let lam = ws.da[i];
+        // Through V̇_i = X V̇_p + S q̈ + Ṡ q̇ + ad(V_i, S q̇).
+        ws.dv[i] -= ad_dual(&ws.sv[i], &lam);
+        let ubar = ad_dual(&ws.v[i], &lam);
+        let vb = ws.dv[i];
+        // F̄ minus its own S τ̄ part is X F̄_p.
+        let mut xfp = ws.df[i];
+        for m in 0..l.dof {
+            xfp -= ws.kin[i].s[m] * tbar[l.q_index + m];
+        }
+        let qterm = ad_dual(&ws.wv[i], &vb) + ad_dual(&ws.wa[i], &lam) + ad_dual(&xfp, &ws.f[i]);
+        let kin = &ws.kin[i];
+        for k in 0..l.dof {
+            let c = l.q_index + k;
+            let sk = kin.s[k];
+            ga[c] = sk.dot(&lam);
+            gv[c] = sk.dot(&(vb + ubar));
+            gq[c] = sk.dot(&qterm);
+        }
+        if !l.constant_jacobian {
+            let r = l.q_index..l.q_index + l.dof;
+            for k in 0..l.dof {
+                let c = l.q_index + k;
+                let mut gqk = 0.0;
+                let mut gvk = 0.0;
+                for m in 0..l.dof {
+                    let dsmk = kin.ds[m][k];
+                    let vm = v[l.q_index + m];
+                    gqk += tbar[l.q_index + m] * dsmk.dot(&ws.f[i])
+                        + vm * dsmk.dot(&(vb + ubar))
+                        + a[l.q_index + m] * dsmk.dot(&lam);
+                    gvk += vm * (kin.ds[m][k] + kin.ds[k][m]).dot(&lam);
+                }
+                gq[c] += gqk;
+                gv[c] += gvk;
+            }
+            for k in 0..l.dof {
+                let d = sdot_v_dq(
+                    l.joint.as_ref(),
+                    &q[r.clone()],
+                    &v[r.clone()],
+                    k,
+                    &mut ws.scratch,
+                );
+                gq[l.q_index + k] += d.dot(&lam);
+            }
+        }
+        if let Some(p) = l.parent {
+            let xt = ws.xt[i];
+            let up_a = xt.ad_wrench(&lam);
+            let up_v = xt.ad_wrench(&vb);
+            ws.da[p] += up_a;
+            ws.dv[p] += up_v;
+        }
+    }
+    ws.tau = tau;
+    Ok(cost)
+}

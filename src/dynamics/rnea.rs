@@ -1,0 +1,158 @@
+//! Inverse dynamics: the recursive Newton–Euler algorithm in the Lie-group
+//! form of the spline-joint paper (eq. 7–16), body-frame twists:
+//!
+//! ```text
+//! V_i  = Ad_{X_i⁻¹} V_p + S_i q̇_i
+//! V̇_i  = Ad_{X_i⁻¹} V̇_p + S_i q̈_i + Ṡ_i q̇_i + ad_{V_i}(S_i q̇_i)
+//! F_i  = G_i V̇_i − ad*_{V_i} G_i V_i − F_ext,i + Σ_children Ad*_{X_c⁻¹} F_c
+//! τ_i  = S_iᵀ F_i
+//! ```
+//! with `X_i = offset_i · G_i(q_i)` and the base accelerating at `−g`.
+
+use crate::dynamics::DynamicsError;
+use crate::dynamics::workspace::{Workspace, base_acceleration, s_mul, velocity_pass};
+use crate::lie::{Wrench, ad_dual};
+use crate::model::Model;
+use nalgebra::Vector3;
+
+/// Checks the common inputs of the algorithms.
+pub(crate) fn check_inputs(
+    model: &Model,
+    ws: &Workspace,
+    vecs: &[(&str, &[f64])],
+    gravity: &Vector3<f64>,
+) -> Result<(), DynamicsError> {
+    ws.check(model)?;
+    for (name, x) in vecs {
+        model.check_vec(name, x, model.nq())?;
+    }
+    if !gravity.iter().all(|g| g.is_finite()) {
+        return Err(DynamicsError::Input(
+            "gravity must be a finite vector".into(),
+        ));
+    }
+    Ok(())
+}
+
+pub(crate) fn check_out(model: &Model, name: &str, x: &[f64]) -> Result<(), DynamicsError> {
+    if x.len() != model.nq() {
+        return Err(DynamicsError::Input(format!(
+            "output `{name}` has {} entries; it must have one per coordinate ({})",
+            x.len(),
+            model.nq()
+        )));
+    }
+    Ok(())
+}
+
+/// The RNEA after input checks; leaves `V`, `V̇`, `F` in the workspace.
+pub(crate) fn rnea_core(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    gravity: &Vector3<f64>,
+    fext: Option<&[Wrench]>,
+    tau: &mut [f64],
+) {
+    velocity_pass(model, ws, q, v, true);
+    let a0 = base_acceleration(gravity);
+    for (i, l) in model.links().iter().enumerate() {
+        let wa = match l.parent {
+            Some(p) => ws.xt[i].inv_ad_twist(&ws.a[p]),
+            None => ws.xt[i].inv_ad_twist(&a0),
+        };
+        let ai = wa + s_mul(&ws.kin[i], &a[l.q_index..l.q_index + l.dof]) + ws.c[i];
+        ws.wa[i] = wa;
+        ws.a[i] = ai;
+        let g = &l.inertia;
+        let mut f = g.mul_twist(&ai) - ad_dual(&ws.v[i], &g.mul_twist(&ws.v[i]));
+        if let Some(fe) = fext {
+            f -= fe[i];
+        }
+        ws.f[i] = f;
+    }
+    for i in (0..model.num_links()).rev() {
+        let l = model.link(i);
+        for j in 0..l.dof {
+            tau[l.q_index + j] = ws.kin[i].s[j].dot(&ws.f[i]);
+        }
+        if let Some(p) = l.parent {
+            let fp = ws.xt[i].ad_wrench(&ws.f[i]);
+            ws.f[p] += fp;
+        }
+    }
+}
+
+/// Inverse dynamics `τ = M(q) q̈ + C(q, q̇) q̇ + g(q)`.
+pub fn inverse_dynamics(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    gravity: &Vector3<f64>,
+    tau: &mut [f64],
+) -> Result<(), DynamicsError> {
+    check_inputs(model, ws, &[("q", q), ("v", v), ("a", a)], gravity)?;
+    check_out(model, "tau", tau)?;
+    rnea_core(model, ws, q, v, a, gravity, None, tau);
+    Ok(())
+}
+
+/// Inverse dynamics with external wrenches: `fext[i]` acts on link `i`, given
+/// in link i's frame, moment about its origin (`[μ; η]`).
+#[allow(clippy::too_many_arguments)]
+pub fn inverse_dynamics_ext(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    gravity: &Vector3<f64>,
+    fext: &[Wrench],
+    tau: &mut [f64],
+) -> Result<(), DynamicsError> {
+    check_inputs(model, ws, &[("q", q), ("v", v), ("a", a)], gravity)?;
+    check_out(model, "tau", tau)?;
+    check_fext(model, fext)?;
+    rnea_core(model, ws, q, v, a, gravity, Some(fext), tau);
+    Ok(())
+}
+
+pub(crate) fn check_fext(model: &Model, fext: &[Wrench]) -> Result<(), DynamicsError> {
+    if fext.len() != model.num_links() {
+        return Err(DynamicsError::Input(format!(
+            "external wrenches: {} given, need one per link ({})",
+            fext.len(),
+            model.num_links()
+        )));
+    }
+    if fext.iter().any(|f| !f.iter().all(|x| x.is_finite())) {
+        return Err(DynamicsError::Input(
+            "external wrenches must be finite".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// `C(q, q̇) q̇ + g(q)`: inverse dynamics at zero acceleration.
+pub fn nonlinear_effects(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    gravity: &Vector3<f64>,
+    out: &mut [f64],
+) -> Result<(), DynamicsError> {
+    check_inputs(model, ws, &[("q", q), ("v", v)], gravity)?;
+    check_out(model, "nle", out)?;
+    // Reuse `out` as the zero acceleration: rnea_core reads a[i] before writing tau[i]
+    // only per link, so give it a separate zero slice from the workspace.
+    let mut zero = std::mem::take(&mut ws.tau);
+    zero.iter_mut().for_each(|x| *x = 0.0);
+    rnea_core(model, ws, q, v, &zero, gravity, None, out);
+    ws.tau = zero;
+    Ok(())
+}

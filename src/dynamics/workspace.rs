@@ -1,0 +1,160 @@
+//! Preallocated buffers for the dynamics algorithms, and the forward
+//! (kinematic) sweep they share.
+
+use crate::dynamics::DynamicsError;
+use crate::lie::{Se3, Twist, Wrench, ad};
+use crate::model::joint::{Derivatives, JointKinematics, MAX_JOINT_DOF};
+use crate::model::{Inertia, Model};
+use nalgebra::{Matrix6, Vector3, Vector6};
+
+/// All buffers the algorithms need for one model. Build it once with
+/// [`Workspace::new`]; every call then runs without heap allocation.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    pub(crate) n_links: usize,
+    pub(crate) nq: usize,
+    /// Joint transform, Jacobian and Hessian per link.
+    pub(crate) kin: Vec<JointKinematics>,
+    /// Pose of each link in its parent: `offset · G(q)`.
+    pub(crate) xt: Vec<Se3>,
+    /// Body twist `V_i`.
+    pub(crate) v: Vec<Twist>,
+    /// Body acceleration `V̇_i` (with the gravity trick: the base accelerates at −g).
+    pub(crate) a: Vec<Twist>,
+    /// Net wrench transmitted by the joint of each link (after the backward sweep).
+    pub(crate) f: Vec<Wrench>,
+    /// `S_i q̇_i`.
+    pub(crate) sv: Vec<Twist>,
+    /// `Ad_{X_i⁻¹} V_parent` and `Ad_{X_i⁻¹} V̇_parent`.
+    pub(crate) wv: Vec<Twist>,
+    pub(crate) wa: Vec<Twist>,
+    /// Velocity-product acceleration `ad(V_i, S q̇) + Ṡ q̇`.
+    pub(crate) c: Vec<Twist>,
+    // ABA
+    pub(crate) ia: Vec<Matrix6<f64>>,
+    pub(crate) pa: Vec<Wrench>,
+    pub(crate) u: Vec<[Twist; MAX_JOINT_DOF]>,
+    pub(crate) dinv: Vec<Matrix6<f64>>,
+    pub(crate) uu: Vec<[f64; MAX_JOINT_DOF]>,
+    // CRBA
+    pub(crate) ic: Vec<Inertia>,
+    // derivatives and adjoint
+    pub(crate) dv: Vec<Twist>,
+    pub(crate) da: Vec<Twist>,
+    pub(crate) df: Vec<Wrench>,
+    pub(crate) mark: Vec<bool>,
+    pub(crate) tau: Vec<f64>,
+    pub(crate) scratch: JointKinematics,
+    /// World poses (energies).
+    pub(crate) world: Vec<Se3>,
+}
+
+impl Workspace {
+    pub fn new(model: &Model) -> Self {
+        let n = model.num_links();
+        Workspace {
+            n_links: n,
+            nq: model.nq(),
+            kin: vec![JointKinematics::default(); n],
+            xt: vec![Se3::identity(); n],
+            v: vec![Twist::zeros(); n],
+            a: vec![Twist::zeros(); n],
+            f: vec![Wrench::zeros(); n],
+            sv: vec![Twist::zeros(); n],
+            wv: vec![Twist::zeros(); n],
+            wa: vec![Twist::zeros(); n],
+            c: vec![Twist::zeros(); n],
+            ia: vec![Matrix6::zeros(); n],
+            pa: vec![Wrench::zeros(); n],
+            u: vec![[Twist::zeros(); MAX_JOINT_DOF]; n],
+            dinv: vec![Matrix6::zeros(); n],
+            uu: vec![[0.0; MAX_JOINT_DOF]; n],
+            ic: vec![Inertia::zero(); n],
+            dv: vec![Twist::zeros(); n],
+            da: vec![Twist::zeros(); n],
+            df: vec![Wrench::zeros(); n],
+            mark: vec![false; n],
+            tau: vec![0.0; model.nq()],
+            scratch: JointKinematics::default(),
+            world: vec![Se3::identity(); n],
+        }
+    }
+
+    pub(crate) fn check(&self, model: &Model) -> Result<(), DynamicsError> {
+        if self.n_links != model.num_links() || self.nq != model.nq() {
+            return Err(DynamicsError::Input(format!(
+                "this workspace was built for another model ({} links, {} coordinates; `{}` has {} and {}); build one with Workspace::new(&model)",
+                self.n_links,
+                self.nq,
+                model.name,
+                model.num_links(),
+                model.nq()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The base acceleration that stands for gravity: the world accelerates at −g.
+#[inline]
+pub(crate) fn base_acceleration(g: &Vector3<f64>) -> Twist {
+    Vector6::new(0.0, 0.0, 0.0, -g.x, -g.y, -g.z)
+}
+
+/// `Σ_j s_j x_j` over a joint's columns.
+#[inline]
+pub(crate) fn s_mul(kin: &JointKinematics, x: &[f64]) -> Twist {
+    let mut t = Twist::zeros();
+    for (j, xj) in x.iter().enumerate() {
+        t += kin.s[j] * *xj;
+    }
+    t
+}
+
+/// `Ṡ q̇ = Σ_j Σ_k ∂s_j/∂q_k q̇_k q̇_j`.
+#[inline]
+pub(crate) fn sdot_v(kin: &JointKinematics, v: &[f64]) -> Twist {
+    let mut t = Twist::zeros();
+    for (j, vj) in v.iter().enumerate() {
+        for (k, vk) in v.iter().enumerate() {
+            t += kin.ds[j][k] * (vj * vk);
+        }
+    }
+    t
+}
+
+/// Forward sweep shared by the algorithms: joint kinematics, link poses, body
+/// twists `V`, their parent parts `wv` and the velocity-product terms `c`.
+/// The Hessian is evaluated only for joints whose Jacobian depends on q.
+pub(crate) fn velocity_pass(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+    hessian: bool,
+) {
+    for (i, l) in model.links().iter().enumerate() {
+        let r = l.q_index..l.q_index + l.dof;
+        let want = if hessian && !l.constant_jacobian {
+            Derivatives::Hessian
+        } else {
+            Derivatives::Jacobian
+        };
+        l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
+        ws.xt[i] = l.offset.compose(&ws.kin[i].transform);
+        let wv = match l.parent {
+            Some(p) => ws.xt[i].inv_ad_twist(&ws.v[p]),
+            None => Twist::zeros(),
+        };
+        let sv = s_mul(&ws.kin[i], &v[r.clone()]);
+        let vi = wv + sv;
+        let mut c = ad(&vi, &sv);
+        if !l.constant_jacobian {
+            c += sdot_v(&ws.kin[i], &v[r]);
+        }
+        ws.wv[i] = wv;
+        ws.sv[i] = sv;
+        ws.v[i] = vi;
+        ws.c[i] = c;
+    }
+}

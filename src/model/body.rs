@@ -1,0 +1,175 @@
+//! Rigid-body inertia: mass, centre of mass and rotational inertia.
+//!
+//! Stored in the form the recursive algorithms want: mass `m`, first moment
+//! `h = m c` and rotational inertia `i_o` about the *frame origin*, so that the
+//! 6×6 spatial inertia (twists `[ω; v]`) is `[[i_o, [h]], [[h]ᵀ, m 1]]` and
+//! composites add term by term.
+
+use crate::lie::{Se3, Twist, Wrench, skew};
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+
+/// The spatial inertia of a rigid body in its own frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inertia {
+    /// Mass (kg).
+    pub mass: f64,
+    /// First moment `m c` (kg·m), `c` the centre of mass in the body frame.
+    pub h: Vector3<f64>,
+    /// Rotational inertia about the body-frame origin (kg·m²), body axes.
+    pub i_o: Matrix3<f64>,
+}
+
+impl Default for Inertia {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+impl Inertia {
+    /// A massless body.
+    pub fn zero() -> Self {
+        Inertia {
+            mass: 0.0,
+            h: Vector3::zeros(),
+            i_o: Matrix3::zeros(),
+        }
+    }
+
+    /// From mass, centre of mass `com` and rotational inertia `i_com` about the
+    /// centre of mass (body axes). Errors on a negative or non-finite mass or a
+    /// non-symmetric / non-finite inertia.
+    pub fn from_com(mass: f64, com: Vector3<f64>, i_com: Matrix3<f64>) -> Result<Self, String> {
+        if !mass.is_finite() || mass < 0.0 {
+            return Err(format!("mass must be a finite number ≥ 0, got {mass}"));
+        }
+        if !com.iter().chain(i_com.iter()).all(|x| x.is_finite()) {
+            return Err("centre of mass and inertia must be finite numbers".into());
+        }
+        let asym = (i_com - i_com.transpose()).abs().max();
+        if asym > 1e-9 * (1.0 + i_com.abs().max()) {
+            return Err(format!(
+                "rotational inertia must be symmetric (off-diagonal mismatch {asym:e})"
+            ));
+        }
+        let c = skew(&com);
+        Ok(Inertia {
+            mass,
+            h: com * mass,
+            i_o: i_com - c * c * mass,
+        })
+    }
+
+    /// A point mass at `com`.
+    pub fn point(mass: f64, com: Vector3<f64>) -> Result<Self, String> {
+        Self::from_com(mass, com, Matrix3::zeros())
+    }
+
+    /// Centre of mass (the origin for a massless body).
+    pub fn com(&self) -> Vector3<f64> {
+        if self.mass > 0.0 {
+            self.h / self.mass
+        } else {
+            Vector3::zeros()
+        }
+    }
+
+    /// Rotational inertia about the centre of mass.
+    pub fn inertia_com(&self) -> Matrix3<f64> {
+        let c = skew(&self.com());
+        self.i_o + c * c * self.mass
+    }
+
+    /// This inertia, given in frame `child`, expressed in the frame in which
+    /// `t` places `child` (`x_parent = t x_child`).
+    pub fn transformed(&self, t: &Se3) -> Inertia {
+        let rh = t.r * self.h;
+        let p = skew(&t.p);
+        let rh_x = skew(&rh);
+        Inertia {
+            mass: self.mass,
+            h: rh + t.p * self.mass,
+            i_o: t.r * self.i_o * t.r.transpose() - rh_x * p - p * rh_x - p * p * self.mass,
+        }
+    }
+
+    /// `G V`: the momentum of the body moving with twist `v`.
+    #[inline]
+    pub fn mul_twist(&self, v: &Twist) -> Wrench {
+        let w = v.fixed_rows::<3>(0).into_owned();
+        let lin = v.fixed_rows::<3>(3).into_owned();
+        let mu = self.i_o * w + self.h.cross(&lin);
+        let eta = lin * self.mass - self.h.cross(&w);
+        Vector6::new(mu.x, mu.y, mu.z, eta.x, eta.y, eta.z)
+    }
+
+    /// The 6×6 spatial inertia matrix.
+    pub fn matrix(&self) -> Matrix6<f64> {
+        let mut g = Matrix6::zeros();
+        let hx = skew(&self.h);
+        g.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.i_o);
+        g.fixed_view_mut::<3, 3>(0, 3).copy_from(&hx);
+        g.fixed_view_mut::<3, 3>(3, 0).copy_from(&hx.transpose());
+        g.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(Matrix3::identity() * self.mass));
+        g
+    }
+}
+
+impl std::ops::Add for Inertia {
+    type Output = Inertia;
+    fn add(self, o: Inertia) -> Inertia {
+        Inertia {
+            mass: self.mass + o.mass,
+            h: self.h + o.h,
+            i_o: self.i_o + o.i_o,
+        }
+    }
+}
+
+impl std::ops::AddAssign for Inertia {
+    fn add_assign(&mut self, o: Inertia) {
+        *self = *self + o;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Rotation3;
+
+    #[test]
+    fn transform_matches_the_matrix_congruence() {
+        let i = Inertia::from_com(
+            2.0,
+            Vector3::new(0.1, -0.2, 0.3),
+            Matrix3::new(0.5, 0.01, 0.02, 0.01, 0.4, 0.03, 0.02, 0.03, 0.3),
+        )
+        .unwrap();
+        let t = Se3::new(
+            Rotation3::from_euler_angles(0.4, 0.1, -0.7).into_inner(),
+            Vector3::new(0.3, 0.5, -0.2),
+        );
+        // Parent-frame inertia = Ad_{T⁻¹}ᵀ G Ad_{T⁻¹}.
+        let x = t.inverse().ad_matrix();
+        let expect = x.transpose() * i.matrix() * x;
+        assert!((i.transformed(&t).matrix() - expect).abs().max() < 1e-13);
+        // And round trip through com form.
+        let back = i.transformed(&t);
+        assert!((back.mass - 2.0).abs() < 1e-15);
+        assert!(
+            (back.inertia_com() - t.r * i.inertia_com() * t.r.transpose())
+                .abs()
+                .max()
+                < 1e-13
+        );
+    }
+
+    #[test]
+    fn bad_inertia_is_an_error() {
+        assert!(Inertia::from_com(-1.0, Vector3::zeros(), Matrix3::identity()).is_err());
+        assert!(Inertia::from_com(f64::NAN, Vector3::zeros(), Matrix3::identity()).is_err());
+        let mut a = Matrix3::identity();
+        a[(0, 1)] = 1.0;
+        assert!(Inertia::from_com(1.0, Vector3::zeros(), a).is_err());
+    }
+}

@@ -1,0 +1,203 @@
+//! Reading an OpenSim `CustomJoint` from `.osim` XML (OpenSim 4 layout:
+//! `coordinates/Coordinate`, `frames/PhysicalOffsetFrame`,
+//! `SpatialTransform/TransformAxis`).
+
+use super::function_based::{
+    FunctionJoint, FunctionJointError, TransformAxis, body_fixed_xyz, coordinate_index,
+};
+use super::scalar_function::ScalarFunction;
+use crate::lie::Se3;
+use crate::model::joint::Limit;
+use crate::spline::SimmSpline;
+use nalgebra::Vector3;
+use roxmltree::{Document, Node};
+
+fn e<T>(m: impl Into<String>) -> Result<T, FunctionJointError> {
+    Err(FunctionJointError(m.into()))
+}
+
+fn child<'a, 'i>(n: Node<'a, 'i>, tag: &str) -> Option<Node<'a, 'i>> {
+    n.children()
+        .find(|c| c.is_element() && c.tag_name().name() == tag)
+}
+
+fn text<'a>(n: Node<'a, '_>, tag: &str) -> Option<&'a str> {
+    child(n, tag).map(|c| c.text().unwrap_or(""))
+}
+
+fn nums(s: &str) -> Result<Vec<f64>, FunctionJointError> {
+    s.split_whitespace()
+        .map(|t| {
+            t.parse::<f64>()
+                .map_err(|_| FunctionJointError(format!("'{t}' is not a number")))
+        })
+        .collect()
+}
+
+fn vec3(n: Node, tag: &str) -> Result<Vector3<f64>, FunctionJointError> {
+    let v = nums(text(n, tag).unwrap_or("0 0 0"))?;
+    if v.len() != 3 {
+        return e(format!("<{tag}> must hold 3 numbers"));
+    }
+    Ok(Vector3::new(v[0], v[1], v[2]))
+}
+
+pub(crate) fn custom_joint_from_xml(
+    xml: &str,
+    joint_name: &str,
+) -> Result<FunctionJoint, FunctionJointError> {
+    let doc =
+        Document::parse(xml).map_err(|er| FunctionJointError(format!("invalid XML: {er}")))?;
+    let Some(j) = doc
+        .descendants()
+        .find(|n| n.has_tag_name("CustomJoint") && n.attribute("name") == Some(joint_name))
+    else {
+        let names: Vec<&str> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("CustomJoint"))
+            .filter_map(|n| n.attribute("name"))
+            .collect();
+        return e(format!(
+            "no CustomJoint named '{joint_name}' in the model; it has: {}",
+            names.join(", ")
+        ));
+    };
+    let mut names = Vec::new();
+    let mut limits = Vec::new();
+    let mut defaults = Vec::new();
+    if let Some(cs) = child(j, "coordinates") {
+        for c in cs.children().filter(|c| c.has_tag_name("Coordinate")) {
+            names.push(c.attribute("name").unwrap_or("q").to_string());
+            let r = nums(text(c, "range").unwrap_or(""))?;
+            limits.push(if r.len() == 2 {
+                Limit {
+                    lower: r[0],
+                    upper: r[1],
+                }
+            } else {
+                Limit::NONE
+            });
+            defaults.push(
+                nums(text(c, "default_value").unwrap_or("0"))?
+                    .first()
+                    .copied()
+                    .unwrap_or(0.0),
+            );
+        }
+    }
+    // offset frames owned by the joint, by name
+    let frame = |socket: &str| -> Result<Se3, FunctionJointError> {
+        let Some(sock) = text(j, socket) else {
+            return Ok(Se3::identity());
+        };
+        let sock = sock.trim();
+        let owned = child(j, "frames").and_then(|fs| {
+            fs.children().find(|f| {
+                f.has_tag_name("PhysicalOffsetFrame")
+                    && f.attribute("name") == Some(sock.rsplit('/').next().unwrap_or(sock))
+            })
+        });
+        match owned {
+            Some(f) => {
+                let o = vec3(f, "orientation")?;
+                Ok(Se3::new(
+                    body_fixed_xyz([o.x, o.y, o.z]),
+                    vec3(f, "translation")?,
+                ))
+            }
+            None => Ok(Se3::identity()), // the socket names a body directly
+        }
+    };
+    let parent = frame("socket_parent_frame")?;
+    let childf = frame("socket_child_frame")?;
+    let Some(st) = child(j, "SpatialTransform") else {
+        return e(format!(
+            "CustomJoint '{joint_name}' has no SpatialTransform"
+        ));
+    };
+    let mut axes = Vec::new();
+    for ta in st.children().filter(|c| c.has_tag_name("TransformAxis")) {
+        let label = ta.attribute("name").unwrap_or("?").to_string();
+        let cnames: Vec<String> = text(ta, "coordinates")
+            .unwrap_or("")
+            .split_whitespace()
+            .map(str::to_string)
+            .collect();
+        let coordinate = coordinate_index(&names, &cnames, &label)?;
+        let axis = vec3(ta, "axis")?;
+        let fnode = ta
+            .children()
+            .find(|c| c.is_element() && !matches!(c.tag_name().name(), "coordinates" | "axis"))
+            .ok_or_else(|| FunctionJointError(format!("transform axis {label} has no function")))?;
+        let function = function_from_xml(fnode)
+            .map_err(|m| FunctionJointError(format!("transform axis {label}: {}", m.0)))?;
+        axes.push(TransformAxis {
+            axis,
+            coordinate,
+            function,
+        });
+    }
+    if axes.len() != 6 {
+        return e(format!(
+            "CustomJoint '{joint_name}' has {} transform axes; expected 6",
+            axes.len()
+        ));
+    }
+    let mut it = axes.into_iter();
+    let mut next = || {
+        it.next()
+            .ok_or_else(|| FunctionJointError("missing transform axis".into()))
+    };
+    let rot = [next()?, next()?, next()?];
+    let tr = [next()?, next()?, next()?];
+    let mut joint = FunctionJoint::new(joint_name, names, rot, tr, parent, childf)?;
+    joint.set_coordinate_info(limits, defaults);
+    Ok(joint)
+}
+
+fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJointError> {
+    match n.tag_name().name() {
+        "Constant" => Ok(ScalarFunction::Constant {
+            value: nums(text(n, "value").unwrap_or("0"))?
+                .first()
+                .copied()
+                .unwrap_or(0.0),
+        }),
+        "LinearFunction" => {
+            let c = nums(text(n, "coefficients").unwrap_or(""))?;
+            if c.len() != 2 {
+                return e("LinearFunction needs 2 coefficients (slope, intercept)");
+            }
+            Ok(ScalarFunction::Linear {
+                slope: c[0],
+                intercept: c[1],
+            })
+        }
+        "SimmSpline" => {
+            let x = nums(text(n, "x").unwrap_or(""))?;
+            let y = nums(text(n, "y").unwrap_or(""))?;
+            Ok(ScalarFunction::SimmSpline(
+                SimmSpline::new(x, y).map_err(|m| FunctionJointError(m.to_string()))?,
+            ))
+        }
+        "PolynomialFunction" => Ok(ScalarFunction::Polynomial {
+            coefficients: nums(text(n, "coefficients").unwrap_or(""))?,
+        }),
+        "MultiplierFunction" => {
+            let scale = nums(text(n, "scale").unwrap_or("1"))?
+                .first()
+                .copied()
+                .unwrap_or(1.0);
+            let inner = child(n, "function")
+                .and_then(|f| f.children().find(|c| c.is_element()))
+                .ok_or_else(|| {
+                    FunctionJointError("MultiplierFunction has no inner function".into())
+                })?;
+            Ok(ScalarFunction::Multiplier {
+                scale,
+                function: Box::new(function_from_xml(inner)?),
+            })
+        }
+        other => e(format!("function type '{other}' is not supported")),
+    }
+}

@@ -1,0 +1,222 @@
+//! A kinematic tree: links joined to their parents by joints.
+//!
+//! Link `i` carries the frame of its joint's child side. Its pose in the parent
+//! link's frame is `offset_i · G_i(q_i)`, where `offset_i` is the fixed placement
+//! of the joint frame in the parent frame and `G_i` the joint transform. Links
+//! are stored parents-first (a parent's index is always smaller than its
+//! child's), which is the order every recursive algorithm walks.
+
+use crate::lie::Se3;
+use crate::model::body::Inertia;
+use crate::model::joint::Joint;
+use nalgebra::Vector3;
+use std::sync::Arc;
+
+/// Why a model could not be built or used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ModelError {
+    #[error("{0}")]
+    Invalid(String),
+    #[error("URDF: {0}")]
+    Urdf(String),
+}
+
+/// One link and the joint that carries it.
+#[derive(Clone, Debug)]
+pub struct Link {
+    pub name: String,
+    /// Index of the parent link, `None` for a link attached to the world (fixed base).
+    pub parent: Option<usize>,
+    /// Placement of the joint frame in the parent link frame.
+    pub offset: Se3,
+    pub joint_name: String,
+    pub joint: Arc<dyn Joint>,
+    /// Inertia in this link's frame.
+    pub inertia: Inertia,
+    /// Index of the joint's first coordinate in `q`.
+    pub q_index: usize,
+    /// Number of coordinates of the joint (cached `joint.dof()`).
+    pub dof: usize,
+    /// Cached `joint.constant_jacobian()`: lets the algorithms skip Hessian terms.
+    pub constant_jacobian: bool,
+}
+
+/// A tree of links with a fixed base.
+#[derive(Clone, Debug, Default)]
+pub struct Model {
+    pub name: String,
+    links: Vec<Link>,
+    children: Vec<Vec<usize>>,
+    coordinate_names: Vec<String>,
+    nq: usize,
+    /// The gravity a model loaded from a file starts with (URDF: `[0, 0, −9.81]`,
+    /// Pinocchio's default, so results match it); code may override it.
+    pub default_gravity: Vector3<f64>,
+}
+
+impl Model {
+    /// An empty model, default gravity `[0, 0, −9.81]` (z up, as URDF and Pinocchio).
+    pub fn new(name: &str) -> Self {
+        Model {
+            name: name.to_string(),
+            default_gravity: Vector3::new(0.0, 0.0, -9.81),
+            ..Default::default()
+        }
+    }
+
+    /// Adds a link carried by `joint` and returns its index.
+    /// `parent` must be an existing link (or `None` for the world); names must be unique.
+    pub fn add_link(
+        &mut self,
+        name: &str,
+        parent: Option<usize>,
+        joint_name: &str,
+        joint: Arc<dyn Joint>,
+        offset: Se3,
+        inertia: Inertia,
+    ) -> Result<usize, ModelError> {
+        if let Some(p) = parent
+            && p >= self.links.len()
+        {
+            return Err(ModelError::Invalid(format!(
+                "link `{name}`: parent index {p} does not exist (the model has {} links; add parents first)",
+                self.links.len()
+            )));
+        }
+        if self.links.iter().any(|l| l.name == name) {
+            return Err(ModelError::Invalid(format!(
+                "a link named `{name}` already exists; link names must be unique"
+            )));
+        }
+        if self.links.iter().any(|l| l.joint_name == joint_name) {
+            return Err(ModelError::Invalid(format!(
+                "a joint named `{joint_name}` already exists; joint names must be unique"
+            )));
+        }
+        if !offset
+            .r
+            .iter()
+            .chain(offset.p.iter())
+            .all(|x| x.is_finite())
+        {
+            return Err(ModelError::Invalid(format!(
+                "link `{name}`: the joint offset must be finite"
+            )));
+        }
+        let dof = joint.dof();
+        if dof > crate::model::joint::MAX_JOINT_DOF {
+            return Err(ModelError::Invalid(format!(
+                "joint `{joint_name}` has {dof} coordinates; at most 6 are supported"
+            )));
+        }
+        for s in joint.coordinate_suffixes().iter().take(dof) {
+            self.coordinate_names.push(if s.is_empty() {
+                joint_name.to_string()
+            } else {
+                format!("{joint_name}.{s}")
+            });
+        }
+        let idx = self.links.len();
+        self.links.push(Link {
+            name: name.to_string(),
+            parent,
+            offset,
+            joint_name: joint_name.to_string(),
+            constant_jacobian: joint.constant_jacobian(),
+            joint,
+            inertia,
+            q_index: self.nq,
+            dof,
+        });
+        self.children.push(Vec::new());
+        if let Some(p) = parent {
+            self.children[p].push(idx);
+        }
+        self.nq += dof;
+        Ok(idx)
+    }
+
+    /// Number of coordinates (= number of velocities: every joint is parametrised
+    /// by plain coordinates).
+    pub fn nq(&self) -> usize {
+        self.nq
+    }
+
+    /// Same as [`Model::nq`].
+    pub fn nv(&self) -> usize {
+        self.nq
+    }
+
+    /// Coordinate names in `q` order: `joint` for a 1-DOF joint, `joint.suffix` otherwise.
+    pub fn coordinate_names(&self) -> &[String] {
+        &self.coordinate_names
+    }
+
+    pub fn links(&self) -> &[Link] {
+        &self.links
+    }
+
+    pub fn link(&self, i: usize) -> &Link {
+        &self.links[i]
+    }
+
+    pub fn num_links(&self) -> usize {
+        self.links.len()
+    }
+
+    pub fn children(&self, i: usize) -> &[usize] {
+        &self.children[i]
+    }
+
+    pub fn link_index(&self, name: &str) -> Option<usize> {
+        self.links.iter().position(|l| l.name == name)
+    }
+
+    pub fn joint_index(&self, joint_name: &str) -> Option<usize> {
+        self.links.iter().position(|l| l.joint_name == joint_name)
+    }
+
+    /// Index of a coordinate by name.
+    pub fn coordinate_index(&self, name: &str) -> Option<usize> {
+        self.coordinate_names.iter().position(|n| n == name)
+    }
+
+    /// Total mass of all links.
+    pub fn total_mass(&self) -> f64 {
+        self.links.iter().map(|l| l.inertia.mass).sum()
+    }
+
+    /// Replaces the inertia of link `i`.
+    pub fn set_inertia(&mut self, i: usize, inertia: Inertia) -> Result<(), ModelError> {
+        let n = self.links.len();
+        let l = self.links.get_mut(i).ok_or_else(|| {
+            ModelError::Invalid(format!(
+                "link index {i} out of range (the model has {n} links)"
+            ))
+        })?;
+        l.inertia = inertia;
+        Ok(())
+    }
+
+    /// Errors unless `x` has length `n` and is finite: every algorithm checks its inputs.
+    pub(crate) fn check_vec(&self, what: &str, x: &[f64], n: usize) -> Result<(), ModelError> {
+        if x.len() != n {
+            return Err(ModelError::Invalid(format!(
+                "{what} has {} entries but the model `{}` has {n} coordinates ({})",
+                x.len(),
+                self.name,
+                self.coordinate_names.join(", ")
+            )));
+        }
+        if let Some(k) = x.iter().position(|v| !v.is_finite()) {
+            return Err(ModelError::Invalid(format!(
+                "{what}[{k}] (`{}`) is not a finite number",
+                self.coordinate_names
+                    .get(k)
+                    .map(String::as_str)
+                    .unwrap_or("?")
+            )));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,162 @@
+//! Sampling: a DOF's value (and derivatives) at a time, and whole motions on a
+//! uniform grid of times k/R.
+//!
+//! At a touching endpoint (one interval stops where the next starts) the
+//! instant belongs to both; a singly defined interval is preferred over a
+//! conflict, and among singly defined ones the interval that *starts* there
+//! (right-continuity, as a motion "switches" at that instant).
+
+use super::dof::Dof;
+use super::error::MotionError;
+use super::interval::Interval;
+use super::mu::Mu;
+use crate::cancel::CancelToken;
+
+/// What a DOF holds at one instant.
+#[derive(Clone, Copy, Debug)]
+pub enum Located<'a> {
+    Undefined,
+    Single(&'a Interval),
+    Conflict(&'a Interval),
+}
+
+impl Dof {
+    /// The interval that defines the DOF at `t` (see the module note on endpoints).
+    pub fn locate(&self, t: f64) -> Located<'_> {
+        // First interval whose (tolerant) stop is ≥ t; then it and at most one
+        // touching successor can contain t.
+        let k = self
+            .intervals
+            .partition_point(|i| i.stop + super::time_tol(i.stop) < t);
+        let mut best: Option<&Interval> = None;
+        for i in self.intervals[k..].iter().take(2) {
+            if !i.contains(t) {
+                continue;
+            }
+            best = match best {
+                None => Some(i),
+                Some(b) if b.is_conflict() && !i.is_conflict() => Some(i),
+                Some(b) if b.is_conflict() == i.is_conflict() => Some(i), // the later one starts at t
+                keep => keep,
+            };
+        }
+        match best {
+            None => Located::Undefined,
+            Some(i) if i.is_conflict() => Located::Conflict(i),
+            Some(i) => Located::Single(i),
+        }
+    }
+
+    /// `[q, q̇, q̈]` at `t`; `Ok(None)` where undefined; `Err` in a conflict
+    /// (named `dof_name`) or if the curve fails.
+    pub fn sample(&self, dof_name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
+        match self.locate(t) {
+            Located::Undefined => Ok(None),
+            Located::Single(i) => Ok(Some(i.funcs[0].eval(t)?)),
+            Located::Conflict(i) => Err(conflict(dof_name, i, t)),
+        }
+    }
+
+    /// The value only (one curve evaluation).
+    pub fn sample_value(&self, dof_name: &str, t: f64) -> Result<Option<f64>, MotionError> {
+        match self.locate(t) {
+            Located::Undefined => Ok(None),
+            Located::Single(i) => Ok(Some(i.funcs[0].value(t)?)),
+            Located::Conflict(i) => Err(conflict(dof_name, i, t)),
+        }
+    }
+}
+
+fn conflict(dof: &str, i: &Interval, t: f64) -> MotionError {
+    MotionError::Conflict {
+        dof: dof.to_string(),
+        start: i.start,
+        stop: i.stop,
+        t,
+    }
+}
+
+impl Mu {
+    /// `[q, q̇, q̈]` of DOF `name` at `t`. `Ok(None)`: undefined there (also
+    /// outside all intervals); `Err`: unknown DOF name, conflict, or a curve failure.
+    pub fn sample(&self, name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
+        self.dof(name)?.sample(name, t)
+    }
+
+    pub fn sample_value(&self, name: &str, t: f64) -> Result<Option<f64>, MotionError> {
+        self.dof(name)?.sample_value(name, t)
+    }
+}
+
+/// Refuse grids beyond this many rows (a typo like `rate: 1e9` should not eat memory).
+pub const MAX_GRID_ROWS: f64 = 50_000_000.0;
+
+/// The times k/R (integer k) inside [start, stop], both ends included when
+/// they are multiples of 1/R. Computed as k/R, never by accumulating 1/R, so
+/// there is no drift.
+pub fn grid_times(span: (f64, f64), rate: f64) -> Result<Vec<f64>, MotionError> {
+    if !(rate.is_finite() && rate > 0.0) {
+        return Err(MotionError::BadRate { rate });
+    }
+    let (start, stop) = span;
+    // Tolerance: start·R may be an integer plus rounding error.
+    let k0 = (start * rate - 1e-9 * (start * rate).abs().max(1.0)).ceil();
+    let k1 = (stop * rate + 1e-9 * (stop * rate).abs().max(1.0)).floor();
+    if !(k0.is_finite() && k1.is_finite()) {
+        return Err(MotionError::NonFinite {
+            what: "sampling grid bound",
+            value: k1,
+        });
+    }
+    let rows = k1 - k0 + 1.0;
+    if rows > MAX_GRID_ROWS {
+        return Err(MotionError::TooManySamples {
+            span: stop - start,
+            rate,
+            rows,
+        });
+    }
+    if rows < 1.0 {
+        return Ok(Vec::new());
+    }
+    Ok((0..rows as i64).map(|j| (k0 + j as f64) / rate).collect())
+}
+
+/// A motion sampled on a grid: `values[d][k]` is DOF `names[d]` at `times[k]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    pub names: Vec<String>,
+    pub times: Vec<f64>,
+    pub values: Vec<Vec<Option<f64>>>,
+}
+
+/// Sample every DOF's value at the times k/R inside the motion's span. An
+/// empty motion gives no rows. `Err` on a conflict (naming DOF and span), a
+/// failing curve, or cancellation.
+pub fn sample_grid(m: &Mu, rate: f64, cancel: Option<&CancelToken>) -> Result<Grid, MotionError> {
+    let times = match m.span() {
+        Some(span) => grid_times(span, rate)?,
+        None => {
+            if !(rate.is_finite() && rate > 0.0) {
+                return Err(MotionError::BadRate { rate });
+            }
+            Vec::new()
+        }
+    };
+    let mut values = Vec::with_capacity(m.len());
+    for (name, dof) in &m.dofs {
+        if let Some(c) = cancel {
+            c.check()?;
+        }
+        let mut col = Vec::with_capacity(times.len());
+        for &t in &times {
+            col.push(dof.sample_value(name, t)?);
+        }
+        values.push(col);
+    }
+    Ok(Grid {
+        names: m.names().map(str::to_string).collect(),
+        times,
+        values,
+    })
+}

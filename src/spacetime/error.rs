@@ -1,0 +1,28 @@
+//! Errors of the spacetime layer: each says what was wrong and what to do.
+
+use crate::cancel::Cancelled;
+
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SpError {
+    /// Bad parameters or data given by the user.
+    #[error("{0}")]
+    Invalid(String),
+    /// The motion is multiply defined where a transition needs one value.
+    #[error("{0}")]
+    Conflict(String),
+    /// The model or the motion could not be evaluated.
+    #[error("{0}")]
+    Evaluation(String),
+    #[error("spacetime solve cancelled")]
+    Cancelled,
+}
+
+impl From<Cancelled> for SpError {
+    fn from(_: Cancelled) -> Self {
+        SpError::Cancelled
+    }
+}
+
+pub(crate) fn invalid(msg: impl Into<String>) -> SpError {
+    SpError::Invalid(msg.into())
+}

@@ -1,0 +1,570 @@
+//! The spacetime objective of one group of overlapping gaps:
+//! e(x) = ∫ Σᵢ wᵢ τᵢ(q, q̇, q̈)² dt over the group's span by composite
+//! Gauss–Legendre quadrature, where the gap DOFs follow their transition
+//! curves (free coefficients x) and every other coordinate is an input.
+//!
+//! The gradient is exact: the model's adjoint gives ∂(Σwτ²)/∂(q, q̇, q̈) per
+//! node, and each gap coordinate's q, q̇, q̈ is linear in its free coefficients
+//! (the basis rows stored here), so ∂e/∂x = Σ_nodes w_k (g_q·B + g_q̇·B' + g_q̈·B'').
+
+use super::error::{SpError, invalid};
+use super::quadrature::GaussLegendre;
+use super::torque::TorqueModel;
+use super::transition::{Continuity, EndState, TransitionCurve};
+use nalgebra::DMatrix;
+
+/// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has
+/// the given states at the ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GapDof {
+    pub coord: usize,
+    pub t0: f64,
+    pub t1: f64,
+    pub start: EndState,
+    pub end: EndState,
+}
+
+/// Settings shared by every gap of a solve.
+#[derive(Clone, Debug)]
+pub struct TransitionSettings {
+    /// Free B-spline coefficients per DOF (`coefficients:`).
+    pub coefficients: usize,
+    /// Gauss points per quadrature segment (`samples:`).
+    pub samples: usize,
+    pub continuity: Continuity,
+}
+
+impl Default for TransitionSettings {
+    fn default() -> Self {
+        // Chosen from the benchmark (benches/spacetime.rs): within 1% of the best energy of the table.
+        TransitionSettings {
+            coefficients: 8,
+            samples: 20,
+            continuity: Continuity::C1,
+        }
+    }
+}
+
+/// Quadrature nodes and weights for the curves of one group: Gauss rules on
+/// every piece between consecutive knots of any curve (so neither a gap end,
+/// where a curve meets its data with a jump in q̈, nor a knot, where q̈ kinks,
+/// lies inside a rule), `samples` points in all, shared in proportion to the
+/// length of each piece but at least 2 per piece. Fewer nodes than pieces
+/// would let the optimiser hide torque between nodes (aliasing): the curve
+/// would wiggle so that τ ≈ 0 exactly where it is sampled.
+pub fn composite_nodes(
+    curves: &[TransitionCurve],
+    samples: usize,
+) -> Result<(Vec<f64>, Vec<f64>), SpError> {
+    if samples == 0 {
+        return Err(invalid(
+            "samples: 0 gives no quadrature points; use samples: 1 or more (default 20)",
+        ));
+    }
+    let mut breaks: Vec<f64> = curves.iter().flat_map(|c| c.breakpoints()).collect();
+    breaks.sort_by(f64::total_cmp);
+    // merge knots closer than a relative 1e-12 (rounding of equal knots of different curves)
+    let span = breaks.last().copied().unwrap_or(0.0) - breaks.first().copied().unwrap_or(0.0);
+    breaks.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * span.max(1e-300));
+    let mut nodes = vec![];
+    let mut weights = vec![];
+    let mut rules: Vec<Option<GaussLegendre>> = vec![];
+    for w in breaks.windows(2) {
+        let k = ((samples as f64 * (w[1] - w[0]) / span).ceil() as usize).max(2);
+        if rules.len() <= k {
+            rules.resize(k + 1, None);
+        }
+        if rules[k].is_none() {
+            rules[k] = Some(GaussLegendre::new(k).map_err(|e| invalid(e.to_string()))?);
+        }
+        if let Some(rule) = &rules[k] {
+            let (t, qw) = rule.on(w[0], w[1]);
+            nodes.extend(t);
+            weights.extend(qw);
+        }
+    }
+    Ok((nodes, weights))
+}
+
+/// The gap coordinate's curve at one node: q = offset + rows·x (per derivative order).
+#[derive(Clone, Debug)]
+struct NodeRows {
+    offset: [f64; 3],
+    rows: [Vec<f64>; 3],
+}
+
+/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t.
+pub type Inputs<'a> =
+    dyn Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a;
+
+/// The objective of one group of gaps.
+pub struct Objective<'a, M: TorqueModel> {
+    pub(crate) model: &'a M,
+    pub(crate) dofs: Vec<GapDof>,
+    pub(crate) curves: Vec<TransitionCurve>,
+    weights: Vec<f64>,
+    pub(crate) nodes: Vec<f64>,
+    qweights: Vec<f64>,
+    base: Vec<[Vec<f64>; 3]>,
+    /// `active[d][k]`: gap DOF d's rows at node k, `None` outside its gap.
+    active: Vec<Vec<Option<NodeRows>>>,
+    n_free: usize,
+}
+
+/// Scratch vectors of one evaluation.
+pub struct Scratch<W> {
+    pub ws: W,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    gq: Vec<f64>,
+    gv: Vec<f64>,
+    ga: Vec<f64>,
+}
+
+impl<'a, M: TorqueModel> Objective<'a, M> {
+    /// Set up the objective: checks the gaps, lays the quadrature nodes
+    /// (see [`composite_nodes`]), samples the inputs once, and tabulates the basis rows.
+    pub fn new(
+        model: &'a M,
+        dofs: Vec<GapDof>,
+        settings: &TransitionSettings,
+        weights: Vec<f64>,
+        inputs: &Inputs<'_>,
+    ) -> Result<Self, SpError> {
+        let n = model.nq();
+        if dofs.is_empty() {
+            return Err(invalid("a transition needs at least one gap DOF"));
+        }
+        if weights.len() != n {
+            return Err(invalid(format!(
+                "torque weights have {} entries but the body has {n} coordinates",
+                weights.len()
+            )));
+        }
+        if weights.iter().any(|w| !w.is_finite() || *w < 0.0) {
+            return Err(invalid("torque weights must be finite and non-negative"));
+        }
+        for (i, d) in dofs.iter().enumerate() {
+            if d.coord >= n {
+                return Err(invalid(format!(
+                    "gap coordinate {} is outside the body's {n} coordinates",
+                    d.coord
+                )));
+            }
+            if dofs[..i].iter().any(|e| e.coord == d.coord) {
+                return Err(invalid(format!(
+                    "coordinate {} has two overlapping gaps in one transition",
+                    d.coord
+                )));
+            }
+            let s = [d.start.q, d.start.v, d.start.a, d.end.q, d.end.v, d.end.a];
+            if s.iter().any(|x| !x.is_finite()) {
+                return Err(invalid(format!(
+                    "the motion around the gap of coordinate {} on [{}, {}] is not finite",
+                    d.coord, d.t0, d.t1
+                )));
+            }
+        }
+        let curves = dofs
+            .iter()
+            .map(|d| TransitionCurve::new(d.t0, d.t1, settings.coefficients, settings.continuity))
+            .collect::<Result<Vec<_>, _>>()?;
+
+        let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
+        let mut base = Vec::with_capacity(nodes.len());
+        for &t in &nodes {
+            let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            inputs(t, &mut q, &mut v, &mut a)?;
+            base.push([q, v, a]);
+        }
+
+        let n_free = settings.coefficients;
+        let mut active = Vec::with_capacity(dofs.len());
+        for (d, c) in dofs.iter().zip(&curves) {
+            let fixed = c.coefficients(&d.start, &d.end, &vec![0.0; n_free]);
+            let k0 = c.first_free();
+            let per_node = nodes
+                .iter()
+                .map(|&t| {
+                    if t < d.t0 || t > d.t1 {
+                        return None;
+                    }
+                    let b = c.basis_at(t);
+                    let mut offset = [0.0; 3];
+                    for (o, row) in offset.iter_mut().zip(&b) {
+                        *o = row.iter().zip(&fixed).map(|(x, y)| x * y).sum();
+                    }
+                    let rows = [
+                        b[0][k0..k0 + n_free].to_vec(),
+                        b[1][k0..k0 + n_free].to_vec(),
+                        b[2][k0..k0 + n_free].to_vec(),
+                    ];
+                    Some(NodeRows { offset, rows })
+                })
+                .collect();
+            active.push(per_node);
+        }
+        Ok(Objective {
+            model,
+            dofs,
+            curves,
+            weights,
+            nodes,
+            qweights,
+            base,
+            active,
+            n_free,
+        })
+    }
+
+    /// Number of unknowns (gap DOFs × free coefficients), laid out DOF-major.
+    pub fn n_vars(&self) -> usize {
+        self.dofs.len() * self.n_free
+    }
+
+    pub fn n_free(&self) -> usize {
+        self.n_free
+    }
+
+    pub fn n_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn dofs(&self) -> &[GapDof] {
+        &self.dofs
+    }
+
+    pub fn curves(&self) -> &[TransitionCurve] {
+        &self.curves
+    }
+
+    pub fn scratch(&self) -> Scratch<M::Workspace> {
+        let n = self.model.nq();
+        Scratch {
+            ws: self.model.workspace(),
+            q: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            gq: vec![0.0; n],
+            gv: vec![0.0; n],
+            ga: vec![0.0; n],
+        }
+    }
+
+    /// The starting point: every gap DOF's free coefficients fitted to the
+    /// Hermite curve (cubic for C¹ — exactly representable — quintic for C²).
+    pub fn hermite_start(&self) -> Vec<f64> {
+        let mut x = Vec::with_capacity(self.n_vars());
+        for (d, c) in self.dofs.iter().zip(&self.curves) {
+            let f = |t: f64| match c.continuity() {
+                Continuity::C1 => super::hermite::cubic(d.t0, d.t1, &d.start, &d.end, t)[0],
+                Continuity::C2 => super::hermite::quintic(d.t0, d.t1, &d.start, &d.end, t)[0],
+            };
+            x.extend(c.fit_free(&d.start, &d.end, f));
+        }
+        x
+    }
+
+    /// Set the q, q̇, q̈ of node k from x into the scratch vectors.
+    fn load_node(&self, k: usize, x: &[f64], s: &mut Scratch<M::Workspace>) {
+        let [bq, bv, ba] = &self.base[k];
+        s.q.copy_from_slice(bq);
+        s.v.copy_from_slice(bv);
+        s.a.copy_from_slice(ba);
+        for (d, (dof, act)) in self.dofs.iter().zip(&self.active).enumerate() {
+            if let Some(r) = &act[k] {
+                let xd = &x[d * self.n_free..(d + 1) * self.n_free];
+                let dot = |row: &[f64]| row.iter().zip(xd).map(|(a, b)| a * b).sum::<f64>();
+                s.q[dof.coord] = r.offset[0] + dot(&r.rows[0]);
+                s.v[dof.coord] = r.offset[1] + dot(&r.rows[1]);
+                s.a[dof.coord] = r.offset[2] + dot(&r.rows[2]);
+            }
+        }
+    }
+
+    /// e(x), and ∂e/∂x into `grad` when given.
+    pub fn eval(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+        x: &[f64],
+        mut grad: Option<&mut [f64]>,
+    ) -> Result<f64, SpError> {
+        debug_assert_eq!(x.len(), self.n_vars());
+        if let Some(g) = grad.as_deref_mut() {
+            g.fill(0.0);
+        }
+        let mut e = 0.0;
+        for k in 0..self.nodes.len() {
+            self.load_node(k, x, s);
+            let f = self.model.torque_sq_grad(
+                &mut s.ws,
+                &s.q,
+                &s.v,
+                &s.a,
+                &self.weights,
+                &mut s.gq,
+                &mut s.gv,
+                &mut s.ga,
+            )?;
+            let wk = self.qweights[k];
+            e += wk * f;
+            if let Some(g) = grad.as_deref_mut() {
+                for (d, (dof, act)) in self.dofs.iter().zip(&self.active).enumerate() {
+                    if let Some(r) = &act[k] {
+                        let c = dof.coord;
+                        let (a0, a1, a2) = (wk * s.gq[c], wk * s.gv[c], wk * s.ga[c]);
+                        let gd = &mut g[d * self.n_free..(d + 1) * self.n_free];
+                        for (j, gj) in gd.iter_mut().enumerate() {
+                            *gj += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
+                        }
+                    }
+                }
+            }
+        }
+        if !e.is_finite() {
+            return Err(SpError::Evaluation(
+                "the torque objective is not finite (the body or the motion gives NaN/∞ torques)"
+                    .into(),
+            ));
+        }
+        Ok(e)
+    }
+
+    /// A change of variables x = T y (block diagonal, one block per gap DOF)
+    /// under which the Hessian of e is close to 2·I, so quasi-Newton steps are
+    /// well scaled from the first iteration.
+    ///
+    /// Why: e is dominated by ∫ Σ wᵢ (M q̈)ᵢ² dt. For DOF d that is about
+    /// c_d · xᵀ P x with P = ∫ B''ᵀ B'' dt (the free basis rows) and
+    /// c_d = Σᵢ wᵢ M_{i,d}² at the middle of the gap. P's condition number grows
+    /// like (number of pieces)⁴ and c_d spans orders of magnitude between a hip
+    /// and a wrist; T_d = L_d⁻ᵀ / √c_d with P = L Lᵀ removes both.
+    pub fn preconditioner(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+    ) -> Result<Vec<DMatrix<f64>>, SpError> {
+        let nf = self.n_free;
+        if nf == 0 {
+            return Ok(vec![DMatrix::zeros(0, 0); self.dofs.len()]);
+        }
+        let coords: Vec<usize> = self.dofs.iter().map(|d| d.coord).collect();
+        let mid = self.nodes.len() / 2;
+        let x0 = self.hermite_start();
+        self.load_node(mid, &x0, s);
+        let mut c = self
+            .model
+            .acceleration_weights(&mut s.ws, &s.q, &self.weights, &coords)?;
+        // A DOF that moves no mass (or a massless body) must not get an
+        // infinite scale: floor at a millionth of the largest.
+        let cmax = c
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(0.0, f64::max);
+        let floor = if cmax > 0.0 { 1e-6 * cmax } else { 1.0 };
+        for v in &mut c {
+            if !v.is_finite() || *v < floor {
+                *v = floor;
+            }
+        }
+        let mut out = Vec::with_capacity(self.dofs.len());
+        for (d, act) in self.active.iter().enumerate() {
+            let mut p = DMatrix::<f64>::zeros(nf, nf);
+            for (k, r) in act.iter().enumerate() {
+                if let Some(r) = r {
+                    let w = self.qweights[k];
+                    for i in 0..nf {
+                        for j in 0..nf {
+                            p[(i, j)] += w * r.rows[2][i] * r.rows[2][j];
+                        }
+                    }
+                }
+            }
+            // P is positive definite (a free combination with zero q̈ is linear and
+            // vanishes with its slope at both ends, so it is zero); guard anyway.
+            let t = match p.clone().cholesky() {
+                Some(ch) => match ch.l().transpose().try_inverse() {
+                    Some(li) => li / c[d].sqrt(),
+                    None => DMatrix::identity(nf, nf) / c[d].sqrt(),
+                },
+                None => {
+                    let diag = p.diagonal().map(|v| 1.0 / v.max(1e-300).sqrt());
+                    DMatrix::from_diagonal(&diag) / c[d].sqrt()
+                }
+            };
+            out.push(t);
+        }
+        Ok(out)
+    }
+
+    /// Full coefficient vectors of every gap DOF for free coefficients x.
+    pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        self.dofs
+            .iter()
+            .zip(&self.curves)
+            .enumerate()
+            .map(|(d, (dof, c))| {
+                c.coefficients(
+                    &dof.start,
+                    &dof.end,
+                    &x[d * self.n_free..(d + 1) * self.n_free],
+                )
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spacetime::planar2::TwoLinkArm;
+
+    fn st(q: f64, v: f64) -> EndState {
+        EndState { q, v, a: 0.0 }
+    }
+
+    /// Two gaps overlapping in time on the two joints of the arm.
+    fn problem<'a>(
+        arm: &'a TwoLinkArm,
+        settings: &TransitionSettings,
+    ) -> Objective<'a, TwoLinkArm> {
+        let dofs = vec![
+            GapDof {
+                coord: 0,
+                t0: 0.2,
+                t1: 0.9,
+                start: st(0.1, 1.0),
+                end: st(1.2, -0.5),
+            },
+            GapDof {
+                coord: 1,
+                t0: 0.5,
+                t1: 1.3,
+                start: st(-0.4, 0.0),
+                end: st(0.9, 2.0),
+            },
+        ];
+        // outside a gap each joint follows a smooth known motion
+        let inputs = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
+            q[0] = (2.0 * t).sin();
+            v[0] = 2.0 * (2.0 * t).cos();
+            a[0] = -4.0 * (2.0 * t).sin();
+            q[1] = t * t;
+            v[1] = 2.0 * t;
+            a[1] = 2.0;
+            Ok(())
+        };
+        Objective::new(arm, dofs, settings, vec![1.0, 1.5], &inputs).unwrap()
+    }
+
+    #[test]
+    fn gradient_matches_central_differences() {
+        let arm = TwoLinkArm::default();
+        for cont in [Continuity::C1, Continuity::C2] {
+            let settings = TransitionSettings {
+                coefficients: 6,
+                samples: 12,
+                continuity: cont,
+            };
+            let obj = problem(&arm, &settings);
+            let mut s = obj.scratch();
+            let x: Vec<f64> = (0..obj.n_vars()).map(|i| 0.3 * (i as f64).cos()).collect();
+            let mut g = vec![0.0; x.len()];
+            obj.eval(&mut s, &x, Some(&mut g)).unwrap();
+            for i in 0..x.len() {
+                let h = 1e-6;
+                let (mut xp, mut xm) = (x.clone(), x.clone());
+                xp[i] += h;
+                xm[i] -= h;
+                let fd = (obj.eval(&mut s, &xp, None).unwrap()
+                    - obj.eval(&mut s, &xm, None).unwrap())
+                    / (2.0 * h);
+                let scale = g.iter().map(|v: &f64| v.abs()).fold(0.0, f64::max);
+                assert!(
+                    (fd - g[i]).abs() <= 1e-6 * scale,
+                    "{cont:?} i={i}: fd {fd} vs {}",
+                    g[i]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn objective_is_the_integral_of_the_weighted_squared_torque() {
+        // Compare with a fine trapezoid integral of the same curves.
+        let arm = TwoLinkArm::default();
+        let settings = TransitionSettings {
+            coefficients: 5,
+            samples: 30,
+            continuity: Continuity::C1,
+        };
+        let obj = problem(&arm, &settings);
+        let x = obj.hermite_start();
+        let e = obj.eval(&mut obj.scratch(), &x, None).unwrap();
+        let coefs = obj.coefficients(&x);
+        let n = 20000;
+        let (a, b) = (0.2, 1.3);
+        let mut sum = 0.0;
+        for i in 0..=n {
+            let t = a + (b - a) * i as f64 / n as f64;
+            let mut q = [(2.0 * t).sin(), t * t];
+            let mut v = [2.0 * (2.0 * t).cos(), 2.0 * t];
+            let mut acc = [-4.0 * (2.0 * t).sin(), 2.0];
+            for (d, dof) in obj.dofs().iter().enumerate() {
+                if t >= dof.t0 && t <= dof.t1 {
+                    let s = obj.curves()[d].eval(&coefs[d], t);
+                    q[dof.coord] = s[0];
+                    v[dof.coord] = s[1];
+                    acc[dof.coord] = s[2];
+                }
+            }
+            let mut tau = [0.0; 2];
+            arm.torques(&mut (), &q, &v, &acc, &mut tau).unwrap();
+            let f = tau[0] * tau[0] + 1.5 * tau[1] * tau[1];
+            let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+            sum += w * f * (b - a) / n as f64;
+        }
+        assert!((e - sum).abs() < 1e-5 * sum, "{e} vs {sum}");
+    }
+
+    #[test]
+    fn bad_inputs_are_clear_errors() {
+        let arm = TwoLinkArm::default();
+        let s = TransitionSettings::default();
+        let inputs = |_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]| Ok(());
+        let gap = GapDof {
+            coord: 5,
+            t0: 0.0,
+            t1: 1.0,
+            start: st(0.0, 0.0),
+            end: st(1.0, 0.0),
+        };
+        assert!(Objective::new(&arm, vec![gap.clone()], &s, vec![1.0; 2], &inputs).is_err());
+        let gap0 = GapDof {
+            coord: 0,
+            ..gap.clone()
+        };
+        assert!(Objective::new(&arm, vec![gap0.clone()], &s, vec![1.0; 3], &inputs).is_err());
+        assert!(
+            Objective::new(
+                &arm,
+                vec![gap0.clone(), gap0.clone()],
+                &s,
+                vec![1.0; 2],
+                &inputs
+            )
+            .is_err()
+        );
+        let nan = GapDof {
+            start: st(f64::NAN, 0.0),
+            ..gap0.clone()
+        };
+        assert!(Objective::new(&arm, vec![nan], &s, vec![1.0; 2], &inputs).is_err());
+        let s0 = TransitionSettings {
+            samples: 0,
+            ..s.clone()
+        };
+        assert!(Objective::new(&arm, vec![gap0], &s0, vec![1.0; 2], &inputs).is_err());
+    }
+}
