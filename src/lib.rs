@@ -15,3 +15,5 @@ pub mod model;
 pub mod motion;
 pub mod spacetime;
 pub mod spline;
+
+pub use lang::{Interpreter, Value};

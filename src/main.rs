@@ -1,1 +1,77 @@
-fn main() {}
+//! The `mx` command line: `mx run FILE`, `mx check FILE`, `mx eval 'EXPR'`,
+//! and `mx` alone for the REPL. stdout carries only `print` output (and the
+//! value printed by `eval`); diagnostics go to stderr. Exit status: 0 on
+//! success, 1 on a user error, 2 on a usage error (clap).
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+mod repl;
+
+#[derive(Parser)]
+#[command(name = "mx", version, about = "The mx motion expression language")]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    /// Limit each evaluation to this many steps (catches runaway scripts).
+    #[arg(long, global = true)]
+    steps: Option<u64>,
+    /// Confine load/save to files under this folder.
+    #[arg(long, global = true)]
+    root: Option<PathBuf>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a script.
+    Run { file: PathBuf },
+    /// Parse a script and resolve its names without running it.
+    Check { file: PathBuf },
+    /// Evaluate an expression (or statements) and print the value.
+    Eval { source: String },
+    /// Start the interactive REPL (the default).
+    Repl,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let mut mx = mx::Interpreter::new();
+    mx.set_step_budget(cli.steps);
+    mx.set_file_root(cli.root.clone());
+    let color = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let report = |d: mx::lang::Diagnostic| {
+        eprint!("{}", d.render(color));
+        ExitCode::from(1)
+    };
+    match cli.command.unwrap_or(Command::Repl) {
+        Command::Run { file } => match mx.eval_file(&file) {
+            Ok(_) => ExitCode::SUCCESS,
+            Err(d) => report(d),
+        },
+        Command::Check { file } => {
+            let text = match std::fs::read_to_string(&file) {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!("error: cannot read {}: {e}", file.display());
+                    return ExitCode::from(1);
+                }
+            };
+            match mx.check_named(&file.display().to_string(), &text) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(d) => report(d),
+            }
+        }
+        Command::Eval { source } => match mx.eval_named("<eval>", &source) {
+            Ok(mx::Value::Nil) => ExitCode::SUCCESS,
+            Ok(v) => {
+                println!("{}", v.repr());
+                ExitCode::SUCCESS
+            }
+            Err(d) => report(d),
+        },
+        Command::Repl => repl::run(mx),
+    }
+}

@@ -1,6 +1,8 @@
 //! The OpenSim knee as an exact function-based joint: every `*_samples.json`
 //! in data/opensim must be reproduced (transform and q-derivative) to 1e-9,
 //! whether the joint is built from the JSON or from the `.osim` XML.
+// Index loops mirror the equations (several arrays per index); iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 mod common;
 

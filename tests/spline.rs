@@ -1,6 +1,8 @@
 //! B-spline bases and curves: partition of unity, derivatives against a naive
 //! Cox–de Boor recursion and finite differences, coincident knots, periodic
 //! continuity, least-squares fits, errors and serde.
+// Index loops mirror the equations (several arrays per index); iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 use mx::spline::*;
 

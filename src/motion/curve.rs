@@ -102,12 +102,14 @@ fn call(f: &dyn TimeFunction, t: f64) -> Result<f64, MotionError> {
     }
 }
 
-/// Fourth-order central differences. With h ≈ 1e-3·max(1,|t|) the truncation
-/// error (∝ h⁴) and the rounding error (∝ ε/h for f′, ε/h² for f″) are both
-/// small: about 1e-12 relative for f′ and 1e-9 for f″ on smooth functions.
+/// Fourth-order central differences with an absolute step of 1 ms: motion
+/// features have the same time scale at t = 1000 s as at t = 0, so the step
+/// must not grow with |t| (it does only past 10⁷ s, to stay ≫ one ulp of t).
+/// Truncation (∝ h⁴) and rounding (∝ ε|t|/h for f′, ε|t|/h² for f″) then
+/// give about 1e-11 relative for f′ and 1e-9 for f″ on smooth functions.
 fn eval_function(f: &dyn TimeFunction, t: f64) -> Result<[f64; 3], MotionError> {
     let v = call(f, t)?;
-    let h0 = 1e-3 * t.abs().max(1.0);
+    let h0 = (1e-10 * t.abs()).max(1e-3);
     // Make h exactly representable relative to t so t ± h are the points used.
     let h = (t + h0) - t;
     let fp1 = call(f, t + h)?;
@@ -347,5 +349,193 @@ impl HermiteCurve {
         let d = (d00 * q0 + d10 * m0 + d01 * q1 + d11 * m1) / h;
         let dd = (e00 * q0 + e10 * m0 + e01 * q1 + e11 * m1) / (h * h);
         [v, d, dd]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol * (1.0 + b.abs())
+    }
+
+    #[test]
+    fn not_a_knot_spline_reproduces_cubics_exactly() {
+        // A cubic is its own not-a-knot interpolant: value, q̇ and q̈ exact.
+        let p = |t: f64| {
+            [
+                0.3 - 1.2 * t + 0.7 * t * t - 0.25 * t * t * t,
+                -1.2 + 1.4 * t - 0.75 * t * t,
+                1.4 - 1.5 * t,
+            ]
+        };
+        let (t0, dt) = (-0.5, 0.1);
+        let values = (0..31).map(|k| p(t0 + k as f64 * dt)[0]).collect();
+        let c = Curve::samples(t0, dt, values).unwrap();
+        for k in 0..=300 {
+            let t = t0 + 3.0 * k as f64 / 300.0;
+            let got = c.eval(t).unwrap();
+            let want = p(t);
+            for i in 0..3 {
+                assert!(
+                    close(got[i], want[i], 1e-10),
+                    "t={t} i={i}: {got:?} vs {want:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn sampled_sine_has_accurate_derivatives() {
+        let dt = 1.0 / 120.0;
+        let values = (0..=240).map(|k| (k as f64 * dt * 3.0).sin()).collect();
+        let c = Curve::samples(0.0, dt, values).unwrap();
+        let mut err = [0.0f64; 3];
+        for k in 0..=997 {
+            let t = 2.0 * k as f64 / 997.0;
+            let got = c.eval(t).unwrap();
+            let want = [
+                (3.0 * t).sin(),
+                3.0 * (3.0 * t).cos(),
+                -9.0 * (3.0 * t).sin(),
+            ];
+            for i in 0..3 {
+                err[i] = err[i].max((got[i] - want[i]).abs());
+            }
+        }
+        // O(h⁴), O(h³), O(h²) with h = 1/120 (ends included).
+        assert!(err[0] < 1e-7 && err[1] < 1e-5 && err[2] < 2e-2, "{err:?}");
+    }
+
+    #[test]
+    fn few_samples_and_bad_samples() {
+        assert_eq!(
+            Curve::samples(1.0, 0.5, vec![2.0])
+                .unwrap()
+                .eval(1.0)
+                .unwrap(),
+            [2.0, 0.0, 0.0]
+        );
+        let lin = Curve::samples(0.0, 1.0, vec![0.0, 2.0]).unwrap();
+        assert_eq!(lin.eval(0.5).unwrap(), [1.0, 2.0, 0.0]);
+        let par = Curve::samples(0.0, 1.0, vec![0.0, 1.0, 4.0]).unwrap(); // t²
+        let v = par.eval(1.5).unwrap();
+        assert!(
+            close(v[0], 2.25, 1e-14) && close(v[1], 3.0, 1e-14) && close(v[2], 2.0, 1e-14),
+            "{v:?}"
+        );
+        let four = Curve::samples(0.0, 1.0, vec![0.0, 1.0, 8.0, 27.0]).unwrap(); // t³
+        let v = four.eval(2.5).unwrap();
+        assert!(
+            close(v[0], 15.625, 1e-12) && close(v[1], 18.75, 1e-12) && close(v[2], 15.0, 1e-12),
+            "{v:?}"
+        );
+
+        assert!(matches!(
+            Curve::samples(0.0, 1.0, vec![]),
+            Err(MotionError::BadSamples(_))
+        ));
+        assert!(matches!(
+            Curve::samples(0.0, 0.0, vec![1.0]),
+            Err(MotionError::BadSamples(_))
+        ));
+        assert!(matches!(
+            Curve::samples(0.0, -1.0, vec![1.0]),
+            Err(MotionError::BadSamples(_))
+        ));
+        assert!(matches!(
+            Curve::samples(0.0, f64::NAN, vec![1.0]),
+            Err(MotionError::BadSamples(_))
+        ));
+        assert!(matches!(
+            Curve::samples(f64::INFINITY, 1.0, vec![1.0]),
+            Err(MotionError::NonFinite { .. })
+        ));
+        let e = Curve::samples(0.0, 1.0, vec![1.0, f64::NAN]).unwrap_err();
+        assert!(e.to_string().contains("sample 1"), "{e}");
+        assert!(matches!(
+            Curve::constant(f64::NAN),
+            Err(MotionError::NonFinite { .. })
+        ));
+    }
+
+    #[test]
+    fn samples_outside_their_range_are_an_error_but_rounding_is_not() {
+        let c = Curve::samples(0.0, 0.1, vec![0.0, 1.0, 2.0, 3.0]).unwrap();
+        assert!(matches!(
+            c.eval(-0.01),
+            Err(MotionError::OutsideSamples { .. })
+        ));
+        assert!(matches!(
+            c.eval(0.31),
+            Err(MotionError::OutsideSamples { .. })
+        ));
+        assert!(matches!(
+            c.eval(f64::NAN),
+            Err(MotionError::OutsideSamples { .. })
+        ));
+        // 0.1·3 = 0.30000000000000004: a rounding error past the end is the end.
+        assert!(close(c.eval(0.1 * 3.0).unwrap()[0], 3.0, 1e-12));
+        assert!(close(c.eval(-1e-15).unwrap()[0], 0.0, 1e-12));
+    }
+
+    #[derive(Debug)]
+    struct Sin(f64);
+    impl TimeFunction for Sin {
+        fn eval(&self, t: f64) -> Result<f64, String> {
+            Ok((self.0 * t).sin())
+        }
+    }
+
+    #[test]
+    fn function_derivatives_by_central_differences() {
+        for &w in &[1.0, 5.0] {
+            let c = Curve::Function(Arc::new(Sin(w)));
+            for &t in &[0.0, 0.3, 1.0, 17.5, 1000.0] {
+                let [v, d, dd] = c.eval(t).unwrap();
+                let (s, co) = ((w * t).sin(), (w * t).cos());
+                assert_eq!(v, s);
+                // Relative to the derivative's scale w, w².
+                assert!((d - w * co).abs() < 1e-10 * w, "w={w} t={t}: {d}");
+                assert!((dd + w * w * s).abs() < 1e-8 * w * w, "w={w} t={t}: {dd}");
+            }
+        }
+    }
+
+    #[derive(Debug)]
+    struct Bad;
+    impl TimeFunction for Bad {
+        fn eval(&self, t: f64) -> Result<f64, String> {
+            if t > 1.0 {
+                Err("boom".into())
+            } else {
+                Ok(f64::NAN)
+            }
+        }
+    }
+
+    #[test]
+    fn failing_functions_are_errors() {
+        let c = Curve::Function(Arc::new(Bad));
+        let e = c.value(0.5).unwrap_err().to_string();
+        assert!(e.contains("NaN") && e.contains("0.5"), "{e}");
+        let e = c.value(2.0).unwrap_err().to_string();
+        assert!(e.contains("boom"), "{e}");
+    }
+
+    #[test]
+    fn hermite_meets_its_end_states() {
+        let h = HermiteCurve::new(1.0, 0.5, -2.0, 3.0, 1.5, 4.0).unwrap();
+        let a = h.eval(1.0);
+        let b = h.eval(3.0);
+        assert!(close(a[0], 0.5, 1e-15) && close(a[1], -2.0, 1e-15));
+        assert!(close(b[0], 1.5, 1e-15) && close(b[1], 4.0, 1e-14));
+        // Second derivative against a difference of first derivatives.
+        let e = 1e-6;
+        let fd = (h.eval(2.0 + e)[1] - h.eval(2.0 - e)[1]) / (2.0 * e);
+        assert!(close(h.eval(2.0)[2], fd, 1e-8));
+        assert!(HermiteCurve::new(1.0, 0.0, 0.0, 1.0, 0.0, 0.0).is_err());
+        assert!(HermiteCurve::new(0.0, f64::NAN, 0.0, 1.0, 0.0, 0.0).is_err());
     }
 }

@@ -8,6 +8,8 @@
 //! Outside its domain a (non-periodic) basis is evaluated by the polynomial of
 //! the first or last non-empty span: curves extrapolate smoothly. A periodic
 //! basis wraps t into its period.
+// Index loops mirror the equations (several arrays per index); iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;

@@ -8,3 +8,5 @@ pub use bspline::{BSplineBasis, BSplineCurve, MAX_DEGREE, SplineError};
 pub use fit::{fit_least_squares, fit_weighted};
 pub mod simm;
 pub use simm::SimmSpline;
+pub mod tensor;
+pub use tensor::{TensorEval, TensorSpline};

@@ -43,13 +43,14 @@ pub struct FunctionJoint {
     child_offset_inv: Se3,
 }
 
-/// Why a function-based joint could not be built.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("function-based joint: {0}")]
-pub struct FunctionJointError(pub String);
+/// Why a function-based joint could not be built (the joint library's error).
+pub use super::error::JointError as FunctionJointError;
 
 fn err<T>(msg: impl Into<String>) -> Result<T, FunctionJointError> {
-    Err(FunctionJointError(msg.into()))
+    Err(FunctionJointError(format!(
+        "function-based joint: {}",
+        msg.into()
+    )))
 }
 
 /// R = Rx(a)·Ry(b)·Rz(c): OpenSim's body-fixed X-Y-Z orientation of an offset frame.

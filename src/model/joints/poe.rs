@@ -9,6 +9,8 @@
 //! and its derivative
 //!   ∂μ_k^i/∂q_j = ĝ_k ∂²φ_k/∂q_i∂q_j
 //!                 + Ad⁻¹_{exp(ĝ_k φ_k)} (∂μ_{k−1}^i/∂q_j + ad_{μ_{k−1}^i} ĝ_k ∂φ_k/∂q_j).
+// Index loops mirror the equations (several arrays per index); iterators would obscure them.
+#![allow(clippy::needless_range_loop)]
 
 use crate::lie::{Se3, Twist, ad, exp_se3};
 use crate::model::joint::{Derivatives, JointKinematics, MAX_JOINT_DOF};

@@ -1,0 +1,342 @@
+//! [`Interpreter`]: the embedding API. It owns the source texts (for
+//! diagnostics), the global environment that grows with each `let`/`fn`, the
+//! built-in registry, the limits, the file root and the cancellation token.
+//!
+//! ```
+//! let mut mx = mx::Interpreter::new();
+//! mx.eval_str("let double = fn(x) = 2 * x").unwrap();
+//! assert_eq!(mx.eval_str("double(21)").unwrap().as_number(), Some(42.0));
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use super::ast::{Program, SourceId, Span};
+use super::builtins::{Args, Registry};
+use super::diagnostics::{Diagnostic, ErrorKind, MxError, MxResult, Source};
+use super::env::Env;
+use super::eval::{Context, Evaluator, Limits, Output};
+use super::parser;
+use super::resolve::Resolver;
+use super::value::Value;
+use crate::cancel::CancelToken;
+
+/// The standard library, written in mx and loaded by [`Interpreter::new`].
+pub const PRELUDE: &str = include_str!("../../stdlib/prelude.mx");
+
+pub struct Interpreter {
+    sources: Vec<Source>,
+    globals: Env,
+    ctx: Context,
+}
+
+impl Default for Interpreter {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Interpreter {
+    /// An interpreter with every built-in and the prelude loaded.
+    pub fn new() -> Self {
+        let mut i = Self::bare();
+        if let Err(d) = i.eval_named("<prelude>", PRELUDE) {
+            // The prelude ships with the binary and is tested; failing here is
+            // a build defect, reported rather than panicking.
+            eprintln!("warning: the prelude failed to load:\n{}", d.render_plain());
+        }
+        i
+    }
+
+    /// An interpreter with the built-ins but without the prelude.
+    pub fn bare() -> Self {
+        Interpreter {
+            sources: Vec::new(),
+            globals: Env::empty(),
+            ctx: Context::new(Arc::new(Registry::standard())),
+        }
+    }
+
+    // ---- configuration ----
+
+    /// Register a host function, callable from mx. `signature` like `"f(x, y)"`.
+    pub fn register<F>(&mut self, signature: &str, doc: &str, f: F)
+    where
+        F: Fn(&mut Args, &mut Evaluator) -> MxResult<Value> + Send + Sync + 'static,
+    {
+        Arc::make_mut(&mut self.ctx.registry).add(signature, doc, f);
+    }
+
+    /// Change the registry (add formats, constants…).
+    pub fn registry_mut(&mut self) -> &mut Registry {
+        Arc::make_mut(&mut self.ctx.registry)
+    }
+    pub fn registry(&self) -> &Registry {
+        &self.ctx.registry
+    }
+
+    /// Limit each top-level evaluation to `steps` evaluation steps (`None`: no limit).
+    pub fn set_step_budget(&mut self, steps: Option<u64>) {
+        self.ctx.limits.max_steps = steps;
+    }
+    /// Limit the nesting of mx function calls.
+    pub fn set_max_depth(&mut self, depth: usize) {
+        self.ctx.limits.max_depth = depth;
+    }
+    pub fn limits(&self) -> Limits {
+        self.ctx.limits
+    }
+
+    /// Confine `load`/`save` to files under `root` (`None`: anywhere).
+    pub fn set_file_root(&mut self, root: Option<PathBuf>) {
+        self.ctx.file_root = root.map(Arc::new);
+    }
+
+    /// Send `print` output somewhere other than stdout.
+    pub fn set_output(&mut self, out: Output) {
+        self.ctx.out = out;
+    }
+
+    /// Capture `print` output in a shared buffer (tests, embedders).
+    pub fn capture_output(&mut self) -> Arc<Mutex<Vec<u8>>> {
+        let buf = Arc::new(Mutex::new(Vec::new()));
+        self.ctx.out = Arc::new(Mutex::new(SharedBuf(buf.clone())));
+        buf
+    }
+
+    /// The token that cancels running evaluations (hand it to a Ctrl-C handler).
+    pub fn cancel_token(&self) -> CancelToken {
+        self.ctx.cancel.clone()
+    }
+
+    /// A context for evaluating values (e.g. mx functions) outside `eval_*`.
+    pub fn context(&self) -> Context {
+        self.ctx.clone()
+    }
+
+    // ---- globals ----
+
+    pub fn get(&self, name: &str) -> Option<Value> {
+        self.globals
+            .get(name)
+            .cloned()
+            .or_else(|| self.ctx.registry.lookup(name))
+    }
+    pub fn set(&mut self, name: &str, value: impl Into<Value>) {
+        self.globals = self.globals.bind(name, value.into());
+    }
+    /// Every name in scope: user globals first, then built-ins.
+    pub fn names(&self) -> Vec<String> {
+        let mut v = self.globals.names();
+        v.extend(self.ctx.registry.names().map(String::from));
+        v
+    }
+
+    // ---- evaluation ----
+
+    fn add_source(&mut self, name: &str, text: &str) -> SourceId {
+        self.sources.push(Source {
+            name: name.to_string(),
+            text: Arc::from(text),
+        });
+        (self.sources.len() - 1) as SourceId
+    }
+
+    /// Attach the source text to an error for display.
+    pub fn diagnostic(&self, e: MxError) -> Diagnostic {
+        let src = e.span.and_then(|s| self.sources.get(s.file as usize));
+        Diagnostic::new(e, src)
+    }
+
+    /// Evaluate source text; `let`/`fn` at top level stay defined.
+    pub fn eval_str(&mut self, src: &str) -> Result<Value, Diagnostic> {
+        self.eval_named("<input>", src)
+    }
+
+    /// Evaluate a file.
+    pub fn eval_file(&mut self, path: impl AsRef<Path>) -> Result<Value, Diagnostic> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            self.diagnostic(
+                MxError::new(
+                    ErrorKind::Io,
+                    format!("cannot read {}: {e}", path.display()),
+                )
+                .help("check the file name and that the file is UTF-8 text"),
+            )
+        })?;
+        self.eval_named(&path.display().to_string(), &text)
+    }
+
+    /// Evaluate source text under a display name (used in diagnostics).
+    pub fn eval_named(&mut self, name: &str, src: &str) -> Result<Value, Diagnostic> {
+        let program = self.parse_named(name, src)?;
+        let mut ev = Evaluator::new(self.ctx.clone());
+        match ev.exec(&program.stmts, self.globals.clone()) {
+            Ok((v, env)) => {
+                self.globals = env;
+                Ok(v)
+            }
+            Err(e) => Err(self.diagnostic(e)),
+        }
+    }
+
+    /// Parse only (registers the source for later diagnostics).
+    pub fn parse_named(&mut self, name: &str, src: &str) -> Result<Program, Diagnostic> {
+        let id = self.add_source(name, src);
+        parser::parse_program(src, id).map_err(|e| self.diagnostic(e))
+    }
+
+    /// Parse and resolve names without running (`mx check`).
+    pub fn check_named(&mut self, name: &str, src: &str) -> Result<(), Diagnostic> {
+        let program = self.parse_named(name, src)?;
+        let globals = self.globals.clone();
+        let registry = self.ctx.registry.clone();
+        let known = move |n: &str| globals.get(n).is_some() || registry.lookup(n).is_some();
+        let mut r = Resolver::new(&known, self.names());
+        r.program(&program).map_err(|e| self.diagnostic(e))
+    }
+
+    /// Evaluate one expression and report its type (REPL `:type`) without
+    /// keeping any binding.
+    pub fn type_of(&mut self, src: &str) -> Result<String, Diagnostic> {
+        let id = self.add_source("<input>", src);
+        let expr = parser::parse_expr(src, id).map_err(|e| self.diagnostic(e))?;
+        let mut ev = Evaluator::new(self.ctx.clone());
+        let v = ev
+            .eval(&expr, &self.globals)
+            .map_err(|e| self.diagnostic(e))?;
+        Ok(v.type_name().to_string())
+    }
+
+    /// Call a function value (mx or built-in) from Rust.
+    pub fn call(&mut self, f: &Value, args: Vec<Value>) -> Result<Value, Diagnostic> {
+        let mut ev = Evaluator::new(self.ctx.clone());
+        ev.call(f, args, Span::default())
+            .map_err(|e| self.diagnostic(e))
+    }
+}
+
+/// `Write` into a shared byte buffer.
+struct SharedBuf(Arc<Mutex<Vec<u8>>>);
+
+impl std::io::Write for SharedBuf {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .extend_from_slice(b);
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(src: &str) -> (Result<Value, Diagnostic>, String) {
+        let mut i = Interpreter::new();
+        let out = i.capture_output();
+        let r = i.eval_str(src);
+        let s = String::from_utf8(out.lock().unwrap().clone()).unwrap();
+        (r, s)
+    }
+
+    fn val(src: &str) -> Value {
+        match run(src).0 {
+            Ok(v) => v,
+            Err(d) => panic!("{src}: {}", d.render_plain()),
+        }
+    }
+
+    fn err(src: &str) -> Diagnostic {
+        match run(src).0 {
+            Ok(v) => panic!("{src}: expected an error, got {v}"),
+            Err(d) => d,
+        }
+    }
+
+    #[test]
+    fn arithmetic_units_and_print() {
+        assert_eq!(val("1 + 2 * 3").as_number(), Some(7.0));
+        assert_eq!(val("250ms + 1s").as_number(), Some(1.25));
+        assert_eq!(val("90deg").as_number(), Some(std::f64::consts::FRAC_PI_2));
+        let (_, out) = run("print(0.1, 1e-12, [1, 2], {a: 1, b: \"x\"}, \"hi\", true)");
+        assert_eq!(out, "0.1 1e-12 [1, 2] {a: 1, b: \"x\"} hi true\n");
+    }
+
+    #[test]
+    fn functions_closures_recursion_named_args() {
+        assert_eq!(val("fn f(t) = t * 2\nf(21)").as_number(), Some(42.0));
+        assert_eq!(
+            val("let k = 3; let g = fn(x) = x + k; g(1)").as_number(),
+            Some(4.0)
+        );
+        assert_eq!(
+            val("fn fact(n) = if n <= 1 { 1 } else { n * fact(n - 1) }\nfact(10)").as_number(),
+            Some(3628800.0)
+        );
+        assert_eq!(
+            val("fn f(a, b = 10) = a - b\nf(b: 1, a: 5) + f(20)").as_number(),
+            Some(14.0)
+        );
+        assert_eq!(val("map([1, 2, 3], fn(x) = x * x)").repr(), "[1, 4, 9]");
+        assert_eq!(
+            val("[1, 2, 3].map(fn(x) = x + 1).sum()").as_number(),
+            Some(9.0)
+        );
+        assert_eq!(
+            val("let r = {f: fn(x) = x * 10}; r.f(2)").as_number(),
+            Some(20.0)
+        );
+        assert_eq!(val("{ let a = 2; a * a }").as_number(), Some(4.0));
+    }
+
+    #[test]
+    fn errors_have_kinds_spans_and_help() {
+        let d = err("let walk = 1\nwolk + 1");
+        assert_eq!(d.kind(), ErrorKind::UnknownName);
+        assert!(d.error().help.as_deref().unwrap_or("").contains("walk"));
+        assert_eq!(err("1 / 0").kind(), ErrorKind::DivisionByZero);
+        assert_eq!(err("sin(\"x\")").kind(), ErrorKind::Type);
+        assert_eq!(err("sin(1, 2)").kind(), ErrorKind::Arity);
+        assert_eq!(err("fn f(n) = f(n + 1)\nf(0)").kind(), ErrorKind::Recursion);
+        assert_eq!(err("sqrt(-1)").kind(), ErrorKind::Value);
+    }
+
+    #[test]
+    fn step_budget_and_cancellation_stop_loops() {
+        let mut i = Interpreter::new();
+        i.set_step_budget(Some(10_000));
+        i.set_max_depth(1_000_000);
+        let d = i.eval_str("fn f(n) = f(n + 1)\nf(0)").unwrap_err();
+        assert_eq!(d.kind(), ErrorKind::StepBudget);
+        let mut i = Interpreter::new();
+        i.cancel_token().cancel();
+        let d = i.eval_str("sum(map(range(5000), fn(x) = x))").unwrap_err();
+        assert_eq!(d.kind(), ErrorKind::Cancelled);
+    }
+
+    #[test]
+    fn file_root_confines_paths() {
+        let mut i = Interpreter::new();
+        i.set_file_root(Some(std::env::temp_dir()));
+        let ev = Evaluator::new(i.context());
+        assert!(ev.resolve_path("../etc/passwd", Span::default()).is_err());
+        assert!(ev.resolve_path("/etc/passwd", Span::default()).is_err());
+        assert!(ev.resolve_path("a/../b.json", Span::default()).is_ok());
+    }
+
+    #[test]
+    fn check_resolves_names_without_running() {
+        let mut i = Interpreter::new();
+        assert!(i.check_named("t", "fn f(x) = x + 1\nprint(f(2))").is_ok());
+        let d = i.check_named("t", "let walk = 1\nprint(wakl)").unwrap_err();
+        assert_eq!(d.kind(), ErrorKind::UnknownName);
+        // check does not run: an error at run time is not reported.
+        assert!(i.check_named("t", "1 / 0").is_ok());
+    }
+}

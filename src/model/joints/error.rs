@@ -1,0 +1,25 @@
+//! The error of building a joint from user input.
+
+/// Why a joint could not be built; the message says what to change.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct JointError(pub String);
+
+pub(crate) fn jerr<T>(msg: impl Into<String>) -> Result<T, JointError> {
+    Err(JointError(msg.into()))
+}
+
+/// A unit vector from user input, or an error naming `what`.
+pub(crate) fn unit(
+    v: nalgebra::Vector3<f64>,
+    what: &str,
+) -> Result<nalgebra::Vector3<f64>, JointError> {
+    let n = v.norm();
+    if !(n.is_finite() && n > 1e-12) {
+        return jerr(format!(
+            "{what} must be a non-zero finite vector, got [{}, {}, {}]",
+            v.x, v.y, v.z
+        ));
+    }
+    Ok(v / n)
+}
