@@ -81,7 +81,12 @@ impl Dof {
     /// Time t ↦ ts + d·t. `Err` when ts or d is not finite or d ≤ 0.
     pub fn affine(&self, ts: f64, d: f64) -> Result<Dof, MotionError> {
         check_affine(ts, d)?;
-        Ok(self.affine_unchecked(ts, d))
+        let intervals = self
+            .intervals
+            .iter()
+            .map(|i| i.affine_checked(ts, d))
+            .collect::<Result<_, _>>()?;
+        Ok(Dof { intervals })
     }
 
     pub(crate) fn affine_unchecked(&self, ts: f64, d: f64) -> Dof {

@@ -55,6 +55,7 @@ impl Dof {
     /// `[q, q̇, q̈]` at `t`; `Ok(None)` where undefined; `Err` in a conflict
     /// (named `dof_name`) or if the curve fails.
     pub fn sample(&self, dof_name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
+        check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
             Located::Single(i) => Ok(Some(i.funcs[0].eval(t)?)),
@@ -88,11 +89,20 @@ impl Dof {
 
     /// The value only (one curve evaluation).
     pub fn sample_value(&self, dof_name: &str, t: f64) -> Result<Option<f64>, MotionError> {
+        check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
             Located::Single(i) => Ok(Some(i.funcs[0].value(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
+    }
+}
+
+fn check_time(t: f64) -> Result<(), MotionError> {
+    if t.is_finite() {
+        Ok(())
+    } else {
+        Err(MotionError::BadTime { t })
     }
 }
 
