@@ -24,3 +24,4 @@ pub mod root;
 pub use root::RootTransition;
 pub mod groups;
 pub use groups::{group_overlapping, solve_all};
+pub mod precond;
