@@ -140,7 +140,11 @@ impl Diagnostic {
             }
             NamedSource::new(s.name.clone(), s.text.clone())
         });
-        Diagnostic(Box::new(DiagnosticInner { error, source, location }))
+        Diagnostic(Box::new(DiagnosticInner {
+            error,
+            source,
+            location,
+        }))
     }
     pub fn kind(&self) -> ErrorKind {
         self.0.error.kind

@@ -313,11 +313,7 @@ impl Evaluator {
         }
     }
 
-    fn eval_args(
-        &mut self,
-        args: &[Arg],
-        env: &Env,
-    ) -> MxResult<(Vec<ArgValue>, NamedArgs)> {
+    fn eval_args(&mut self, args: &[Arg], env: &Env) -> MxResult<(Vec<ArgValue>, NamedArgs)> {
         let mut pos = Vec::with_capacity(args.len());
         let mut named: Vec<(String, Span, ArgValue)> = Vec::new();
         for a in args {

@@ -94,7 +94,9 @@ struct NodeRows {
     rows: [Vec<f64>; 3],
 }
 
-/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t.
+/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t; a
+/// coordinate undefined at t is left NaN (an error unless it is a gap DOF of
+/// the transition being solved).
 pub type Inputs<'a> =
     dyn Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a;
 
@@ -175,8 +177,28 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
         let mut base = Vec::with_capacity(nodes.len());
         for &t in &nodes {
-            let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let (mut q, mut v, mut a) = (vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]);
             inputs(t, &mut q, &mut v, &mut a)?;
+            for c in 0..n {
+                let in_gap = dofs.iter().any(|d| d.coord == c && t >= d.t0 && t <= d.t1);
+                if in_gap {
+                    continue;
+                }
+                if !(q[c].is_finite() && v[c].is_finite() && a[c].is_finite()) {
+                    let gaps: Vec<String> = dofs
+                        .iter()
+                        .map(|d| {
+                            format!("{} on [{}, {}]", model.coordinate_name(d.coord), d.t0, d.t1)
+                        })
+                        .collect();
+                    return Err(SpError::Evaluation(format!(
+                        "{} is undefined at t = {t} but the transition of {} needs the whole body there; \
+                         define it (e.g. extend its motion, or fill its own gap first)",
+                        model.coordinate_name(c),
+                        gaps.join(", ")
+                    )));
+                }
+            }
             base.push([q, v, a]);
         }
 
