@@ -363,6 +363,16 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     /// Assembled as Σ_αβ G_αβ[d, e] · Σ_k w_k r_{α,d,k} r_{β,e,k}ᵀ with
     /// G_αβ = D_αᵀ W D_β, so it costs O(nd²·nf²) per node, not O(nq·(nd·nf)²).
     pub fn preconditioner(&self, s: &mut Scratch<M::Workspace>) -> Result<Precond, SpError> {
+        let x0 = self.hermite_start();
+        self.gauss_newton_at(s, &x0)
+    }
+
+    /// The Gauss–Newton preconditioner linearised at x (see [`Objective::preconditioner`]).
+    pub fn gauss_newton_at(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+        x0: &[f64],
+    ) -> Result<Precond, SpError> {
         let nf = self.n_free;
         let nd = self.dofs.len();
         let nv = nd * nf;
@@ -370,7 +380,6 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             return Ok(Precond::Identity);
         }
         let coords: Vec<usize> = self.dofs.iter().map(|d| d.coord).collect();
-        let x0 = self.hermite_start();
         let nn = self.nodes.len();
         let mut h = DMatrix::<f64>::zeros(nv, nv);
         let w = nalgebra::DVector::from_iterator(self.weights.len(), self.weights.iter().copied());
@@ -379,7 +388,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             if k0 >= k1 {
                 continue;
             }
-            self.load_node((k0 + k1) / 2, &x0, s);
+            self.load_node((k0 + k1) / 2, x0, s);
             let d = self
                 .model
                 .torque_jacobians(&mut s.ws, &s.q, &s.v, &s.a, &coords)?;
