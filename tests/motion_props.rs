@@ -222,4 +222,30 @@ proptest! {
             }
         }
     }
+
+    #[test]
+    fn grid_sampling_matches_point_sampling(a in arb_dof(), b in arb_dof(), rate in 1.0f64..40.0) {
+        let m: Mu = [("x".to_string(), a.plus(&b))].into_iter().collect();
+        match sample_grid(&m, rate, None) {
+            Ok(g) => {
+                for (k, &t) in g.times.iter().enumerate() {
+                    prop_assert_eq!(g.values[0][k], m.sample_value("x", t).unwrap());
+                }
+            }
+            Err(MotionError::Conflict { t, .. }) => prop_assert!(m.sample_value("x", t).is_err()),
+            Err(e) => prop_assert!(false, "{e}"),
+        }
+    }
+
+    /// `Dof::new` (with its sorted-and-disjoint fast path) is the fold of `+`.
+    #[test]
+    fn dof_new_is_the_sum_of_its_intervals(a in arb_dof(), b in arb_dof()) {
+        let mut list: Vec<Interval> = a.intervals.iter().chain(&b.intervals).cloned().collect();
+        list.reverse();
+        let built = Dof::new(list.clone()).unwrap();
+        check_normal(&built)?;
+        let folded = list.into_iter().fold(Dof::empty(), |acc, i| acc.plus(&Dof::from(i)));
+        prop_assert!(same_cover(&coverage(&built), &coverage(&folded)));
+        prop_assert!(same_cover(&merge(built.conflicts()), &merge(folded.conflicts())));
+    }
 }

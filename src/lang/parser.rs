@@ -50,7 +50,7 @@ fn parse_program_inner(src: &str, file: SourceId) -> MxResult<Program> {
     let program = pairs
         .next()
         .ok_or_else(|| MxError::new(ErrorKind::Syntax, "empty parse"))?;
-    let b = Builder { file };
+    let b = Builder { file, src };
     let mut stmts = Vec::new();
     for p in program.into_inner() {
         if p.as_rule() == Rule::EOI {
@@ -284,8 +284,17 @@ fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> MxErr
         }
         ErrorVariant::CustomError { .. } => vec![],
     };
-    if rest.trim().is_empty()
-        && let Some((pos, open)) = unclosed_bracket(src)
+    let line_rest = rest.split('\n').next().unwrap_or("");
+    if rest.starts_with('"') && !line_rest[1..].contains('"') {
+        return MxError::new(ErrorKind::Syntax, "this string is never closed")
+            .at(Span::new(file, start, start + line_rest.trim_end().len()))
+            .label("string starts here")
+            .help(
+                "add a `\"` before the end of the line (write `\\\"` for a quote inside a string)",
+            );
+    }
+    if let Some((pos, open)) = unclosed_bracket(src)
+        && pos < start
     {
         let close = match open {
             '(' => ')',
@@ -295,7 +304,9 @@ fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> MxErr
         return MxError::new(ErrorKind::Syntax, format!("this `{open}` is never closed"))
             .at(Span::new(file, pos, pos + 1))
             .label("opened here")
-            .help(format!("add a matching `{close}`"));
+            .help(format!(
+                "add a matching `{close}`; inside brackets, items are separated by `,`"
+            ));
     }
     let message = if expected.is_empty() {
         format!("unexpected {found}")
@@ -384,8 +395,9 @@ fn syntax_help(src: &str, pos: usize, rest: &str) -> String {
     }
 }
 
-struct Builder {
+struct Builder<'s> {
     file: SourceId,
+    src: &'s str,
 }
 
 fn unescape(s: &str) -> Result<String, String> {
@@ -432,7 +444,15 @@ fn unescape(s: &str) -> Result<String, String> {
     Ok(out)
 }
 
-impl Builder {
+impl Builder<'_> {
+    fn text(&self, span: Span) -> Arc<str> {
+        Arc::from(
+            self.src
+                .get(span.start as usize..span.end as usize)
+                .unwrap_or(""),
+        )
+    }
+
     fn span(&self, p: &Pair<Rule>) -> Span {
         let s = p.as_span();
         Span::new(self.file, s.start(), s.end())
@@ -461,6 +481,7 @@ impl Builder {
                     params: self.params(params)?,
                     body: self.body(body)?,
                     span,
+                    text: self.text(span),
                 };
                 Ok(Stmt::Fn(Arc::new(def)))
             }
@@ -748,6 +769,7 @@ impl Builder {
                     params,
                     body,
                     span,
+                    text: self.text(span),
                 }))
             }
             Rule::expr => return self.expr(p),

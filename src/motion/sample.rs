@@ -28,6 +28,11 @@ impl Dof {
         let k = self
             .intervals
             .partition_point(|i| i.stop + super::time_tol(i.stop) < t);
+        self.locate_from(k, t)
+    }
+
+    /// `locate` given the index of the first interval that does not end before `t`.
+    fn locate_from(&self, k: usize, t: f64) -> Located<'_> {
         let mut best: Option<&Interval> = None;
         for i in self.intervals[k..].iter().take(2) {
             if !i.contains(t) {
@@ -50,6 +55,7 @@ impl Dof {
     /// `[q, q̇, q̈]` at `t`; `Ok(None)` where undefined; `Err` in a conflict
     /// (named `dof_name`) or if the curve fails.
     pub fn sample(&self, dof_name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
+        check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
             Located::Single(i) => Ok(Some(i.funcs[0].eval(t)?)),
@@ -57,13 +63,46 @@ impl Dof {
         }
     }
 
+    /// Values at ascending `times` (as `sample_value` at each), walking the
+    /// intervals once instead of searching for every time.
+    pub fn sample_values_sorted(
+        &self,
+        dof_name: &str,
+        times: &[f64],
+    ) -> Result<Vec<Option<f64>>, MotionError> {
+        let mut out = Vec::with_capacity(times.len());
+        let mut k = 0;
+        for &t in times {
+            while k < self.intervals.len()
+                && self.intervals[k].stop + super::time_tol(self.intervals[k].stop) < t
+            {
+                k += 1;
+            }
+            out.push(match self.locate_from(k, t) {
+                Located::Undefined => None,
+                Located::Single(i) => Some(i.funcs[0].value(t)?),
+                Located::Conflict(i) => return Err(conflict(dof_name, i, t)),
+            });
+        }
+        Ok(out)
+    }
+
     /// The value only (one curve evaluation).
     pub fn sample_value(&self, dof_name: &str, t: f64) -> Result<Option<f64>, MotionError> {
+        check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
             Located::Single(i) => Ok(Some(i.funcs[0].value(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
+    }
+}
+
+fn check_time(t: f64) -> Result<(), MotionError> {
+    if t.is_finite() {
+        Ok(())
+    } else {
+        Err(MotionError::BadTime { t })
     }
 }
 
@@ -77,14 +116,23 @@ fn conflict(dof: &str, i: &Interval, t: f64) -> MotionError {
 }
 
 impl Mu {
-    /// `[q, q̇, q̈]` of DOF `name` at `t`. `Ok(None)`: undefined there (also
-    /// outside all intervals); `Err`: unknown DOF name, conflict, or a curve failure.
+    /// `[q, q̇, q̈]` of DOF `name` at `t`. `Ok(None)`: undefined there —
+    /// outside its intervals, or a DOF this motion does not name (undefined
+    /// everywhere, as in Rose §4). `Err`: a conflict (naming the DOF and time
+    /// span), a non-finite time or a curve failure. To treat an unknown name
+    /// as a typo instead, look it up with [`Mu::dof`] (did-you-mean error).
     pub fn sample(&self, name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
-        self.dof(name)?.sample(name, t)
+        match self.get(name) {
+            Some(d) => d.sample(name, t),
+            None => check_time(t).map(|_| None),
+        }
     }
 
     pub fn sample_value(&self, name: &str, t: f64) -> Result<Option<f64>, MotionError> {
-        self.dof(name)?.sample_value(name, t)
+        match self.get(name) {
+            Some(d) => d.sample_value(name, t),
+            None => check_time(t).map(|_| None),
+        }
     }
 }
 
@@ -148,11 +196,7 @@ pub fn sample_grid(m: &Mu, rate: f64, cancel: Option<&CancelToken>) -> Result<Gr
         if let Some(c) = cancel {
             c.check()?;
         }
-        let mut col = Vec::with_capacity(times.len());
-        for &t in &times {
-            col.push(dof.sample_value(name, t)?);
-        }
-        values.push(col);
+        values.push(dof.sample_values_sorted(name, &times)?);
     }
     Ok(Grid {
         names: m.names().map(str::to_string).collect(),

@@ -8,6 +8,7 @@
 //! (the basis rows stored here), so ∂e/∂x = Σ_nodes w_k (g_q·B + g_q̇·B' + g_q̈·B'').
 
 use super::error::{SpError, invalid};
+use super::precond::Precond;
 use super::quadrature::GaussLegendre;
 use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
@@ -93,7 +94,9 @@ struct NodeRows {
     rows: [Vec<f64>; 3],
 }
 
-/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t.
+/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t; a
+/// coordinate undefined at t is left NaN (an error unless it is a gap DOF of
+/// the transition being solved).
 pub type Inputs<'a> =
     dyn Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a;
 
@@ -174,8 +177,28 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
         let mut base = Vec::with_capacity(nodes.len());
         for &t in &nodes {
-            let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let (mut q, mut v, mut a) = (vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]);
             inputs(t, &mut q, &mut v, &mut a)?;
+            for c in 0..n {
+                let in_gap = dofs.iter().any(|d| d.coord == c && t >= d.t0 && t <= d.t1);
+                if in_gap {
+                    continue;
+                }
+                if !(q[c].is_finite() && v[c].is_finite() && a[c].is_finite()) {
+                    let gaps: Vec<String> = dofs
+                        .iter()
+                        .map(|d| {
+                            format!("{} on [{}, {}]", model.coordinate_name(d.coord), d.t0, d.t1)
+                        })
+                        .collect();
+                    return Err(SpError::Evaluation(format!(
+                        "{} is undefined at t = {t} but the transition of {} needs the whole body there; \
+                         define it (e.g. extend its motion, or fill its own gap first)",
+                        model.coordinate_name(c),
+                        gaps.join(", ")
+                    )));
+                }
+            }
             base.push([q, v, a]);
         }
 
@@ -331,71 +354,91 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         Ok(e)
     }
 
-    /// A change of variables x = T y (block diagonal, one block per gap DOF)
-    /// under which the Hessian of e is close to 2·I, so quasi-Newton steps are
-    /// well scaled from the first iteration.
-    ///
-    /// Why: e is dominated by ∫ Σ wᵢ (M q̈)ᵢ² dt. For DOF d that is about
-    /// c_d · xᵀ P x with P = ∫ B''ᵀ B'' dt (the free basis rows) and
-    /// c_d = Σᵢ wᵢ M_{i,d}² at the middle of the gap. P's condition number grows
-    /// like (number of pieces)⁴ and c_d spans orders of magnitude between a hip
-    /// and a wrist; T_d = L_d⁻ᵀ / √c_d with P = L Lᵀ removes both.
-    pub fn preconditioner(
+    /// The change of variables the solver works in (see [`Precond`]): the
+    /// Gauss–Newton Hessian of e at the start, with the torque Jacobians
+    /// ∂τ/∂(q, q̇, q̈) of the gap coordinates taken at the middle node of each
+    /// third of the span (the body moves over the gap; three linearisations
+    /// follow it well enough for scaling) and the basis rows exact per node:
+    /// H/2 = Σ_k w_k J_kᵀ W J_k, J_k[:, (d, j)] = Σ_α D_α[:, d] r_{α,d,k}[j].
+    /// Assembled as Σ_αβ G_αβ[d, e] · Σ_k w_k r_{α,d,k} r_{β,e,k}ᵀ with
+    /// G_αβ = D_αᵀ W D_β, so it costs O(nd²·nf²) per node, not O(nq·(nd·nf)²).
+    pub fn preconditioner(&self, s: &mut Scratch<M::Workspace>) -> Result<Precond, SpError> {
+        let x0 = self.hermite_start();
+        self.gauss_newton_at(s, &x0)
+    }
+
+    /// The Gauss–Newton preconditioner linearised at x (see [`Objective::preconditioner`]).
+    pub fn gauss_newton_at(
         &self,
         s: &mut Scratch<M::Workspace>,
-    ) -> Result<Vec<DMatrix<f64>>, SpError> {
+        x0: &[f64],
+    ) -> Result<Precond, SpError> {
         let nf = self.n_free;
-        if nf == 0 {
-            return Ok(vec![DMatrix::zeros(0, 0); self.dofs.len()]);
+        let nd = self.dofs.len();
+        let nv = nd * nf;
+        if nv == 0 {
+            return Ok(Precond::Identity);
         }
         let coords: Vec<usize> = self.dofs.iter().map(|d| d.coord).collect();
-        let mid = self.nodes.len() / 2;
-        let x0 = self.hermite_start();
-        self.load_node(mid, &x0, s);
-        let mut c = self
-            .model
-            .acceleration_weights(&mut s.ws, &s.q, &self.weights, &coords)?;
-        // A DOF that moves no mass (or a massless body) must not get an
-        // infinite scale: floor at a millionth of the largest.
-        let cmax = c
-            .iter()
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(0.0, f64::max);
-        let floor = if cmax > 0.0 { 1e-6 * cmax } else { 1.0 };
-        for v in &mut c {
-            if !v.is_finite() || *v < floor {
-                *v = floor;
+        let nn = self.nodes.len();
+        let mut h = DMatrix::<f64>::zeros(nv, nv);
+        let w = nalgebra::DVector::from_iterator(self.weights.len(), self.weights.iter().copied());
+        for part in 0..3 {
+            let (k0, k1) = (part * nn / 3, (part + 1) * nn / 3);
+            if k0 >= k1 {
+                continue;
             }
-        }
-        let mut out = Vec::with_capacity(self.dofs.len());
-        for (d, act) in self.active.iter().enumerate() {
-            let mut p = DMatrix::<f64>::zeros(nf, nf);
-            for (k, r) in act.iter().enumerate() {
-                if let Some(r) = r {
-                    let w = self.qweights[k];
-                    for i in 0..nf {
-                        for j in 0..nf {
-                            p[(i, j)] += w * r.rows[2][i] * r.rows[2][j];
+            self.load_node((k0 + k1) / 2, x0, s);
+            let d = self
+                .model
+                .torque_jacobians(&mut s.ws, &s.q, &s.v, &s.a, &coords)?;
+            // G_αβ = D_αᵀ W D_β
+            let wd: Vec<DMatrix<f64>> = d
+                .iter()
+                .map(|m| {
+                    let mut m = m.clone();
+                    for (i, mut row) in m.row_iter_mut().enumerate() {
+                        row *= w[i];
+                    }
+                    m
+                })
+                .collect();
+            let mut g = vec![];
+            for a in 0..3 {
+                for b in 0..3 {
+                    g.push(d[a].transpose() * &wd[b]);
+                }
+            }
+            for k in k0..k1 {
+                let wk = self.qweights[k];
+                for (di, ad) in self.active.iter().enumerate() {
+                    let Some(rd) = &ad[k] else { continue };
+                    for (ei, ae) in self.active.iter().enumerate() {
+                        let Some(re) = &ae[k] else { continue };
+                        for a in 0..3 {
+                            for b in 0..3 {
+                                let c = wk * g[a * 3 + b][(di, ei)];
+                                if c == 0.0 {
+                                    continue;
+                                }
+                                for j in 0..nf {
+                                    let cj = c * rd.rows[a][j];
+                                    if cj == 0.0 {
+                                        continue;
+                                    }
+                                    for l in 0..nf {
+                                        h[(di * nf + j, ei * nf + l)] += cj * re.rows[b][l];
+                                    }
+                                }
+                            }
                         }
                     }
                 }
             }
-            // P is positive definite (a free combination with zero q̈ is linear and
-            // vanishes with its slope at both ends, so it is zero); guard anyway.
-            let t = match p.clone().cholesky() {
-                Some(ch) => match ch.l().transpose().try_inverse() {
-                    Some(li) => li / c[d].sqrt(),
-                    None => DMatrix::identity(nf, nf) / c[d].sqrt(),
-                },
-                None => {
-                    let diag = p.diagonal().map(|v| 1.0 / v.max(1e-300).sqrt());
-                    DMatrix::from_diagonal(&diag) / c[d].sqrt()
-                }
-            };
-            out.push(t);
         }
-        Ok(out)
+        // symmetrise rounding
+        let h = (&h + h.transpose()) * 0.5;
+        Ok(Precond::from_half_hessian(h))
     }
 
     /// Full coefficient vectors of every gap DOF for free coefficients x.

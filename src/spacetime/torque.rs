@@ -14,6 +14,11 @@ pub trait TorqueModel: Sync {
 
     fn workspace(&self) -> Self::Workspace;
 
+    /// The name of coordinate i, for messages.
+    fn coordinate_name(&self, i: usize) -> String {
+        format!("coordinate {i}")
+    }
+
     /// τ into `tau`.
     fn torques(
         &self,
@@ -39,29 +44,40 @@ pub trait TorqueModel: Sync {
         ga: &mut [f64],
     ) -> Result<f64, SpError>;
 
-    /// Σᵢ wᵢ M_{i,c}² for each coordinate c of `coords` (M the mass matrix at q):
-    /// how strongly an acceleration of c shows in the objective. Used to scale
-    /// the unknowns. The default costs one inverse-dynamics pass per coordinate
-    /// (M e_c = τ(q, 0, e_c) − τ(q, 0, 0)).
-    fn acceleration_weights(
+    /// ∂τ/∂q_c, ∂τ/∂q̇_c, ∂τ/∂q̈_c for the coordinates c of `coords` (each
+    /// nq × coords.len()), used to build the solver's preconditioner. The
+    /// default takes central differences of [`TorqueModel::torques`]
+    /// (6 passes per coordinate; exact for q̈, where τ is linear) — precise
+    /// enough for a preconditioner, which only shapes the steps.
+    fn torque_jacobians(
         &self,
         ws: &mut Self::Workspace,
         q: &[f64],
-        w: &[f64],
+        v: &[f64],
+        a: &[f64],
         coords: &[usize],
-    ) -> Result<Vec<f64>, SpError> {
+    ) -> Result<[nalgebra::DMatrix<f64>; 3], SpError> {
         let n = self.nq();
-        let zero = vec![0.0; n];
-        let mut t0 = vec![0.0; n];
-        let mut t1 = vec![0.0; n];
-        self.torques(ws, q, &zero, &zero, &mut t0)?;
-        let mut a = zero.clone();
-        let mut out = Vec::with_capacity(coords.len());
-        for &c in coords {
-            a[c] = 1.0;
-            self.torques(ws, q, &zero, &a, &mut t1)?;
-            a[c] = 0.0;
-            out.push((0..n).map(|i| w[i] * (t1[i] - t0[i]).powi(2)).sum());
+        let mut out = [
+            nalgebra::DMatrix::zeros(n, coords.len()),
+            nalgebra::DMatrix::zeros(n, coords.len()),
+            nalgebra::DMatrix::zeros(n, coords.len()),
+        ];
+        let mut x = [q.to_vec(), v.to_vec(), a.to_vec()];
+        let (mut tp, mut tm) = (vec![0.0; n], vec![0.0; n]);
+        for (j, &c) in coords.iter().enumerate() {
+            for (k, m) in out.iter_mut().enumerate() {
+                let x0 = x[k][c];
+                let h = 1e-6 * (1.0 + x0.abs());
+                x[k][c] = x0 + h;
+                self.torques(ws, &x[0], &x[1], &x[2], &mut tp)?;
+                x[k][c] = x0 - h;
+                self.torques(ws, &x[0], &x[1], &x[2], &mut tm)?;
+                x[k][c] = x0;
+                for i in 0..n {
+                    m[(i, j)] = (tp[i] - tm[i]) / (2.0 * h);
+                }
+            }
         }
         Ok(out)
     }
@@ -100,6 +116,14 @@ impl TorqueModel for BodyDynamics<'_> {
         crate::dynamics::Workspace::new(self.model)
     }
 
+    fn coordinate_name(&self, i: usize) -> String {
+        self.model
+            .coordinate_names()
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("coordinate {i}"))
+    }
+
     fn torques(
         &self,
         ws: &mut Self::Workspace,
@@ -125,5 +149,28 @@ impl TorqueModel for BodyDynamics<'_> {
     ) -> Result<f64, SpError> {
         crate::dynamics::torque_sq_gradient(self.model, ws, q, v, a, &self.gravity, w, gq, gv, ga)
             .map_err(dyn_err)
+    }
+
+    /// Exact: the analytic RNEA derivatives and the mass matrix (CRBA).
+    fn torque_jacobians(
+        &self,
+        ws: &mut Self::Workspace,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        coords: &[usize],
+    ) -> Result<[nalgebra::DMatrix<f64>; 3], SpError> {
+        let n = self.model.nq();
+        let mut dq = nalgebra::DMatrix::zeros(n, n);
+        let mut dv = nalgebra::DMatrix::zeros(n, n);
+        let mut m = nalgebra::DMatrix::zeros(n, n);
+        crate::dynamics::rnea_derivatives(self.model, ws, q, v, a, &self.gravity, &mut dq, &mut dv)
+            .map_err(dyn_err)?;
+        crate::dynamics::mass_matrix(self.model, ws, q, &mut m).map_err(dyn_err)?;
+        Ok([
+            dq.select_columns(coords),
+            dv.select_columns(coords),
+            m.select_columns(coords),
+        ])
     }
 }

@@ -345,7 +345,7 @@ pub fn register(reg: &mut Registry) {
             };
             let mut frames = Vec::with_capacity(list.len());
             for f in list.iter() {
-                let av = ArgValue { value: f.clone(), span: farg.span };
+                let av = ArgValue { value: f.clone(), span: farg.span, name: None };
                 frames.push(transform_of(a, "frames", &av)?);
             }
             let knots = match a.opt("knots") {
