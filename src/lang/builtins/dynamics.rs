@@ -274,6 +274,7 @@ fn rec_vec3(
                 &ArgValue {
                     value: v.clone(),
                     span,
+                    name: None,
                 },
                 k,
             )
