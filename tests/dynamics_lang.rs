@@ -127,3 +127,72 @@ fn bad_calls_are_clear_errors() {
         e.render_plain()
     );
 }
+
+const PENDULUM: &str = r#"<robot name="pendulum">
+  <link name="base"/>
+  <link name="rod"><inertial><origin xyz="0 0 -0.5"/><mass value="2"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.001"/></inertial></link>
+  <link name="rod2"><inertial><origin xyz="0 0 -0.4"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.001"/></inertial></link>
+  <joint name="hinge" type="continuous"><parent link="base"/><child link="rod"/><axis xyz="0 1 0"/></joint>
+  <joint name="elbow" type="revolute"><parent link="rod"/><child link="rod2"/><origin xyz="0 0 -1"/>
+    <axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="10"/></joint>
+</robot>"#;
+
+#[test]
+fn simulate_returns_a_motion_that_conserves_energy() {
+    let dir = tempfile::tempdir().unwrap();
+    let urdf = dir.path().join("pendulum.urdf");
+    std::fs::write(&urdf, PENDULUM).unwrap();
+    let mut mx = Interpreter::new();
+    mx.eval_str(&format!(
+        "let body = load({:?})",
+        urdf.display().to_string()
+    ))
+    .unwrap();
+    mx.eval_str(
+        "let m = simulate(scene(body, gravity: [0, 0, -9.81]), 2, dt: 0.01, integrator: \"dopri5\", tol: 1e-11, \
+         init: {q: {hinge: 1.0, elbow: -0.5}}, velocities: true)",
+    )
+    .unwrap();
+    let end = mx.eval_str("sample(m, 2)").unwrap();
+    let Value::Record(r) = end else {
+        panic!("{end:?}")
+    };
+    let get = |k: &str| {
+        r.get(k)
+            .and_then(|v| v.as_number())
+            .unwrap_or_else(|| panic!("{k} missing"))
+    };
+    let (q, v) = (
+        [get("hinge"), get("elbow")],
+        [get("hinge.v"), get("elbow.v")],
+    );
+    // Energy at the end equals the energy at rest at the start.
+    let model = mx::model::Model::from_urdf_file(&urdf).unwrap();
+    let scene = mx::dynamics::Scene::new(std::sync::Arc::new(model))
+        .with_gravity(nalgebra::Vector3::new(0.0, 0.0, -9.81))
+        .unwrap();
+    let mut sw = mx::dynamics::SceneWorkspace::new(&scene);
+    let e0 = scene.energy(&mut sw, &[1.0, -0.5], &[0.0, 0.0]).unwrap();
+    let e1 = scene.energy(&mut sw, &q, &v).unwrap();
+    assert!(v[0].abs() > 0.1, "the pendulum moves");
+    assert!((e1 - e0).abs() < 1e-7 * e0.abs(), "energy {e0} → {e1}");
+    // Bad integrator names and unknown coordinates are reported.
+    let e = mx
+        .eval_str("simulate(scene(body), 1, integrator: \"leapfrog\")")
+        .unwrap_err();
+    assert!(
+        e.render_plain().contains("unknown integrator"),
+        "{}",
+        e.render_plain()
+    );
+    let e = mx
+        .eval_str("simulate(scene(body), 1, init: {knee: 1})")
+        .unwrap_err();
+    assert!(
+        e.render_plain().contains("no coordinate `knee`"),
+        "{}",
+        e.render_plain()
+    );
+}

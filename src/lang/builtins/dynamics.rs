@@ -11,12 +11,15 @@ use nalgebra::{DMatrix, Vector3};
 
 use super::{ArgValue, Args, Registry};
 use crate::dynamics::{
-    DynamicsError, ExternalForce, LimitPenalty, Scene, Spring, Workspace, forward_dynamics,
-    inverse_dynamics, mass_matrix,
+    DynamicsError, ExternalForce, Integrator, LimitPenalty, Scene, Spring, State, Workspace,
+    forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
+use crate::lang::builtins::motion::Motion;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::eval::Evaluator;
 use crate::lang::value::{HostObject, Value};
 use crate::model::Model;
+use crate::motion::{Curve, Dof, Interval, Mu};
 
 /// A body: a model of links and joints.
 #[derive(Clone, Debug)]
@@ -414,7 +417,158 @@ fn build_scene(a: &mut Args) -> MxResult<Value> {
     Ok(Value::object(SceneValue { scene: s }))
 }
 
+/// Initial coordinates from `init: {name: value, …}` or `init: {q: {…}, v: {…}}`.
+fn initial_state(a: &Args, init: Option<ArgValue>, m: &Model) -> MxResult<State> {
+    let mut st = State {
+        q: vec![0.0; m.nq()],
+        v: vec![0.0; m.nq()],
+    };
+    let Some(init) = init else { return Ok(st) };
+    let Value::Record(r) = &init.value else {
+        return Err(a.type_error(
+            "init",
+            "a record {coordinate: value, …} or {q: {…}, v: {…}}",
+            &init,
+        ));
+    };
+    let nested = r.keys().all(|k| k == "q" || k == "v") && !r.is_empty();
+    let parts: Vec<(&IndexMap<String, Value>, bool)> = if nested {
+        let mut p = Vec::new();
+        for (k, v) in r.iter() {
+            let Value::Record(inner) = v else {
+                return Err(MxError::type_error(format!(
+                    "`init.{k}` must be a record {{coordinate: value, …}}"
+                ))
+                .at(init.span));
+            };
+            p.push((&**inner, k == "v"));
+        }
+        p
+    } else {
+        vec![(&**r, false)]
+    };
+    for (rec, is_v) in parts {
+        for (k, v) in rec.iter() {
+            let Some(i) = m.coordinate_index(k) else {
+                return Err(MxError::value(format!(
+                    "`{}`: the body has no coordinate `{k}`",
+                    a.name()
+                ))
+                .at(init.span)
+                .help(format!("coordinates: {}", m.coordinate_names().join(", "))));
+            };
+            let Some(x) = v.as_number().filter(|x| x.is_finite()) else {
+                return Err(
+                    MxError::type_error(format!("`init`: `{k}` must be a finite number"))
+                        .at(init.span),
+                );
+            };
+            if is_v {
+                st.v[i] = x;
+            } else {
+                st.q[i] = x;
+            }
+        }
+    }
+    Ok(st)
+}
+
+fn run_simulation(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
+    let sarg = a.arg("scene")?;
+    let scene = match (
+        sarg.value.as_object::<SceneValue>(),
+        sarg.value.as_object::<Body>(),
+    ) {
+        (Some(s), _) => s.scene.clone(),
+        // A bare body is a scene with no effects at all (not even gravity).
+        (None, Some(b)) => Scene::new(b.model.clone()),
+        _ => {
+            return Err(a.type_error(
+                "scene",
+                "a scene (`scene(body, gravity: …)`) or a body",
+                &sarg,
+            ));
+        }
+    };
+    let duration = a.finite("duration")?;
+    let dt = a.named_number_or("dt", 1e-3)?;
+    let tol = match a.opt_named("tol") {
+        Some(t) => Some(
+            t.value
+                .as_number()
+                .ok_or_else(|| a.type_error("tol", "a number", &t))?,
+        ),
+        None => None,
+    };
+    let method = match a.opt_named("integrator") {
+        Some(v) => match &v.value {
+            Value::Str(s) => Integrator::from_name(s, tol)
+                .map_err(|e| MxError::value(e.to_string()).at(v.span))?,
+            _ => {
+                return Err(a.type_error(
+                    "integrator",
+                    "a name: \"euler\", \"semi_implicit_euler\", \"rk4\" or \"dopri5\"",
+                    &v,
+                ));
+            }
+        },
+        None => Integrator::Rk4,
+    };
+    let init = a.opt_named("init");
+    let st = initial_state(a, init, &scene.model)?;
+    let want_v = match a.opt_named("velocities") {
+        Some(v) => matches!(v.value, Value::Bool(true)),
+        None => false,
+    };
+    let steps = (duration / dt).round();
+    // A progress bar on stderr for long runs (hidden when stderr is not a terminal).
+    let bar = (steps * scene.model.num_links() as f64 > 2e6).then(|| {
+        let b = indicatif::ProgressBar::new(1000);
+        b.set_message("simulate");
+        b
+    });
+    let mut progress = |f: f64| {
+        if let Some(b) = &bar {
+            b.set_position((f * 1000.0) as u64);
+        }
+    };
+    let token = ev.ctx.cancel.clone();
+    let tr = simulate(&scene, duration, dt, method, &st, &token, &mut progress);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let tr = tr.map_err(|e| dyn_error(e, a))?;
+    if tr.t.len() < 2 {
+        return Err(MxError::value(
+            "`simulate`: the duration must cover at least one step (duration ≥ dt)",
+        )
+        .at(a.call_span()));
+    }
+    let tend = tr.t[tr.t.len() - 1];
+    let mut mu = Mu::new();
+    let mut add = |name: String, values: Vec<f64>| -> MxResult<()> {
+        let c = Curve::samples(0.0, dt, values).map_err(|e| MxError::value(e.to_string()))?;
+        let iv = Interval::curve(c, 0.0, tend).map_err(|e| MxError::value(e.to_string()))?;
+        mu.insert(name, Dof::from(iv));
+        Ok(())
+    };
+    for (k, name) in tr.names.iter().enumerate() {
+        add(name.clone(), tr.q.iter().map(|q| q[k]).collect())?;
+        if want_v {
+            add(format!("{name}.v"), tr.v.iter().map(|v| v[k]).collect())?;
+        }
+    }
+    Ok(Value::object(Motion::Mu(mu)))
+}
+
 pub fn register(reg: &mut Registry) {
+    reg.add(
+        "simulate(scene, duration, dt: 0.001, integrator: \"rk4\", tol: 1e-8, init: {}, velocities: false)",
+        "Simulate a scene from `init` (coordinate values; or {q: {…}, v: {…}}) and return a motion of its \
+         coordinates sampled every dt (velocities as `<name>.v` on request). Integrators: euler, \
+         semi_implicit_euler, rk4, dopri5 (adaptive, `tol`). Ctrl-C cancels.",
+        run_simulation,
+    );
     reg.loader(
         "urdf",
         "A body from a URDF robot description (fixed base; gravity [0, 0, -9.81] by default).",
