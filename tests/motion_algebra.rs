@@ -378,3 +378,31 @@ fn long_chains_of_operations_stay_in_normal_form() {
         assert!(w[0].stop <= w[1].start);
     }
 }
+
+#[test]
+fn hand_built_interval_without_functions_is_an_error_not_a_panic() {
+    let mut m = Mu::new();
+    m.insert(
+        "x",
+        Dof {
+            intervals: vec![Interval {
+                start: 0.0,
+                stop: 1.0,
+                funcs: vec![],
+            }],
+        },
+    );
+    assert!(matches!(m.sample("x", 0.5), Err(MotionError::NoFunction)));
+    assert!(matches!(
+        m.sample_value("x", 0.5),
+        Err(MotionError::NoFunction)
+    ));
+    assert!(
+        Dof::new(vec![Interval {
+            start: 0.0,
+            stop: 1.0,
+            funcs: vec![]
+        }])
+        .is_err()
+    );
+}

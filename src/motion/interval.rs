@@ -59,6 +59,11 @@ impl Interval {
         Interval::new(Func::new(c), start, stop)
     }
 
+    /// The first function; `Err(NoFunction)` for an interval built by hand with none.
+    pub fn first_func(&self) -> Result<&Func, MotionError> {
+        self.funcs.first().ok_or(MotionError::NoFunction)
+    }
+
     pub fn duration(&self) -> f64 {
         self.stop - self.start
     }

@@ -58,7 +58,7 @@ impl Dof {
         check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
-            Located::Single(i) => Ok(Some(i.funcs[0].eval(t)?)),
+            Located::Single(i) => Ok(Some(i.first_func()?.eval(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
     }
@@ -80,7 +80,7 @@ impl Dof {
             }
             out.push(match self.locate_from(k, t) {
                 Located::Undefined => None,
-                Located::Single(i) => Some(i.funcs[0].value(t)?),
+                Located::Single(i) => Some(i.first_func()?.value(t)?),
                 Located::Conflict(i) => return Err(conflict(dof_name, i, t)),
             });
         }
@@ -92,7 +92,7 @@ impl Dof {
         check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
-            Located::Single(i) => Ok(Some(i.funcs[0].value(t)?)),
+            Located::Single(i) => Ok(Some(i.first_func()?.value(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
     }
