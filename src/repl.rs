@@ -217,7 +217,7 @@ fn help(mx: &mx::Interpreter, topic: &str) {
     if topic.is_empty() {
         println!("Commands: :help [name], :type EXPR, :load FILE, :time EXPR, :quit");
         println!("Built-ins (:help NAME for details, :help formats for files):");
-        let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.clone()).collect();
+        let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.to_string()).collect();
         sigs.sort();
         for s in sigs {
             println!("  {s}");
