@@ -244,67 +244,6 @@ pub fn terminal(series: &[Series], width: usize, height: usize) -> String {
     out
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn sine() -> Series {
-        Series {
-            name: "Hips.Yrotation".into(),
-            pieces: vec![
-                (0..50)
-                    .map(|i| (i as f64 * 0.02, (i as f64 * 0.2).sin()))
-                    .collect(),
-                (75..100)
-                    .map(|i| (i as f64 * 0.02, (i as f64 * 0.2).sin()))
-                    .collect(),
-            ],
-            gaps: vec![(1.0, 1.5)],
-            conflicts: vec![(1.7, 1.8)],
-        }
-    }
-
-    #[test]
-    fn svg_has_curve_gap_conflict_and_label() {
-        let s = svg(&[sine()], "test", 800, 400).unwrap();
-        assert!(s.starts_with("<svg"));
-        assert!(s.contains("Hips.Yrotation"));
-        assert!(s.contains("polyline"), "curve drawn as a polyline");
-        // Gap band (grey) and conflict band (light red).
-        assert!(s.contains("#E1E1E1"), "gap band");
-        assert!(s.contains("#FFC8C8"), "conflict band");
-    }
-
-    #[test]
-    fn empty_and_degenerate_inputs() {
-        assert!(matches!(svg(&[], "x", 100, 100), Err(PlotError::Empty(_))));
-        let one = Series {
-            name: "c".into(),
-            pieces: vec![vec![(1.0, 2.0)]],
-            ..Default::default()
-        };
-        assert!(svg(std::slice::from_ref(&one), "one point", 400, 300).is_ok());
-        let nan = Series {
-            name: "n".into(),
-            pieces: vec![vec![(0.0, f64::NAN), (1.0, 1.0)]],
-            ..Default::default()
-        };
-        assert!(svg(&[nan], "nan", 400, 300).is_ok());
-        assert!(terminal(&[], 40, 10).contains("nothing to plot"));
-        assert!(terminal(&[one], 40, 10).contains("c"));
-    }
-
-    #[test]
-    fn terminal_plot_marks_curve_and_gap() {
-        let t = terminal(&[sine()], 60, 12);
-        assert!(t.contains('a'));
-        assert!(t.contains('░'));
-        assert!(t.contains('!'));
-        assert!(t.contains("a = Hips.Yrotation"));
-        assert_eq!(t.lines().count(), 12 + 2);
-    }
-}
-
 /// The series of DOFs of a motion: each interval sampled at `rate` Hz (plus
 /// its ends); gaps and conflicts as the DOF reports them. Conflict intervals
 /// draw no curve (the value there is not defined), only their band.
@@ -368,4 +307,65 @@ pub fn plot_motion(
         format!("{} DOFs", chosen.len())
     };
     write_svg(&series, &title, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sine() -> Series {
+        Series {
+            name: "Hips.Yrotation".into(),
+            pieces: vec![
+                (0..50)
+                    .map(|i| (i as f64 * 0.02, (i as f64 * 0.2).sin()))
+                    .collect(),
+                (75..100)
+                    .map(|i| (i as f64 * 0.02, (i as f64 * 0.2).sin()))
+                    .collect(),
+            ],
+            gaps: vec![(1.0, 1.5)],
+            conflicts: vec![(1.7, 1.8)],
+        }
+    }
+
+    #[test]
+    fn svg_has_curve_gap_conflict_and_label() {
+        let s = svg(&[sine()], "test", 800, 400).unwrap();
+        assert!(s.starts_with("<svg"));
+        assert!(s.contains("Hips.Yrotation"));
+        assert!(s.contains("polyline"), "curve drawn as a polyline");
+        // Gap band (grey) and conflict band (light red).
+        assert!(s.contains("#E1E1E1"), "gap band");
+        assert!(s.contains("#FFC8C8"), "conflict band");
+    }
+
+    #[test]
+    fn empty_and_degenerate_inputs() {
+        assert!(matches!(svg(&[], "x", 100, 100), Err(PlotError::Empty(_))));
+        let one = Series {
+            name: "c".into(),
+            pieces: vec![vec![(1.0, 2.0)]],
+            ..Default::default()
+        };
+        assert!(svg(std::slice::from_ref(&one), "one point", 400, 300).is_ok());
+        let nan = Series {
+            name: "n".into(),
+            pieces: vec![vec![(0.0, f64::NAN), (1.0, 1.0)]],
+            ..Default::default()
+        };
+        assert!(svg(&[nan], "nan", 400, 300).is_ok());
+        assert!(terminal(&[], 40, 10).contains("nothing to plot"));
+        assert!(terminal(&[one], 40, 10).contains("c"));
+    }
+
+    #[test]
+    fn terminal_plot_marks_curve_and_gap() {
+        let t = terminal(&[sine()], 60, 12);
+        assert!(t.contains('a'));
+        assert!(t.contains('░'));
+        assert!(t.contains('!'));
+        assert!(t.contains("a = Hips.Yrotation"));
+        assert_eq!(t.lines().count(), 12 + 2);
+    }
 }

@@ -141,50 +141,6 @@ pub fn write_html(data: &ViewerData, path: &Path) -> Result<(), ViewerError> {
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn tiny() -> ViewerData {
-        ViewerData {
-            title: "t</script>".into(),
-            joint_names: vec!["a".into(), "b".into()],
-            parents: vec![None, Some(0)],
-            frame_time: 0.1,
-            positions: vec![vec![[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]; 3],
-            up: 1,
-            curves: vec![],
-        }
-    }
-
-    #[test]
-    fn embeds_data_without_breaking_the_script() {
-        let h = html(&tiny()).unwrap();
-        assert!(!h.contains(SLOT));
-        assert_eq!(h.matches("</script>").count(), 1);
-        assert!(
-            !h.contains("http://") && !h.contains("https://"),
-            "no network"
-        );
-    }
-
-    #[test]
-    fn rejects_inconsistent_data() {
-        let mut d = tiny();
-        d.parents[1] = Some(7);
-        assert!(html(&d).is_err());
-        let mut d = tiny();
-        d.positions[1].pop();
-        assert!(html(&d).unwrap_err().to_string().contains("frame 1"));
-        let mut d = tiny();
-        d.positions[0][0][0] = f64::NAN;
-        assert!(html(&d).is_err());
-        let mut d = tiny();
-        d.positions.clear();
-        assert!(html(&d).is_err());
-    }
-}
-
 /// The viewer of motion `mu` on `body`: joint positions by forward kinematics
 /// (coordinates the motion lacks stay 0, gaps hold the last value), and below
 /// the figure the DOF curves `curve_names` (default: the 6 DOFs that move most).
@@ -243,4 +199,48 @@ pub fn from_motion(
         up,
         curves: series.iter().map(CurveData::from).collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tiny() -> ViewerData {
+        ViewerData {
+            title: "t</script>".into(),
+            joint_names: vec!["a".into(), "b".into()],
+            parents: vec![None, Some(0)],
+            frame_time: 0.1,
+            positions: vec![vec![[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]; 3],
+            up: 1,
+            curves: vec![],
+        }
+    }
+
+    #[test]
+    fn embeds_data_without_breaking_the_script() {
+        let h = html(&tiny()).unwrap();
+        assert!(!h.contains(SLOT));
+        assert_eq!(h.matches("</script>").count(), 1);
+        assert!(
+            !h.contains("http://") && !h.contains("https://"),
+            "no network"
+        );
+    }
+
+    #[test]
+    fn rejects_inconsistent_data() {
+        let mut d = tiny();
+        d.parents[1] = Some(7);
+        assert!(html(&d).is_err());
+        let mut d = tiny();
+        d.positions[1].pop();
+        assert!(html(&d).unwrap_err().to_string().contains("frame 1"));
+        let mut d = tiny();
+        d.positions[0][0][0] = f64::NAN;
+        assert!(html(&d).is_err());
+        let mut d = tiny();
+        d.positions.clear();
+        assert!(html(&d).is_err());
+    }
 }

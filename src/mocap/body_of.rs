@@ -118,8 +118,8 @@ pub fn body_of(
         })
         .collect();
     let mut groups: HashMap<(Segment, Side), Vec<usize>> = HashMap::new();
-    for i in 0..n {
-        if let Some(s) = seg[i] {
+    for (i, sg) in seg.iter().enumerate() {
+        if let Some(s) = *sg {
             let side = match s {
                 Segment::Head
                 | Segment::UpperTrunk

@@ -8,6 +8,7 @@ pub mod body_of;
 pub mod bvh;
 mod error;
 pub mod positions;
+pub mod registry;
 pub mod segments;
 pub mod synth;
 pub mod to_motion;

@@ -22,6 +22,7 @@
 pub mod core;
 pub mod dynamics;
 pub mod joints;
+pub mod mocap;
 pub mod motion;
 
 use std::fmt;
@@ -87,6 +88,7 @@ impl Registry {
         motion::register(&mut r);
         joints::register(&mut r);
         dynamics::register(&mut r);
+        mocap::register(&mut r);
         r
     }
 
