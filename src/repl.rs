@@ -1,9 +1,244 @@
-//! The interactive REPL (rustyline).
+//! The interactive REPL (rustyline): persistent history in the user's data
+//! folder, multi-line input while brackets are open, tab completion of names
+//! in scope and built-ins, `:help`, `:type`, `:load`, `:time`, `:quit`.
+//! Ctrl-C during an evaluation cancels it (through the interpreter's
+//! cancellation token) and returns to the prompt; at the prompt it clears the line.
 
+use std::borrow::Cow;
 use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use rustyline::completion::{Completer, Pair};
+use rustyline::error::ReadlineError;
+use rustyline::highlight::Highlighter;
+use rustyline::hint::Hinter;
+use rustyline::validate::{ValidationContext, ValidationResult, Validator};
+use rustyline::{Config, Context, Editor, Helper};
+
+use mx::lang::ErrorKind;
+use mx::lang::parser::is_incomplete;
+
+const COMMANDS: &[&str] = &[":help", ":type", ":load", ":time", ":quit"];
+
+struct MxHelper {
+    names: Arc<Mutex<Vec<String>>>,
+}
+
+impl Completer for MxHelper {
+    type Candidate = Pair;
+    fn complete(
+        &self,
+        line: &str,
+        pos: usize,
+        _: &Context<'_>,
+    ) -> rustyline::Result<(usize, Vec<Pair>)> {
+        let before = &line[..pos];
+        let start = before
+            .char_indices()
+            .rev()
+            .find(|(_, c)| !(c.is_alphanumeric() || *c == '_' || *c == ':'))
+            .map(|(i, c)| i + c.len_utf8())
+            .unwrap_or(0);
+        let word = &before[start..];
+        if word.is_empty() {
+            return Ok((pos, vec![]));
+        }
+        let mut out: Vec<Pair> = Vec::new();
+        if word.starts_with(':') {
+            for c in COMMANDS.iter().filter(|c| c.starts_with(word)) {
+                out.push(Pair {
+                    display: c.to_string(),
+                    replacement: c.to_string(),
+                });
+            }
+        } else {
+            let names = self.names.lock().unwrap_or_else(|p| p.into_inner());
+            let mut seen = std::collections::HashSet::new();
+            for n in names.iter().filter(|n| n.starts_with(word)) {
+                if seen.insert(n.clone()) {
+                    out.push(Pair {
+                        display: n.clone(),
+                        replacement: n.clone(),
+                    });
+                }
+            }
+        }
+        out.sort_by(|a, b| a.display.cmp(&b.display));
+        Ok((start, out))
+    }
+}
+
+impl Hinter for MxHelper {
+    type Hint = String;
+}
+impl Highlighter for MxHelper {
+    fn highlight_prompt<'b, 's: 'b, 'p: 'b>(
+        &'s self,
+        prompt: &'p str,
+        _default: bool,
+    ) -> Cow<'b, str> {
+        Cow::Borrowed(prompt)
+    }
+}
+impl Validator for MxHelper {
+    fn validate(&self, ctx: &mut ValidationContext) -> rustyline::Result<ValidationResult> {
+        let input = ctx.input();
+        if !input.trim_start().starts_with(':') && is_incomplete(input) {
+            Ok(ValidationResult::Incomplete)
+        } else {
+            Ok(ValidationResult::Valid(None))
+        }
+    }
+}
+impl Helper for MxHelper {}
+
+fn history_path() -> Option<std::path::PathBuf> {
+    let dir = dirs::data_dir()?.join("mx");
+    std::fs::create_dir_all(&dir).ok()?;
+    Some(dir.join("history.txt"))
+}
 
 pub fn run(mut mx: mx::Interpreter) -> ExitCode {
-    let _ = &mut mx;
-    eprintln!("mx: the REPL is not implemented yet; use `mx run FILE` or `mx eval EXPR`");
-    ExitCode::from(1)
+    let token = mx.cancel_token();
+    {
+        let t = token.clone();
+        // Ctrl-C while evaluating: cancel. (At the prompt rustyline reads the
+        // key itself and reports Interrupted.)
+        if let Err(e) = ctrlc::set_handler(move || t.cancel()) {
+            eprintln!("warning: Ctrl-C will not cancel evaluations: {e}");
+        }
+    }
+    let names = Arc::new(Mutex::new(mx.names()));
+    let config = Config::builder().auto_add_history(false).build();
+    let mut rl: Editor<MxHelper, rustyline::history::DefaultHistory> =
+        match Editor::with_config(config) {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("error: cannot start the line editor: {e}");
+                return ExitCode::from(1);
+            }
+        };
+    rl.set_helper(Some(MxHelper {
+        names: names.clone(),
+    }));
+    let history = history_path();
+    if let Some(h) = &history {
+        let _ = rl.load_history(h);
+    }
+    eprintln!(
+        "mx {} — :help for help, :quit to leave",
+        env!("CARGO_PKG_VERSION")
+    );
+    let mut n = 0usize;
+    loop {
+        match rl.readline("mx> ") {
+            Ok(line) => {
+                if line.trim().is_empty() {
+                    continue;
+                }
+                let _ = rl.add_history_entry(line.as_str());
+                if let Some(h) = &history {
+                    let _ = rl.append_history(h);
+                }
+                n += 1;
+                token.reset();
+                if !command(&mut mx, line.trim(), n) {
+                    break;
+                }
+                *names.lock().unwrap_or_else(|p| p.into_inner()) = mx.names();
+            }
+            Err(ReadlineError::Interrupted) => continue,
+            Err(ReadlineError::Eof) => break,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(1);
+            }
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn report(d: mx::lang::Diagnostic) {
+    if d.kind() == ErrorKind::Cancelled {
+        eprintln!("cancelled");
+    } else {
+        eprint!("{}", d.render(false));
+    }
+}
+
+fn show(v: &mx::Value) {
+    if !matches!(v, mx::Value::Nil) {
+        println!("{}", v.repr());
+    }
+}
+
+/// Run one REPL input. Returns false to quit.
+fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
+    let (cmd, rest) = match line.split_once(char::is_whitespace) {
+        Some((c, r)) => (c, r.trim()),
+        None => (line, ""),
+    };
+    match cmd {
+        ":quit" | ":q" | ":exit" => return false,
+        ":help" | ":h" => help(mx, rest),
+        ":type" | ":t" => match mx.type_of(rest) {
+            Ok(t) => println!("{t}"),
+            Err(d) => report(d),
+        },
+        ":load" | ":l" => match mx.eval_file(rest) {
+            Ok(v) => show(&v),
+            Err(d) => report(d),
+        },
+        ":time" => {
+            let t0 = Instant::now();
+            let r = mx.eval_named(&format!("<repl:{n}>"), rest);
+            let dt = t0.elapsed();
+            match r {
+                Ok(v) => show(&v),
+                Err(d) => report(d),
+            }
+            eprintln!("time: {:.3} ms", dt.as_secs_f64() * 1e3);
+        }
+        c if c.starts_with(':') => {
+            eprintln!("unknown command `{c}`; commands: {}", COMMANDS.join(", "));
+        }
+        _ => match mx.eval_named(&format!("<repl:{n}>"), line) {
+            Ok(v) => show(&v),
+            Err(d) => report(d),
+        },
+    }
+    true
+}
+
+fn help(mx: &mx::Interpreter, topic: &str) {
+    let reg = mx.registry();
+    if topic.is_empty() {
+        println!("Commands: :help [name], :type EXPR, :load FILE, :time EXPR, :quit");
+        println!("Built-ins (:help NAME for details, :help formats for files):");
+        let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.clone()).collect();
+        sigs.sort();
+        for s in sigs {
+            println!("  {s}");
+        }
+        return;
+    }
+    if topic == "formats" {
+        for f in reg.formats() {
+            let rw = match (f.load.is_some(), f.save.is_some()) {
+                (true, true) => "load/save",
+                (true, false) => "load",
+                _ => "save",
+            };
+            println!("  .{} ({rw}): {}", f.ext, f.doc);
+        }
+        return;
+    }
+    match reg.help(topic) {
+        Some((sig, doc)) => println!("{sig}\n  {doc}"),
+        None => match mx.get(topic) {
+            Some(v) => println!("{topic}: {} = {}", v.type_name(), v.repr()),
+            None => eprintln!("no built-in or name `{topic}`"),
+        },
+    }
 }

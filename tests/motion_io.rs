@@ -117,7 +117,14 @@ fn rich_motion() -> Mu {
     )
     .unwrap();
     let herm = Curve::Hermite(HermiteCurve::new(0.0, 0.1, 0.0, 1.0, 0.3, -0.2).unwrap());
+    let basis = mx::spline::BSplineBasis::clamped_uniform(3, 7, 0.0, 1.5).unwrap();
+    let coeffs = vec![0.0, 0.3, -0.2, 0.5, 0.1, 0.9, 1.0];
+    let spline = Curve::spline(mx::spline::BSplineCurve::new(basis, coeffs).unwrap()).unwrap();
     let mut m = Mu::new();
+    m.insert(
+        "spline",
+        Dof::from(Interval::curve(spline, 0.2, 1.5).unwrap()),
+    );
     m.insert(
         "Hips.Xposition",
         Dof::from(Interval::curve(samples, 0.0, 239.0 / 120.0).unwrap()),
@@ -205,6 +212,10 @@ fn json_refuses_host_functions_and_bad_files() {
             r#"{"format":"mx-motion","version":1,"curves":[{"kind":"function","source":"sin(t)"}],"dofs":[]}"#,
             "cannot compile",
         ),
+        (
+            r#"{"format":"mx-motion","version":1,"curves":[{"kind":"spline","basis":{"kind":"knots","degree":1,"knots":[0,0,1,1]},"coeffs":[1]}],"dofs":[]}"#,
+            "curve 0",
+        ),
     ] {
         let e = from_json_str(bad, &compile).unwrap_err();
         assert!(e.contains(why), "{bad}: {e}");
@@ -213,4 +224,11 @@ fn json_refuses_host_functions_and_bad_files() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("/no/such/file.json"), "{e}");
+}
+
+#[test]
+fn json_checks_spline_coefficients() {
+    let bad = r#"{"format":"mx-motion","version":1,"curves":[{"kind":"spline","basis":{"kind":"knots","degree":1,"knots":[0,0,1,1]},"coeffs":[1]}],"dofs":[]}"#;
+    let e = from_json_str(bad, &compile).unwrap_err();
+    assert!(e.contains("needs 2 coefficients"), "{e}");
 }

@@ -222,4 +222,18 @@ proptest! {
             }
         }
     }
+
+    #[test]
+    fn grid_sampling_matches_point_sampling(a in arb_dof(), b in arb_dof(), rate in 1.0f64..40.0) {
+        let m: Mu = [("x".to_string(), a.plus(&b))].into_iter().collect();
+        match sample_grid(&m, rate, None) {
+            Ok(g) => {
+                for (k, &t) in g.times.iter().enumerate() {
+                    prop_assert_eq!(g.values[0][k], m.sample_value("x", t).unwrap());
+                }
+            }
+            Err(MotionError::Conflict { t, .. }) => prop_assert!(m.sample_value("x", t).is_err()),
+            Err(e) => prop_assert!(false, "{e}"),
+        }
+    }
 }

@@ -9,6 +9,8 @@
 //! ```
 //! with `c_i = ad_{V_i} S_i q̇_i + Ṡ_i q̇_i` and `b̂_i = −ad*_{V_i} G_i V_i − F_ext,i` to start.
 
+#![allow(clippy::needless_range_loop)] // index loops over coupled arrays read clearer here
+
 use crate::dynamics::DynamicsError;
 use crate::dynamics::rnea::{check_fext, check_inputs, check_out};
 use crate::dynamics::workspace::{Workspace, base_acceleration, velocity_pass};
@@ -49,11 +51,29 @@ pub fn forward_dynamics_ext(
     aba_core(model, ws, q, v, tau, gravity, Some(fext), qdd)
 }
 
-/// `Ad_{X⁻¹}ᵀ Ia Ad_{X⁻¹}`: an articulated inertia of the child moved to the parent frame.
+/// `Ad_{X⁻¹}ᵀ Ia Ad_{X⁻¹}`: an articulated inertia of the child moved to the
+/// parent frame, by 3×3 blocks. With `C = R·block·Rᵀ` and `P = [p]`:
+/// `[[C11 + P C21 − Y P, Y], [Yᵀ, C22]]`, `Y = C12 + P C22`
+/// (a quarter of the work of the two 6×6 products).
 #[inline]
-fn to_parent(x: &crate::lie::Se3, ia: &Matrix6<f64>) -> Matrix6<f64> {
-    let m = x.inverse().ad_matrix();
-    m.transpose() * ia * m
+pub(crate) fn to_parent(x: &crate::lie::Se3, ia: &Matrix6<f64>) -> Matrix6<f64> {
+    let r = &x.r;
+    let rt = r.transpose();
+    let a11 = ia.fixed_view::<3, 3>(0, 0);
+    let a12 = ia.fixed_view::<3, 3>(0, 3);
+    let a22 = ia.fixed_view::<3, 3>(3, 3);
+    let c11 = r * a11 * rt;
+    let c12 = r * a12 * rt;
+    let c22 = r * a22 * rt;
+    let p = crate::lie::skew(&x.p);
+    let y = c12 + p * c22;
+    let tl = c11 + p * c12.transpose() - y * p;
+    let mut out = Matrix6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&tl);
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&y);
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&y.transpose());
+    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&c22);
+    out
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -180,4 +200,26 @@ fn singular(model: &Model, i: usize) -> DynamicsError {
          inertia along its motion; give them mass/inertia or remove the joint",
         l.joint_name, l.name
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lie::Se3;
+    use nalgebra::{Rotation3, Vector3};
+
+    #[test]
+    fn blockwise_congruence_matches_the_matrices() {
+        let t = Se3::new(
+            Rotation3::from_euler_angles(0.7, -0.4, 2.1).into_inner(),
+            Vector3::new(0.3, -1.2, 0.5),
+        );
+        let b = Matrix6::from_fn(|i, j| {
+            ((i * 7 + j * 3) % 5) as f64 - 2.0 + (i == j) as u8 as f64 * 9.0
+        });
+        let ia = b + b.transpose();
+        let m = t.inverse().ad_matrix();
+        let expect = m.transpose() * ia * m;
+        assert!((to_parent(&t, &ia) - expect).abs().max() < 1e-12 * expect.abs().max());
+    }
 }

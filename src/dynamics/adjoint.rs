@@ -108,8 +108,13 @@ pub fn torque_sq_gradient(
                 gv[c] += gvk;
             }
             for k in 0..l.dof {
+                let lim = l
+                    .limits
+                    .get(k)
+                    .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper));
                 let d = sdot_v_dq(
                     l.joint.as_ref(),
+                    lim,
                     &q[r.clone()],
                     &v[r.clone()],
                     k,

@@ -20,9 +20,13 @@ use crate::model::Model;
 use crate::model::joint::{Derivatives, Joint, JointKinematics};
 use nalgebra::{DMatrix, Vector3};
 
-/// `∂(Ṡ(q) q̇)/∂q_k` of one joint by a central difference of its Hessian.
+/// `∂(Ṡ(q) q̇)/∂q_k` of one joint by a difference of its Hessian: central, or
+/// one-sided (second order) where the central stencil would straddle an end of
+/// the coordinate's range: a spline joint's Hessian may jump there (SimmSpline
+/// extends linearly past its knots), and the inside value is the one wanted.
 pub(crate) fn sdot_v_dq(
     joint: &dyn Joint,
+    limit: (f64, f64),
     q: &[f64],
     v: &[f64],
     k: usize,
@@ -30,14 +34,32 @@ pub(crate) fn sdot_v_dq(
 ) -> Twist {
     let mut qq = [0.0; 6];
     qq[..q.len()].copy_from_slice(q);
-    let h = 1e-5 * (1.0 + q[k].abs());
-    qq[k] = q[k] + h;
-    joint.kinematics(&qq[..q.len()], Derivatives::Hessian, scratch);
-    let plus = sdot_v(scratch, v);
-    qq[k] = q[k] - h;
-    joint.kinematics(&qq[..q.len()], Derivatives::Hessian, scratch);
-    let minus = sdot_v(scratch, v);
-    (plus - minus) / (2.0 * h)
+    let x = q[k];
+    let h = 1e-5 * (1.0 + x.abs());
+    let mut at = |d: f64| {
+        qq[k] = x + d;
+        joint.kinematics(&qq[..q.len()], Derivatives::Hessian, scratch);
+        sdot_v(scratch, v)
+    };
+    // Side: +1 forward, −1 backward, 0 central.
+    let mut side = 0.0;
+    for (b, inside) in [(limit.0, 1.0), (limit.1, -1.0)] {
+        if b.is_finite() && x - h < b && b < x + h || x == b {
+            side = if x == b {
+                inside
+            } else if x < b {
+                -1.0
+            } else {
+                1.0
+            };
+        }
+    }
+    if side == 0.0 {
+        (at(h) - at(-h)) / (2.0 * h)
+    } else {
+        let s = side * h;
+        (at(0.0) * -3.0 + at(s) * 4.0 - at(2.0 * s)) / (2.0 * s)
+    }
 }
 
 /// Fills `dtau_dq` and `dtau_dv` (nq × nq; `[i][j] = ∂τ_i/∂x_j`) at `(q, q̇, q̈)`.
@@ -106,7 +128,18 @@ fn seed_q(
     let dv = -ad(&sk, &ws.wv[j]) + dsv;
     let mut da = -ad(&sk, &ws.wa[j]) + dsa + ad(&dv, &ws.sv[j]) + ad(&ws.v[j], &dsv);
     if !l.constant_jacobian {
-        da += sdot_v_dq(l.joint.as_ref(), &q[r.clone()], &v[r], k, &mut ws.scratch);
+        let lim = l
+            .limits
+            .get(k)
+            .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper));
+        da += sdot_v_dq(
+            l.joint.as_ref(),
+            lim,
+            &q[r.clone()],
+            &v[r],
+            k,
+            &mut ws.scratch,
+        );
     }
     (dv, da)
 }

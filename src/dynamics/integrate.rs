@@ -2,6 +2,8 @@
 //! semi-implicit (symplectic) Euler, classical RK4, and the adaptive embedded
 //! Dormand–Prince 5(4) with a user tolerance. The state is `x = [q; q̇]`.
 
+#![allow(clippy::needless_range_loop)] // index loops over coupled arrays read clearer here
+
 use crate::cancel::CancelToken;
 use crate::dynamics::DynamicsError;
 use crate::dynamics::scene::{Scene, SceneWorkspace};

@@ -46,6 +46,7 @@ pub(crate) fn check_out(model: &Model, name: &str, x: &[f64]) -> Result<(), Dyna
 }
 
 /// The RNEA after input checks; leaves `V`, `V̇`, `F` in the workspace.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn rnea_core(
     model: &Model,
     ws: &mut Workspace,

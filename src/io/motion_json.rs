@@ -179,7 +179,7 @@ pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, String> {
                 HermiteCurve::new(h.t0, h.q0, h.v0, h.t1, h.q1, h.v1)
                     .map_err(|e| format!("curve {k}: {e}"))?,
             ),
-            CurveJson::Spline(c) => Curve::Spline(c),
+            CurveJson::Spline(c) => Curve::spline(c).map_err(|e| format!("curve {k}: {e}"))?,
             CurveJson::Function { source } => Curve::Function(
                 compile_fn(&source)
                     .map_err(|e| format!("curve {k}: cannot compile `{source}`: {e}"))?,

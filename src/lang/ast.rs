@@ -116,6 +116,9 @@ pub struct FnDef {
     pub params: Vec<Param>,
     pub body: Expr,
     pub span: Span,
+    /// The definition's own source text (`fn(t) = …`), so a function can be
+    /// written out (motion JSON) and compiled again.
+    pub text: Arc<str>,
 }
 
 #[derive(Clone, Debug)]

@@ -276,6 +276,7 @@ impl Evaluator {
                     ArgValue {
                         value: rv,
                         span: recv.span,
+                        name: ident_name(recv),
                     },
                 );
                 self.call_with(&fv, *nspan, e.span, pos, named)
@@ -321,6 +322,7 @@ impl Evaluator {
             let av = ArgValue {
                 value,
                 span: a.value.span,
+                name: ident_name(&a.value),
             };
             match &a.name {
                 Some((n, s)) => {
@@ -346,7 +348,11 @@ impl Evaluator {
     pub fn call(&mut self, f: &Value, args: Vec<Value>, span: Span) -> MxResult<Value> {
         let pos = args
             .into_iter()
-            .map(|value| ArgValue { value, span })
+            .map(|value| ArgValue {
+                value,
+                span,
+                name: None,
+            })
             .collect();
         self.call_with(f, span, span, pos, Vec::new())
     }
@@ -541,6 +547,13 @@ impl Evaluator {
         writeln!(out, "{line}")
             .and_then(|_| out.flush())
             .map_err(|e| MxError::new(ErrorKind::Io, format!("cannot write output: {e}")).at(span))
+    }
+}
+
+fn ident_name(e: &Expr) -> Option<Arc<str>> {
+    match &e.kind {
+        ExprKind::Ident(n) => Some(Arc::from(n.as_str())),
+        _ => None,
     }
 }
 

@@ -10,6 +10,7 @@ pub mod eval;
 pub mod interpreter;
 pub mod parser;
 pub mod resolve;
+pub mod timefn;
 pub mod value;
 
 pub use builtins::{Args, Registry};

@@ -50,7 +50,7 @@ fn parse_program_inner(src: &str, file: SourceId) -> MxResult<Program> {
     let program = pairs
         .next()
         .ok_or_else(|| MxError::new(ErrorKind::Syntax, "empty parse"))?;
-    let b = Builder { file };
+    let b = Builder { file, src };
     let mut stmts = Vec::new();
     for p in program.into_inner() {
         if p.as_rule() == Rule::EOI {
@@ -384,8 +384,9 @@ fn syntax_help(src: &str, pos: usize, rest: &str) -> String {
     }
 }
 
-struct Builder {
+struct Builder<'s> {
     file: SourceId,
+    src: &'s str,
 }
 
 fn unescape(s: &str) -> Result<String, String> {
@@ -432,7 +433,15 @@ fn unescape(s: &str) -> Result<String, String> {
     Ok(out)
 }
 
-impl Builder {
+impl Builder<'_> {
+    fn text(&self, span: Span) -> Arc<str> {
+        Arc::from(
+            self.src
+                .get(span.start as usize..span.end as usize)
+                .unwrap_or(""),
+        )
+    }
+
     fn span(&self, p: &Pair<Rule>) -> Span {
         let s = p.as_span();
         Span::new(self.file, s.start(), s.end())
@@ -461,6 +470,7 @@ impl Builder {
                     params: self.params(params)?,
                     body: self.body(body)?,
                     span,
+                    text: self.text(span),
                 };
                 Ok(Stmt::Fn(Arc::new(def)))
             }
@@ -748,6 +758,7 @@ impl Builder {
                     params,
                     body,
                     span,
+                    text: self.text(span),
                 }))
             }
             Rule::expr => return self.expr(p),

@@ -5,3 +5,9 @@
 //! `spacetime`, `io` and `lang`. Knows nothing of the language.
 
 pub mod bvh;
+mod error;
+pub mod synth;
+pub mod to_motion;
+
+pub use error::MocapError;
+pub use to_motion::{Clip, from_bvh, load};

@@ -39,6 +39,8 @@ pub struct Link {
     pub dof: usize,
     /// Cached `joint.constant_jacobian()`: lets the algorithms skip Hessian terms.
     pub constant_jacobian: bool,
+    /// Cached `joint.limits()` (no allocation in the algorithms).
+    pub limits: Vec<crate::model::joint::Limit>,
 }
 
 /// A tree of links with a fixed base.
@@ -123,6 +125,7 @@ impl Model {
             offset,
             joint_name: joint_name.to_string(),
             constant_jacobian: joint.constant_jacobian(),
+            limits: joint.limits(),
             joint,
             inertia,
             q_index: self.nq,

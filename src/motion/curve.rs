@@ -47,6 +47,24 @@ impl Curve {
         Ok(Curve::Samples(SampledCurve::new(t0, dt, values)?))
     }
 
+    /// A B-spline curve, checked: one coefficient per basis function, all finite.
+    pub fn spline(c: crate::spline::BSplineCurve) -> Result<Curve, MotionError> {
+        let need = c.basis.n_coeffs();
+        if c.coeffs.len() != need {
+            return Err(MotionError::BadSamples(format!(
+                "B-spline needs {need} coefficients for its basis, got {}",
+                c.coeffs.len()
+            )));
+        }
+        if let Some(k) = c.coeffs.iter().position(|v| !v.is_finite()) {
+            return Err(MotionError::BadSamples(format!(
+                "B-spline coefficient {k} is {}, not a finite number",
+                c.coeffs[k]
+            )));
+        }
+        Ok(Curve::Spline(c))
+    }
+
     /// Value, first and second derivative at `t`.
     pub fn eval(&self, t: f64) -> Result<[f64; 3], MotionError> {
         match self {
@@ -216,7 +234,16 @@ impl SampledCurve {
     }
 
     pub fn value(&self, t: f64) -> Result<f64, MotionError> {
-        Ok(self.eval(t)?[0])
+        let (i, s) = self.locate(t)?;
+        if self.values.len() == 1 {
+            return Ok(self.values[0]);
+        }
+        let h = self.dt;
+        let u = h - s;
+        let (y0, y1, m0, m1) = (self.values[i], self.values[i + 1], self.m[i], self.m[i + 1]);
+        Ok((m0 * u * u * u + m1 * s * s * s) / (6.0 * h)
+            + (y0 / h - m0 * h / 6.0) * u
+            + (y1 / h - m1 * h / 6.0) * s)
     }
 
     pub fn eval(&self, t: f64) -> Result<[f64; 3], MotionError> {
@@ -376,6 +403,7 @@ mod tests {
         for k in 0..=300 {
             let t = t0 + 3.0 * k as f64 / 300.0;
             let got = c.eval(t).unwrap();
+            assert_eq!(c.value(t).unwrap(), got[0]);
             let want = p(t);
             for i in 0..3 {
                 assert!(

@@ -15,6 +15,7 @@
 pub mod curve;
 pub mod dof;
 pub mod error;
+pub mod fill;
 pub mod func;
 pub mod interval;
 pub mod mu;
@@ -24,6 +25,7 @@ pub mod sample;
 pub use curve::{Curve, HermiteCurve, SampledCurve, TimeFunction};
 pub use dof::Dof;
 pub use error::MotionError;
+pub use fill::fill_hermite;
 pub use func::Func;
 pub use interval::Interval;
 pub use mu::Mu;

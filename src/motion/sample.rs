@@ -28,6 +28,11 @@ impl Dof {
         let k = self
             .intervals
             .partition_point(|i| i.stop + super::time_tol(i.stop) < t);
+        self.locate_from(k, t)
+    }
+
+    /// `locate` given the index of the first interval that does not end before `t`.
+    fn locate_from(&self, k: usize, t: f64) -> Located<'_> {
         let mut best: Option<&Interval> = None;
         for i in self.intervals[k..].iter().take(2) {
             if !i.contains(t) {
@@ -55,6 +60,30 @@ impl Dof {
             Located::Single(i) => Ok(Some(i.funcs[0].eval(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
+    }
+
+    /// Values at ascending `times` (as `sample_value` at each), walking the
+    /// intervals once instead of searching for every time.
+    pub fn sample_values_sorted(
+        &self,
+        dof_name: &str,
+        times: &[f64],
+    ) -> Result<Vec<Option<f64>>, MotionError> {
+        let mut out = Vec::with_capacity(times.len());
+        let mut k = 0;
+        for &t in times {
+            while k < self.intervals.len()
+                && self.intervals[k].stop + super::time_tol(self.intervals[k].stop) < t
+            {
+                k += 1;
+            }
+            out.push(match self.locate_from(k, t) {
+                Located::Undefined => None,
+                Located::Single(i) => Some(i.funcs[0].value(t)?),
+                Located::Conflict(i) => return Err(conflict(dof_name, i, t)),
+            });
+        }
+        Ok(out)
     }
 
     /// The value only (one curve evaluation).
@@ -148,11 +177,7 @@ pub fn sample_grid(m: &Mu, rate: f64, cancel: Option<&CancelToken>) -> Result<Gr
         if let Some(c) = cancel {
             c.check()?;
         }
-        let mut col = Vec::with_capacity(times.len());
-        for &t in &times {
-            col.push(dof.sample_value(name, t)?);
-        }
-        values.push(col);
+        values.push(dof.sample_values_sorted(name, &times)?);
     }
     Ok(Grid {
         names: m.names().map(str::to_string).collect(),

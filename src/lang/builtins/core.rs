@@ -463,6 +463,14 @@ pub fn register(reg: &mut Registry) {
                 return Err(MxError::new(ErrorKind::Io, format!("cannot save .{ext} files (only load)")).at(arg.span).help(formats_help(ev)));
             };
             let p = ev.resolve_path(path, arg.span)?;
+            // Scripts write under folders they name (`out/…`): create them.
+            if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir).map_err(|e| {
+                    MxError::new(ErrorKind::Io, format!("cannot create folder {}: {e}", dir.display()))
+                        .at(arg.span)
+                        .help("check the path and the folder's permissions")
+                })?;
+            }
             save(&x, &p, a, ev).map_err(|e| e.or_at(arg.span))?;
             Ok(Value::Nil)
         },
@@ -508,27 +516,6 @@ fn format_for(
         .label("unknown format")
         .help(formats_help(ev))),
     }
-}
-
-/// Atomically write `bytes` to `path`: a temporary file beside it, then rename,
-/// so readers never see half a file. Creates missing parent folders.
-pub fn write_atomic(path: &std::path::Path, bytes: &[u8]) -> std::io::Result<()> {
-    use std::io::Write;
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
 }
 
 fn extremum(a: &mut Args, is_min: bool) -> MxResult<Value> {

@@ -183,6 +183,9 @@ impl Registry {
 pub struct ArgValue {
     pub value: Value,
     pub span: Span,
+    /// The variable name when the argument was written as a bare name
+    /// (`clip(2, 3, walk)`), so messages can say "walk's span".
+    pub name: Option<Arc<str>>,
 }
 
 /// The arguments of one call, taken by the built-in in order.
@@ -364,6 +367,16 @@ impl Args {
             Ok(x as usize)
         } else {
             Err(self.type_error(name, "a whole number ≥ 0", &a))
+        }
+    }
+    /// An optional whole number ≥ 0 with a default.
+    pub fn count_or(&mut self, name: &str, default: usize) -> MxResult<usize> {
+        match self.opt(name) {
+            None => Ok(default),
+            Some(a) => match a.value {
+                Value::Number(x) if x >= 0.0 && x.fract() == 0.0 && x < 1e15 => Ok(x as usize),
+                _ => Err(self.type_error(name, "a whole number ≥ 0", &a)),
+            },
         }
     }
     pub fn bool(&mut self, name: &str) -> MxResult<bool> {

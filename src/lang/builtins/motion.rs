@@ -1,8 +1,563 @@
-//! Motion built-ins (interval, dof, mu, the algebra, CSV/JSON save and load).
-//! They wrap `crate::motion`, which is being built on another branch; until it
-//! lands nothing is registered here, so the names are reported as unknown
-//! rather than half-working.
+//! Motion built-ins: `interval`, `dof`, `mu`, the algebra (`& - +` as
+//! operators), `affine`, `clip`, `clip_in_place`, `concatenate`, `only`,
+//! `dofs`, `span`, `gaps`, `conflicts`, `sample`, and the `.csv`/`.json`
+//! formats of `save`/`load`. The work is done by `crate::motion` and
+//! `crate::io`; this file only converts values and errors.
 
-use super::Registry;
+use std::sync::Arc;
 
-pub fn register(_reg: &mut Registry) {}
+use indexmap::IndexMap;
+
+use super::{ArgValue, Args, Registry, describe};
+use crate::lang::ast::BinOp;
+use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::timefn::{MxTimeFn, compile};
+use crate::lang::value::{HostObject, Value, format_number};
+use crate::motion::{self, Curve, Dof, Interval, MotionError, Mu};
+
+/// A motion value: an interval, a DOF or a motion unit.
+#[derive(Clone, Debug)]
+pub enum Motion {
+    Interval(Interval),
+    Dof(Dof),
+    Mu(Mu),
+}
+
+impl Motion {
+    /// Intervals and DOFs both act as DOFs in the algebra.
+    pub fn as_dof(&self) -> Option<Dof> {
+        match self {
+            Motion::Interval(i) => Some(Dof::from(i.clone())),
+            Motion::Dof(d) => Some(d.clone()),
+            Motion::Mu(_) => None,
+        }
+    }
+    pub fn span(&self) -> Option<(f64, f64)> {
+        match self {
+            Motion::Interval(i) => Some((i.start, i.stop)),
+            Motion::Dof(d) => d.span(),
+            Motion::Mu(m) => m.span(),
+        }
+    }
+}
+
+fn fmt_span(s: Option<(f64, f64)>) -> String {
+    match s {
+        Some((a, b)) => format!("[{}, {}]", format_number(a), format_number(b)),
+        None => "nothing defined".into(),
+    }
+}
+
+fn plural(n: usize, word: &str) -> String {
+    format!("{n} {word}{}", if n == 1 { "" } else { "s" })
+}
+
+impl HostObject for Motion {
+    fn type_name(&self) -> &'static str {
+        match self {
+            Motion::Interval(_) => "Interval",
+            Motion::Dof(_) => "Dof",
+            Motion::Mu(_) => "Mu",
+        }
+    }
+
+    fn summary(&self) -> String {
+        match self {
+            Motion::Interval(i) => {
+                let conflict = if i.is_conflict() { ", a conflict" } else { "" };
+                format!(
+                    "Interval {} ({}{conflict})",
+                    fmt_span(Some((i.start, i.stop))),
+                    plural(i.funcs.len(), "function")
+                )
+            }
+            Motion::Dof(d) => format!(
+                "Dof {} ({}, {}, {})",
+                fmt_span(d.span()),
+                plural(d.intervals.len(), "interval"),
+                plural(d.gaps().len(), "gap"),
+                plural(d.conflicts().len(), "conflict")
+            ),
+            Motion::Mu(m) => {
+                let mut names: Vec<&str> = m.names().take(4).collect();
+                if m.len() > 4 {
+                    names.push("…");
+                }
+                format!(
+                    "Mu {} ({}: {}; {}, {}, {})",
+                    fmt_span(m.span()),
+                    plural(m.len(), "DOF"),
+                    names.join(", "),
+                    plural(m.interval_count(), "interval"),
+                    plural(motion::gaps(m).len(), "gap"),
+                    plural(motion::conflicts(m).len(), "conflict")
+                )
+            }
+        }
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn binary(&self, op: BinOp, other: &Value, self_left: bool) -> Option<Result<Value, String>> {
+        if !matches!(op, BinOp::Add | BinOp::Sub | BinOp::Meet) {
+            return None;
+        }
+        let other = other.as_object::<Motion>()?;
+        let (a, b) = if self_left {
+            (self, other)
+        } else {
+            (other, self)
+        };
+        let r = match (a, b) {
+            (Motion::Mu(x), Motion::Mu(y)) => Motion::Mu(match op {
+                BinOp::Add => motion::plus(x, y),
+                BinOp::Sub => motion::minus(x, y),
+                _ => motion::and(x, y),
+            }),
+            (Motion::Mu(_), _) | (_, Motion::Mu(_)) => {
+                return Some(Err(format!(
+                    "cannot combine a {} with a {}: a DOF has no name; wrap it with `mu({{name: d}})` first",
+                    a.type_name(),
+                    b.type_name()
+                )));
+            }
+            _ => {
+                let (x, y) = (a.as_dof()?, b.as_dof()?);
+                Motion::Dof(match op {
+                    BinOp::Add => x.plus(&y),
+                    BinOp::Sub => x.minus(&y),
+                    _ => x.and(&y),
+                })
+            }
+        };
+        Some(Ok(Value::object(r)))
+    }
+
+    fn equals(&self, other: &dyn HostObject) -> bool {
+        match (self, other.as_any().downcast_ref::<Motion>()) {
+            (Motion::Interval(a), Some(Motion::Interval(b))) => a == b,
+            (Motion::Dof(a), Some(Motion::Dof(b))) => a == b,
+            (Motion::Mu(a), Some(Motion::Mu(b))) => a == b,
+            _ => false,
+        }
+    }
+}
+
+/// A motion error as a diagnostic at `span`, with advice by kind.
+pub fn motion_error(e: MotionError, span: crate::lang::ast::Span) -> MxError {
+    let help = match &e {
+        MotionError::ClipOutside { .. } => "clip a window inside the span; `span(m)` gives it",
+        MotionError::Conflict { .. } => {
+            "a DOF defined twice there must be resolved first, e.g. `a + (b - a)` or `clip`"
+        }
+        MotionError::Undefined { .. } => {
+            "sample only where the motion is defined; `gaps(m)` lists the holes"
+        }
+        MotionError::UnknownDof { .. } | MotionError::NoMatch { .. } => {
+            "`dofs(m)` lists the DOF names"
+        }
+        MotionError::Cancelled => "cancelled by the user",
+        _ => "see `:help` for the motion functions",
+    };
+    let kind = if matches!(e, MotionError::Cancelled) {
+        ErrorKind::Cancelled
+    } else {
+        ErrorKind::Motion
+    };
+    MxError::new(kind, e.to_string()).at(span).help(help)
+}
+
+/// Take a motion argument (Interval, Dof or Mu).
+fn motion_arg(a: &mut Args, name: &str) -> MxResult<(Motion, ArgValue)> {
+    let arg = a.arg(name)?;
+    match arg.value.as_object::<Motion>() {
+        Some(m) => Ok((m.clone(), arg)),
+        None => Err(a.type_error(name, "a motion (Interval, Dof or Mu)", &arg)),
+    }
+}
+
+fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
+    let (m, arg) = motion_arg(a, name)?;
+    match m {
+        Motion::Mu(m) => Ok((m, arg)),
+        _ => Err(a.type_error(
+            name,
+            "a motion unit (Mu); wrap a DOF with `mu({name: d})`",
+            &arg,
+        )),
+    }
+}
+
+fn obj(m: Motion) -> MxResult<Value> {
+    Ok(Value::object(m))
+}
+
+/// Apply a DOF-level and an MU-level version of an operation.
+fn map_motion(
+    m: &Motion,
+    span: crate::lang::ast::Span,
+    name: Option<&str>,
+    on_dof: impl Fn(&Dof) -> Result<Dof, MotionError>,
+    on_mu: impl Fn(&Mu) -> Result<Mu, MotionError>,
+) -> MxResult<Value> {
+    let named = |e: MotionError| {
+        motion_error(
+            if let Some(n) = name {
+                e.with_name(n)
+            } else {
+                e
+            },
+            span,
+        )
+    };
+    match m {
+        Motion::Mu(x) => obj(Motion::Mu(on_mu(x).map_err(named)?)),
+        other => {
+            let d = other.as_dof().unwrap_or_default();
+            obj(Motion::Dof(on_dof(&d).map_err(named)?))
+        }
+    }
+}
+
+fn span_value(s: Option<(f64, f64)>) -> Value {
+    match s {
+        Some((a, b)) => Value::list(vec![Value::Number(a), Value::Number(b)]),
+        None => Value::Nil,
+    }
+}
+
+fn spans_value(v: Vec<motion::DofSpan>) -> Value {
+    Value::list(
+        v.into_iter()
+            .map(|s| {
+                let mut r = IndexMap::new();
+                r.insert("dof".to_string(), Value::str(&s.dof));
+                r.insert("start".to_string(), Value::Number(s.start));
+                r.insert("stop".to_string(), Value::Number(s.stop));
+                Value::record(r)
+            })
+            .collect(),
+    )
+}
+
+fn to_dof(a: &Args, v: &ArgValue, what: &str) -> MxResult<Dof> {
+    match v.value.as_object::<Motion>().and_then(Motion::as_dof) {
+        Some(d) => Ok(d),
+        None => Err(a.type_error(what, "an Interval or a Dof", v)),
+    }
+}
+
+pub fn register(reg: &mut Registry) {
+    reg.add(
+        "interval(f, ts, tf)",
+        "An interval over [ts, tf]: f is a number (constant) or a function of time `fn(t) = …` (evaluated at global time).",
+        |a, ev| {
+            let f = a.arg("f")?;
+            let ts = a.number("ts")?;
+            let tf = a.number("tf")?;
+            let span = a.call_span();
+            let i = match &f.value {
+                Value::Number(x) => Interval::constant(*x, ts, tf),
+                v if v.is_callable() => Interval::function(Arc::new(MxTimeFn::new(v.clone(), ev.ctx.clone())), ts, tf),
+                _ => return Err(a.type_error("f", "a number or a function of time", &f)),
+            }
+            .map_err(|e| motion_error(e, span))?;
+            obj(Motion::Interval(i))
+        },
+    );
+    reg.add(
+        "samples(values, rate, t0: 0)",
+        "An interval over sampled data: values[k] at time t0 + k/rate, interpolated by a C² cubic spline (value, velocity and acceleration).",
+        |a, _| {
+            let values = a.list_of_numbers("values")?;
+            let rate = a.number("rate")?;
+            let t0 = a.number_or("t0", 0.0)?;
+            let span = a.call_span();
+            if !(rate.is_finite() && rate > 0.0) {
+                return Err(a.error(ErrorKind::Value, format!("samples: rate must be positive, got {}", format_number(rate))));
+            }
+            if values.len() < 2 {
+                return Err(a.error(ErrorKind::Value, "samples needs at least 2 values to span a time"));
+            }
+            let dt = 1.0 / rate;
+            let stop = t0 + (values.len() - 1) as f64 * dt;
+            let c = Curve::samples(t0, dt, values).map_err(|e| motion_error(e, span))?;
+            obj(Motion::Interval(Interval::curve(c, t0, stop).map_err(|e| motion_error(e, span))?))
+        },
+    );
+    reg.add(
+        "dof(i1, ...)",
+        "A DOF from intervals (or DOFs); overlapping ones become an explicit conflict.",
+        |a, _| {
+            let mut d = Dof::empty();
+            for (k, v) in a.rest().iter().enumerate() {
+                d = d.plus(&to_dof(a, v, &format!("i{}", k + 1))?);
+            }
+            obj(Motion::Dof(d))
+        },
+    );
+    reg.add(
+        "mu(dofs)",
+        "A motion unit from a record {name: dof_or_interval, …}; DOF order is the record's order.",
+        |a, _| {
+            let arg = a.arg("dofs")?;
+            let Value::Record(r) = &arg.value else {
+                return Err(a.type_error("dofs", "a record {name: dof_or_interval, …}", &arg));
+            };
+            let mut m = Mu::new();
+            for (name, v) in r.iter() {
+                match v.as_object::<Motion>() {
+                    Some(Motion::Mu(_)) | None => {
+                        return Err(MxError::type_error(format!(
+                            "mu: field `{name}` must be an Interval or a Dof, found {}",
+                            describe(v)
+                        ))
+                        .at(arg.span)
+                        .help("usage: mu({name: dof_or_interval, …})"));
+                    }
+                    Some(x) => m.insert(name.clone(), x.as_dof().unwrap_or_default()),
+                }
+            }
+            obj(Motion::Mu(m))
+        },
+    );
+    reg.add(
+        "affine(ts, d, m)",
+        "Time t ↦ ts + d·t (shift by ts, stretch by d > 0); values are those at the pre-image time.",
+        |a, _| {
+            let ts = a.number("ts")?;
+            let d = a.number("d")?;
+            let (m, _) = motion_arg(a, "m")?;
+            map_motion(&m, a.call_span(), None, |x| x.affine(ts, d), |x| motion::affine(ts, d, x))
+        },
+    );
+    reg.add(
+        "clip(ts, tf, m)",
+        "The part of m inside [ts, tf], moved to start at time 0. [ts, tf] must lie inside m's span.",
+        |a, _| {
+            let ts = a.number("ts")?;
+            let tf = a.number("tf")?;
+            let (m, arg) = motion_arg(a, "m")?;
+            map_motion(&m, a.call_span(), arg.name.as_deref(), |x| motion::ops::clip_dof(ts, tf, x), |x| motion::clip(ts, tf, x))
+        },
+    );
+    reg.add(
+        "clip_in_place(ts, tf, m)",
+        "The part of m inside [ts, tf], times unchanged. [ts, tf] must lie inside m's span.",
+        |a, _| {
+            let ts = a.number("ts")?;
+            let tf = a.number("tf")?;
+            let (m, arg) = motion_arg(a, "m")?;
+            map_motion(
+                &m,
+                a.call_span(),
+                arg.name.as_deref(),
+                |x| motion::ops::clip_in_place_dof(ts, tf, x),
+                |x| motion::clip_in_place(ts, tf, x),
+            )
+        },
+    );
+    reg.add(
+        "concatenate(a, b)",
+        "a followed by b, shifted to start where a ends.",
+        |a, _| {
+            let (x, xa) = motion_arg(a, "a")?;
+            let (y, ya) = motion_arg(a, "b")?;
+            match (&x, &y) {
+                (Motion::Mu(p), Motion::Mu(q)) => obj(Motion::Mu(motion::concatenate(p, q))),
+                (Motion::Mu(_), _) => Err(a.type_error("b", "a Mu (like a)", &ya)),
+                (_, Motion::Mu(_)) => Err(a.type_error("a", "a Mu (like b)", &xa)),
+                _ => obj(Motion::Dof(
+                    x.as_dof()
+                        .unwrap_or_default()
+                        .concatenate(&y.as_dof().unwrap_or_default()),
+                )),
+            }
+        },
+    );
+    reg.add(
+        "only(m, pattern, ...)",
+        "The DOFs of m whose names match any pattern: exact names or globs (`RightArm*`, `Hips.?position`).",
+        |a, _| {
+            let (m, _) = mu_arg(a, "m")?;
+            let pats = a.rest();
+            if pats.is_empty() {
+                return Err(a.error(ErrorKind::Arity, "only needs at least one name or pattern"));
+            }
+            let mut strs = Vec::new();
+            for p in &pats {
+                match &p.value {
+                    Value::Str(s) => strs.push(s.to_string()),
+                    Value::List(l) => {
+                        for x in l.iter() {
+                            match x.as_str() {
+                                Some(s) => strs.push(s.to_string()),
+                                None => return Err(a.type_error("pattern", "a string or a list of strings", p)),
+                            }
+                        }
+                    }
+                    _ => return Err(a.type_error("pattern", "a string", p)),
+                }
+            }
+            let refs: Vec<&str> = strs.iter().map(String::as_str).collect();
+            obj(Motion::Mu(motion::only(&m, &refs).map_err(|e| motion_error(e, a.call_span()))?))
+        },
+    );
+    reg.add(
+        "dofs(m)",
+        "The DOF names of a motion unit, in first-definition order.",
+        |a, _| {
+            let (m, _) = mu_arg(a, "m")?;
+            Ok(Value::list(m.names().map(Value::str).collect()))
+        },
+    );
+    reg.add(
+        "span(m)",
+        "[start, stop] of everything defined in m, or nil if nothing is.",
+        |a, _| {
+            let (m, _) = motion_arg(a, "m")?;
+            Ok(span_value(m.span()))
+        },
+    );
+    reg.add(
+        "gaps(m)",
+        "Interior gaps (undefined with motion on both sides) as records {dof, start, stop}.",
+        |a, _| {
+            let (m, _) = motion_arg(a, "m")?;
+            Ok(match m {
+                Motion::Mu(x) => spans_value(motion::gaps(&x)),
+                other => spans_value(dof_spans(&other, Dof::gaps)),
+            })
+        },
+    );
+    reg.add(
+        "conflicts(m)",
+        "Multiply defined stretches as records {dof, start, stop}.",
+        |a, _| {
+            let (m, _) = motion_arg(a, "m")?;
+            Ok(match m {
+                Motion::Mu(x) => spans_value(motion::conflicts(&x)),
+                other => spans_value(dof_spans(&other, Dof::conflicts)),
+            })
+        },
+    );
+    reg.add(
+        "sample(m, t, deriv: 0)",
+        "Value of m at time t (deriv 1: velocity, 2: acceleration). An Interval/Dof gives a number; a Mu a record {dof: value}, nil where undefined. Conflicts are errors.",
+        |a, _| {
+            let (m, _) = motion_arg(a, "m")?;
+            let t = a.finite("t")?;
+            let k = a.count_or("deriv", 0)?;
+            let span = a.call_span();
+            if k > 2 {
+                return Err(a.error(ErrorKind::Value, "deriv is 0 (value), 1 (velocity) or 2 (acceleration)"));
+            }
+            let pick = |r: Option<[f64; 3]>| r.map(|v| Value::Number(v[k])).unwrap_or(Value::Nil);
+            match m {
+                Motion::Mu(x) => {
+                    let mut r = IndexMap::new();
+                    for name in x.names() {
+                        r.insert(name.to_string(), pick(x.sample(name, t).map_err(|e| motion_error(e, span))?));
+                    }
+                    Ok(Value::record(r))
+                }
+                other => {
+                    let d = other.as_dof().unwrap_or_default();
+                    match d.sample("value", t).map_err(|e| motion_error(e, span))? {
+                        Some(v) => Ok(Value::Number(v[k])),
+                        None => Err(motion_error(MotionError::Undefined { dof: "value".into(), t }, span)),
+                    }
+                }
+            }
+        },
+    );
+    reg.add(
+        "get(m, name)",
+        "The DOF `name` of a motion unit.",
+        |a, _| {
+            let (m, _) = mu_arg(a, "m")?;
+            let n = a.string("name")?;
+            let d = m.dof(&n).map_err(|e| motion_error(e, a.call_span()))?;
+            obj(Motion::Dof(d.clone()))
+        },
+    );
+
+    reg.saver(
+        "csv",
+        "Motion CSV: `save(m, \"x.csv\", rate: R)` samples at whole multiples of 1/R.",
+        |v, path, a, ev| {
+            let Some(Motion::Mu(m)) = v.as_object::<Motion>() else {
+                return Err(a.error(
+                    ErrorKind::Type,
+                    format!("CSV holds a motion unit (Mu), not {}", describe(v)),
+                ));
+            };
+            let Some(rate) = a.opt_named("rate") else {
+                return Err(a.error(
+                    ErrorKind::Arity,
+                    "saving CSV needs a sampling rate: `save(m, \"x.csv\", rate: 30)`",
+                ));
+            };
+            let Value::Number(rate) = rate.value else {
+                return Err(a.type_error("rate", "a number (Hz)", &rate));
+            };
+            let span = a.call_span();
+            crate::io::csv::save_csv_cancellable(m, path, rate, Some(&ev.ctx.cancel))
+                .map_err(|e| file_error(e, span))
+        },
+    );
+    reg.saver(
+        "json",
+        "Motion JSON (exact round trip; functions stored as mx source).",
+        |v, path, a, _| {
+            let Some(Motion::Mu(m)) = v.as_object::<Motion>() else {
+                return Err(a.error(
+                    ErrorKind::Type,
+                    format!("motion JSON holds a motion unit (Mu), not {}", describe(v)),
+                ));
+            };
+            crate::io::motion_json::save_json(m, path).map_err(|e| file_error(e, a.call_span()))
+        },
+    );
+    reg.loader(
+        "json",
+        "Motion JSON written by `save(m, \"x.json\")`.",
+        |path, a, ev| {
+            let ctx = ev.ctx.clone();
+            let compile_fn = move |src: &str| compile(src, &ctx);
+            let m = crate::io::motion_json::load_json(path, &compile_fn)
+                .map_err(|e| file_error(e, a.call_span()))?;
+            obj(Motion::Mu(m))
+        },
+    );
+}
+
+fn dof_spans(m: &Motion, f: fn(&Dof) -> Vec<(f64, f64)>) -> Vec<motion::DofSpan> {
+    f(&m.as_dof().unwrap_or_default())
+        .into_iter()
+        .map(|(start, stop)| motion::DofSpan {
+            dof: "value".into(),
+            start,
+            stop,
+        })
+        .collect()
+}
+
+fn file_error(e: crate::io::FileError, span: crate::lang::ast::Span) -> MxError {
+    match e {
+        crate::io::FileError::Motion(m) => motion_error(m, span),
+        other => MxError::new(ErrorKind::Io, other.to_string())
+            .at(span)
+            .help("check the path, the folder's permissions and the file's content"),
+    }
+}
+
+/// Used by `Evaluator` users that want a motion out of a value.
+pub fn as_mu(v: &Value) -> Option<&Mu> {
+    match v.as_object::<Motion>() {
+        Some(Motion::Mu(m)) => Some(m),
+        _ => None,
+    }
+}

@@ -11,7 +11,7 @@
 //! q_a). It is C¹ there, S stays constant and non-zero, ∇S = 0 — the SE(3)
 //! analogue of OpenSim's linear extension of splines.
 
-use super::error::{JointError, jerr};
+use super::error::{JointSpecError, jerr};
 use super::poe::{PoeFactor, poe_kinematics};
 use crate::lie::{Se3, Twist, exp_se3, log_se3, rotation_angle};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
@@ -34,7 +34,7 @@ pub struct SplineCurveJoint {
 impl SplineCurveJoint {
     /// Control frames on a B-spline basis (degree 2…5, not periodic) with as
     /// many coefficients as frames.
-    pub fn new(frames: Vec<Se3>, basis: BSplineBasis) -> Result<Self, JointError> {
+    pub fn new(frames: Vec<Se3>, basis: BSplineBasis) -> Result<Self, JointSpecError> {
         if basis.is_periodic() {
             return jerr("a spline curve joint needs a non-periodic basis");
         }
@@ -65,7 +65,7 @@ impl SplineCurveJoint {
     /// increasing): then a clamped knot vector is built by averaging
     /// (u_{j+3} = (t_j + t_{j+1} + t_{j+2})/3, Piegl & Tiller eq. 9.8), so the
     /// joint passes through the first and last frames at t_0 and t_m.
-    pub fn from_knots(frames: Vec<Se3>, knots: &[f64]) -> Result<Self, JointError> {
+    pub fn from_knots(frames: Vec<Se3>, knots: &[f64]) -> Result<Self, JointSpecError> {
         let m1 = frames.len();
         if m1 < 4 {
             return jerr(format!(
@@ -89,7 +89,7 @@ impl SplineCurveJoint {
             ));
         };
         let basis = BSplineBasis::new(3, knots)
-            .map_err(|e| JointError(format!("spline curve joint knots: {e}")))?;
+            .map_err(|e| JointSpecError(format!("spline curve joint knots: {e}")))?;
         Self::new(frames, basis)
     }
 
@@ -109,7 +109,7 @@ impl SplineCurveJoint {
     }
 
     /// Replaces the control frames (same count), re-checking the π rule.
-    pub fn set_frames(&mut self, frames: Vec<Se3>) -> Result<(), JointError> {
+    pub fn set_frames(&mut self, frames: Vec<Se3>) -> Result<(), JointSpecError> {
         if frames.len() != self.frames.len() {
             return jerr("set_frames: the number of control frames cannot change");
         }
@@ -153,7 +153,7 @@ impl SplineCurveJoint {
     }
 
     /// An error if ‖S(q)‖ falls below `tol` somewhere in the domain.
-    pub fn check_jacobian(&self, tol: f64) -> Result<(), JointError> {
+    pub fn check_jacobian(&self, tol: f64) -> Result<(), JointSpecError> {
         let (q, s) = self.min_jacobian_norm(400);
         if s < tol {
             return jerr(format!(
@@ -165,7 +165,7 @@ impl SplineCurveJoint {
     }
 }
 
-fn relative_twists(frames: &[Se3]) -> Result<Vec<Twist>, JointError> {
+fn relative_twists(frames: &[Se3]) -> Result<Vec<Twist>, JointSpecError> {
     let mut tw = Vec::with_capacity(frames.len().saturating_sub(1));
     for (j, w) in frames.windows(2).enumerate() {
         if w.iter()

@@ -1,7 +1,7 @@
 //! Cylindrical joint: rotation q0 about a unit axis and translation q1 along
 //! it. The two motions commute, so S = [[a;0], [0;a]] is constant and ∇S = 0.
 
-use super::error::{JointError, unit};
+use super::error::{JointSpecError, unit};
 use crate::lie::{Se3, Twist};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
 use nalgebra::{Rotation3, Unit, Vector3};
@@ -13,7 +13,7 @@ pub struct Cylindrical {
 }
 
 impl Cylindrical {
-    pub fn new(axis: Vector3<f64>) -> Result<Self, JointError> {
+    pub fn new(axis: Vector3<f64>) -> Result<Self, JointSpecError> {
         Ok(Cylindrical {
             axis: unit(axis, "cylindrical joint axis")?,
             limits: [Limit::NONE; 2],

@@ -8,7 +8,7 @@
 //! this is the paper's eq. (20); the form above holds for any unit k because
 //! [k] commutes with exp([k]φ). H is a constant placement (identity by default).
 
-use super::error::{JointError, jerr, unit};
+use super::error::{JointSpecError, jerr, unit};
 use crate::lie::{Se3, Twist, exp_so3};
 use crate::model::joint::{Derivatives, Joint, JointKinematics};
 use nalgebra::Vector3;
@@ -23,11 +23,11 @@ pub struct Elliptic {
 
 impl Elliptic {
     /// Semi-axes a, b > 0, rotation axis z.
-    pub fn new(a: f64, b: f64) -> Result<Self, JointError> {
+    pub fn new(a: f64, b: f64) -> Result<Self, JointSpecError> {
         Self::with_axis(a, b, Vector3::z(), Se3::identity())
     }
 
-    pub fn with_axis(a: f64, b: f64, k: Vector3<f64>, h: Se3) -> Result<Self, JointError> {
+    pub fn with_axis(a: f64, b: f64, k: Vector3<f64>, h: Se3) -> Result<Self, JointSpecError> {
         if !(a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0) {
             return jerr(format!(
                 "elliptic joint semi-axes must be positive and finite, got a = {a}, b = {b}"

@@ -44,7 +44,7 @@ pub struct FunctionJoint {
 }
 
 /// Why a function-based joint could not be built (the joint library's error).
-pub use super::error::JointError as FunctionJointError;
+pub use super::error::JointSpecError as FunctionJointError;
 
 fn err<T>(msg: impl Into<String>) -> Result<T, FunctionJointError> {
     Err(FunctionJointError(format!(

@@ -2,7 +2,7 @@
 //! translation h·q along it (pitch h, metres per radian). G = exp([a; h a] q),
 //! S = [a; h a] constant, ∇S = 0 (paper §4.1).
 
-use super::error::{JointError, unit};
+use super::error::{JointSpecError, unit};
 use crate::lie::{Twist, exp_se3};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
 use nalgebra::Vector3;
@@ -14,10 +14,10 @@ pub struct Helical {
 }
 
 impl Helical {
-    pub fn new(axis: Vector3<f64>, pitch: f64) -> Result<Self, JointError> {
+    pub fn new(axis: Vector3<f64>, pitch: f64) -> Result<Self, JointSpecError> {
         let a = unit(axis, "helical joint axis")?;
         if !pitch.is_finite() {
-            return Err(JointError(format!(
+            return Err(JointSpecError(format!(
                 "helical joint pitch must be finite, got {pitch}"
             )));
         }

@@ -4,6 +4,7 @@
 //! [`poe`] (spline-joint paper eq. 27–31) for their Jacobian and Hessian.
 
 pub mod curve;
+pub mod curve_fit;
 pub mod cylindrical;
 pub mod elliptic;
 pub mod error;
@@ -16,15 +17,17 @@ pub mod poe;
 pub mod prismatic;
 pub mod revolute;
 pub mod root6;
+pub mod samples;
 pub mod scalar_function;
 pub mod spherical;
 pub mod spline_ndof;
 pub mod universal;
 
 pub use curve::SplineCurveJoint;
+pub use curve_fit::{FitOptions, FitReport, KnotPlacement, fit_spline_joint, hessian_energy};
 pub use cylindrical::Cylindrical;
 pub use elliptic::Elliptic;
-pub use error::JointError;
+pub use error::JointSpecError;
 pub use fixed::Fixed;
 pub use function_based::{FunctionJoint, FunctionJointError, TransformAxis};
 pub use helical::Helical;
@@ -32,6 +35,7 @@ pub use planar::Planar;
 pub use prismatic::Prismatic;
 pub use revolute::Revolute;
 pub use root6::Root6;
+pub use samples::{JointError, JointSamples, joint_error};
 pub use scalar_function::ScalarFunction;
 pub use spherical::{EulerOrder, Spherical};
 pub use spline_ndof::SplineJoint;

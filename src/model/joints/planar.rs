@@ -2,7 +2,7 @@
 //! v = n × u, then rotation q2 about the plane normal n:
 //! G = exp([0;u] q0) exp([0;v] q1) exp([n;0] q2).
 
-use super::error::{JointError, jerr, unit};
+use super::error::{JointSpecError, jerr, unit};
 use super::poe::{PoeFactor, poe_kinematics};
 use crate::lie::{Se3, Twist};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
@@ -18,7 +18,7 @@ pub struct Planar {
 impl Planar {
     /// A plane with normal `normal`; `u` is the in-plane x axis (its component
     /// along the normal is removed).
-    pub fn new(normal: Vector3<f64>, u: Vector3<f64>) -> Result<Self, JointError> {
+    pub fn new(normal: Vector3<f64>, u: Vector3<f64>) -> Result<Self, JointSpecError> {
         let n = unit(normal, "planar joint normal")?;
         let u = u - n * n.dot(&u);
         if u.norm() < 1e-9 {

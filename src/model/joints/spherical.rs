@@ -11,7 +11,7 @@
 //! only the inverse map from angular velocity to q̇ blows up there.
 //! [`Spherical::singularity_measure`] reports |det| so callers can detect it.
 
-use super::error::{JointError, jerr};
+use super::error::{JointSpecError, jerr};
 use super::poe::{PoeFactor, poe_kinematics};
 use super::universal::rot_twist;
 use crate::lie::Se3;
@@ -28,7 +28,7 @@ impl EulerOrder {
     pub const XYZ: EulerOrder = EulerOrder([0, 1, 2]);
 
     /// Parses "zyx", "XYZ", "zxz", …
-    pub fn parse(s: &str) -> Result<Self, JointError> {
+    pub fn parse(s: &str) -> Result<Self, JointSpecError> {
         let ax: Vec<usize> = s
             .chars()
             .map(|c| match c.to_ascii_lowercase() {

@@ -4,7 +4,7 @@
 //! Like Euler angles, the rotation part can meet singularities; choose the
 //! basis twists to keep them outside the joint limits.
 
-use super::error::{JointError, jerr};
+use super::error::{JointSpecError, jerr};
 use super::poe::{PoeFactor, poe_kinematics};
 use crate::lie::{Se3, Twist};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
@@ -29,7 +29,11 @@ impl SplineJoint {
     }
 
     /// `phis` are six tensor splines of the same number n of coordinates (n ≤ 6).
-    pub fn new(head: Se3, twists: [Twist; 6], phis: Vec<TensorSpline>) -> Result<Self, JointError> {
+    pub fn new(
+        head: Se3,
+        twists: [Twist; 6],
+        phis: Vec<TensorSpline>,
+    ) -> Result<Self, JointSpecError> {
         if phis.len() != 6 {
             return jerr(format!(
                 "an n-DOF spline joint needs 6 spline functions (one per basis twist), got {}",

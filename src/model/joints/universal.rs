@@ -3,7 +3,7 @@
 //! S = [Ad⁻¹_{exp(a1 q1)} s0, s1], ∂s0*/∂q1 = ad_{s0*} s1 (paper §4.1), via
 //! the product-of-exponentials recursion.
 
-use super::error::{JointError, jerr, unit};
+use super::error::{JointSpecError, jerr, unit};
 use super::poe::{PoeFactor, poe_kinematics};
 use crate::lie::{Se3, Twist};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
@@ -17,7 +17,7 @@ pub struct Universal {
 
 impl Universal {
     /// The axes must not be parallel (the joint would lose a degree of freedom).
-    pub fn new(a0: Vector3<f64>, a1: Vector3<f64>) -> Result<Self, JointError> {
+    pub fn new(a0: Vector3<f64>, a1: Vector3<f64>) -> Result<Self, JointSpecError> {
         let a0 = unit(a0, "universal joint first axis")?;
         let a1 = unit(a1, "universal joint second axis")?;
         if a0.cross(&a1).norm() < 1e-9 {

@@ -1,0 +1,65 @@
+//! BVH load time of every shared clip (ms and frames/s): read + parse +
+//! unwrap, and (`load` column) the whole conversion to a motion unit once
+//! it exists. Prints a table, then divan times the 1,901-frame dance (target:
+//! well under 50 ms).
+
+use mx::mocap::bvh;
+use std::path::PathBuf;
+use std::time::Instant;
+
+fn shared_mocap() -> Vec<PathBuf> {
+    let dir = std::env::var_os("MX_SHARED")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"))
+        .join("data/mocap");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    v.retain(|p| p.extension().is_some_and(|e| e == "bvh"));
+    v.sort();
+    if v.is_empty() {
+        eprintln!("no shared clips at {} (set MX_SHARED)", dir.display());
+    }
+    v
+}
+
+fn load(path: &PathBuf) -> bvh::BvhFile {
+    let mut f = bvh::read_file(path).expect("shared clip loads");
+    f.unwrap_rotations();
+    f
+}
+
+fn main() {
+    println!(
+        "{:<45} {:>7} {:>10} {:>12}",
+        "clip", "frames", "load ms", "frames/s"
+    );
+    for p in shared_mocap() {
+        let runs = 5;
+        let start = Instant::now();
+        let mut frames = 0;
+        for _ in 0..runs {
+            frames = divan::black_box(load(&p)).frame_count();
+        }
+        let s = start.elapsed().as_secs_f64() / runs as f64;
+        println!(
+            "{:<45} {:>7} {:>10.2} {:>12.0}",
+            p.file_name().unwrap_or_default().to_string_lossy(),
+            frames,
+            s * 1e3,
+            frames as f64 / s
+        );
+    }
+    divan::main();
+}
+
+#[divan::bench(sample_count = 20)]
+fn load_dance(b: divan::Bencher) {
+    let Some(p) = shared_mocap()
+        .into_iter()
+        .find(|p| p.to_string_lossy().contains("dance-short"))
+    else {
+        return;
+    };
+    b.bench(|| load(&p));
+}

@@ -1,0 +1,419 @@
+//! Dynamics benchmark: prints tables.
+//!
+//! 1. Per call on human44 and UR5 (`$MX_SHARED/data/reference`): RNEA, ABA,
+//!    CRBA, ∂τ (RNEA derivatives) and the adjoint gradient of Σwτ², median µs
+//!    over random states; when Pinocchio's timer is built
+//!    (`/work/shared/tools/pinocchio/build.sh /tmp/pinocchio-bench`, or
+//!    `$PINOCCHIO_BENCH`), it is run on the same URDF in the same session and the
+//!    ratios are printed.
+//! 2. The cost of each scene effect (same scene with and without it).
+//! 3. Integrator work–precision: error at t = 1 s against a tight reference vs time.
+//!
+//! Run: `cargo bench --bench dynamics`.
+
+use mx::cancel::CancelToken;
+use mx::dynamics::{
+    ExternalForce, Integrator, LimitPenalty, Scene, SceneWorkspace, Spring, State, Workspace,
+    forward_dynamics, inverse_dynamics, mass_matrix, rnea_derivatives, simulate,
+    torque_sq_gradient,
+};
+use mx::lie::Se3;
+use mx::model::joints::Revolute;
+use mx::model::{Inertia, Model};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+struct Rng(u64);
+impl Rng {
+    fn f(&mut self, lo: f64, hi: f64) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+/// Median µs per call of `f(i)` over `n` states, timing each call.
+fn median_us(n: usize, mut f: impl FnMut(usize)) -> f64 {
+    for i in 0..n.min(200) {
+        f(i); // warm up
+    }
+    let mut t: Vec<f64> = (0..n)
+        .map(|i| {
+            let s = Instant::now();
+            f(i);
+            s.elapsed().as_secs_f64() * 1e6
+        })
+        .collect();
+    t.sort_by(|a, b| a.total_cmp(b));
+    t[n / 2]
+}
+
+fn shared() -> PathBuf {
+    std::env::var_os("MX_SHARED")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"))
+}
+
+/// Pinocchio's medians (rnea, aba, crba, rnea_derivatives) for a URDF, if its timer is built.
+fn pinocchio(urdf: &Path) -> Option<[f64; 4]> {
+    let exe = std::env::var_os("PINOCCHIO_BENCH")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/tmp/pinocchio-bench/bench"));
+    let out = std::process::Command::new(exe).arg(urdf).output().ok()?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    let get = |name: &str| -> Option<f64> {
+        text.lines()
+            .find(|l| l.split_whitespace().next() == Some(name))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|x| x.parse().ok())
+    };
+    Some([
+        get("rnea")?,
+        get("aba")?,
+        get("crba")?,
+        get("rnea_derivatives")?,
+    ])
+}
+
+fn per_call(name: &str, urdf: &Path) {
+    let model = match Model::from_urdf_file(urdf) {
+        Ok(m) => m,
+        Err(e) => {
+            println!("{name}: cannot load ({e})");
+            return;
+        }
+    };
+    let n = model.nq();
+    let g = model.default_gravity;
+    let mut rng = Rng(0x1234_5678);
+    const N: usize = 2000;
+    let states: Vec<[Vec<f64>; 3]> = (0..N)
+        .map(|_| {
+            [
+                (0..n).map(|_| rng.f(-1.0, 1.0)).collect(),
+                (0..n).map(|_| rng.f(-2.0, 2.0)).collect(),
+                (0..n).map(|_| rng.f(-5.0, 5.0)).collect(),
+            ]
+        })
+        .collect();
+    let mut ws = Workspace::new(&model);
+    let mut out = vec![0.0; n];
+    let (mut gq, mut gv, mut ga) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let w = vec![1.0; n];
+    let mut mm = DMatrix::zeros(n, n);
+    let mut dq = DMatrix::zeros(n, n);
+    let mut dv = DMatrix::zeros(n, n);
+    let rnea = median_us(N, |i| {
+        let [q, v, a] = &states[i];
+        inverse_dynamics(&model, &mut ws, q, v, a, &g, &mut out).unwrap();
+        black_box(&out);
+    });
+    let aba = median_us(N, |i| {
+        let [q, v, a] = &states[i];
+        forward_dynamics(&model, &mut ws, q, v, a, &g, &mut out).unwrap();
+        black_box(&out);
+    });
+    let crba = median_us(N, |i| {
+        mass_matrix(&model, &mut ws, &states[i][0], &mut mm).unwrap();
+        black_box(&mm);
+    });
+    let der = median_us(N, |i| {
+        let [q, v, a] = &states[i];
+        rnea_derivatives(&model, &mut ws, q, v, a, &g, &mut dq, &mut dv).unwrap();
+        black_box(&dq);
+    });
+    let adj = median_us(N, |i| {
+        let [q, v, a] = &states[i];
+        let j = torque_sq_gradient(&model, &mut ws, q, v, a, &g, &w, &mut gq, &mut gv, &mut ga)
+            .unwrap();
+        black_box(j);
+    });
+    let pin = pinocchio(urdf);
+    println!("\n{name} (nq = {n}), median µs per call over {N} states");
+    println!(
+        "{:<22}{:>10}{:>14}{:>10}",
+        "algorithm", "mx", "pinocchio", "ratio"
+    );
+    let rows = [
+        ("rnea", rnea, 0),
+        ("aba", aba, 1),
+        ("crba", crba, 2),
+        ("rnea_derivatives", der, 3),
+    ];
+    for (k, t, i) in rows {
+        match pin {
+            Some(p) => println!("{k:<22}{t:>10.3}{:>14.3}{:>10.2}", p[i], t / p[i]),
+            None => println!("{k:<22}{t:>10.3}{:>14}{:>10}", "-", "-"),
+        }
+    }
+    println!(
+        "{:<22}{adj:>10.3}{:>14}{:>10}   ({:.2}× one RNEA)",
+        "adjoint Σwτ² gradient",
+        "-",
+        "-",
+        adj / rnea
+    );
+}
+
+fn chain(n: usize) -> Arc<Model> {
+    let mut m = Model::new("chain");
+    for i in 0..n {
+        let inertia = Inertia::from_com(
+            1.0,
+            Vector3::new(0.0, -0.25, 0.0),
+            Matrix3::identity() * 0.01,
+        )
+        .unwrap();
+        let axis = if i % 2 == 0 {
+            Vector3::z()
+        } else {
+            Vector3::x()
+        };
+        m.add_link(
+            &format!("l{i}"),
+            if i == 0 { None } else { Some(i - 1) },
+            &format!("j{i}"),
+            Arc::new(Revolute::new(axis).unwrap().with_limit(mx::model::Limit {
+                lower: -1.0,
+                upper: 1.0,
+            })),
+            Se3::from_translation(Vector3::new(0.0, if i == 0 { 0.0 } else { -0.5 }, 0.0)),
+            inertia,
+        )
+        .unwrap();
+    }
+    Arc::new(m)
+}
+
+fn effects() {
+    let model = chain(20);
+    let n = model.nq();
+    let base = Scene::new(model.clone());
+    let g = Vector3::new(0.0, -9.80665, 0.0);
+    let spring = Spring {
+        link_a: Some(3),
+        point_a: Vector3::new(0.1, 0.0, 0.0),
+        link_b: Some(12),
+        point_b: Vector3::new(0.0, 0.1, 0.0),
+        stiffness: 100.0,
+        damping: 2.0,
+        rest_length: 0.5,
+    };
+    let force = ExternalForce {
+        link: 19,
+        point: Vector3::new(0.0, -0.5, 0.0),
+        force: Vector3::new(1.0, 0.0, 0.0),
+    };
+    let scenes: Vec<(&str, Scene)> = vec![
+        ("no effects", base.clone()),
+        ("gravity", base.clone().with_gravity(g).unwrap()),
+        ("joint damping", base.clone().with_damping(&[0.1]).unwrap()),
+        (
+            "1 spring",
+            base.clone().with_spring(spring.clone()).unwrap(),
+        ),
+        (
+            "1 external force",
+            base.clone().with_force(force.clone()).unwrap(),
+        ),
+        (
+            "joint limits",
+            base.clone()
+                .with_limits(LimitPenalty {
+                    stiffness: 1e3,
+                    damping: 10.0,
+                })
+                .unwrap(),
+        ),
+        (
+            "all of them",
+            base.clone()
+                .with_gravity(g)
+                .unwrap()
+                .with_damping(&[0.1])
+                .unwrap()
+                .with_spring(spring)
+                .unwrap()
+                .with_force(force)
+                .unwrap()
+                .with_limits(LimitPenalty {
+                    stiffness: 1e3,
+                    damping: 10.0,
+                })
+                .unwrap(),
+        ),
+    ];
+    let mut rng = Rng(99);
+    let states: Vec<(Vec<f64>, Vec<f64>)> = (0..2000)
+        .map(|_| {
+            (
+                (0..n).map(|_| rng.f(-1.2, 1.2)).collect(),
+                (0..n).map(|_| rng.f(-2.0, 2.0)).collect(),
+            )
+        })
+        .collect();
+    println!("\nScene effects: q̈ of a 20-link chain, median µs per call");
+    println!("{:<20}{:>10}{:>12}", "scene", "µs", "vs none");
+    let mut none = 0.0;
+    for (name, s) in &scenes {
+        let mut sw = SceneWorkspace::new(s);
+        let mut qdd = vec![0.0; n];
+        let t = median_us(states.len(), |i| {
+            s.accelerations(&mut sw, &states[i].0, &states[i].1, &[], &mut qdd)
+                .unwrap();
+            black_box(&qdd);
+        });
+        if none == 0.0 {
+            none = t;
+        }
+        println!("{name:<20}{t:>10.3}{:>11.2}×", t / none);
+    }
+}
+
+fn jf(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .map(|a| a.iter().filter_map(|x| x.as_f64()).collect())
+        .unwrap_or_default()
+}
+
+/// The OpenSim knee pendulum (run `shank_foot_femur_flexed_50deg`): scene, initial state, reference q.
+fn knee_pendulum() -> Option<(Scene, State, Vec<f64>)> {
+    let dir = shared().join("data/opensim");
+    let read = |f: &str| -> Option<serde_json::Value> {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(f)).ok()?).ok()
+    };
+    let samples = read("knee_r_gait2392_samples.json")?;
+    let pend = read("knee_r_gait2392_pendulum.json")?;
+    let run = pend["runs"]
+        .as_array()?
+        .iter()
+        .find(|r| r["name"] == "shank_foot_femur_flexed_50deg")?;
+    let joint =
+        Arc::new(mx::model::joints::FunctionJoint::from_opensim_samples_json(&samples).ok()?);
+    let mut inertia = Inertia::zero();
+    for b in run["setup"]["bodies"].as_array()? {
+        let i = jf(&b["inertia_about_com_in_body"]
+            .as_array()?
+            .iter()
+            .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+            .collect());
+        let t = jf(&b["T_tibia_body"]
+            .as_array()?
+            .iter()
+            .flat_map(|r| r.as_array().cloned().unwrap_or_default())
+            .collect());
+        let local = Inertia::from_com(
+            b["mass"].as_f64()?,
+            Vector3::from_vec(jf(&b["com_in_body"])),
+            Matrix3::from_row_slice(&i),
+        )
+        .ok()?;
+        inertia += local.transformed(&Se3::from_matrix(&nalgebra::Matrix4::from_row_slice(&t)));
+    }
+    let flex = run["femur_flexion_rad"].as_f64()?;
+    let mut m = Model::new("knee");
+    m.add_link(
+        "tibia_r",
+        None,
+        "knee_r",
+        joint,
+        Se3::from_rotation(
+            nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), flex).into_inner(),
+        ),
+        inertia,
+    )
+    .ok()?;
+    let scene = Scene::new(Arc::new(m))
+        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
+        .ok()?;
+    let init = State {
+        q: vec![run["q0"].as_f64()?],
+        v: vec![run["u0"].as_f64()?],
+    };
+    Some((scene, init, jf(&run["q_accuracy_1e-12"])))
+}
+
+fn work_precision() {
+    let Some((scene, init, q_ref)) = knee_pendulum() else {
+        println!("\nwork-precision: OpenSim knee pendulum data not found");
+        return;
+    };
+    let tok = CancelToken::new();
+    // One knee spline-joint step (one forward-dynamics evaluation) for reference.
+    let mut sw = SceneWorkspace::new(&scene);
+    let mut qdd = [0.0];
+    let step = median_us(5000, |i| {
+        let q = [-(i as f64) * 1e-4];
+        scene
+            .accelerations(&mut sw, &q, &[0.3], &[], &mut qdd)
+            .unwrap();
+        black_box(&qdd);
+    });
+    println!(
+        "\nKnee spline joint (OpenSim gait2392): forward dynamics {step:.3} µs per evaluation (paper: 6 ms per step)"
+    );
+    println!("\nIntegrators on the OpenSim knee pendulum (shank+foot, femur flexed 50°, 1 s):");
+    println!("max |q − q_OpenSim(accuracy 1e-12)| over the 1 ms grid vs run time");
+    println!(
+        "{:<34}{:>12}{:>12}{:>10}",
+        "integrator", "max |Δq|", "ms", "evals"
+    );
+    let mut cases: Vec<(String, Integrator, f64)> = Vec::new();
+    for dt in [1e-2, 1e-3, 1e-4] {
+        cases.push((format!("euler dt={dt:e}"), Integrator::Euler, dt));
+        cases.push((
+            format!("semi_implicit_euler dt={dt:e}"),
+            Integrator::SemiImplicitEuler,
+            dt,
+        ));
+        cases.push((format!("rk4 dt={dt:e}"), Integrator::Rk4, dt));
+    }
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
+        cases.push((
+            format!("dopri5 tol={tol:e}"),
+            Integrator::DormandPrince {
+                rtol: tol,
+                atol: tol,
+            },
+            1e-3,
+        ));
+    }
+    for (name, m, dt) in cases {
+        let s = Instant::now();
+        let r = simulate(&scene, 1.0, dt, m, &init, &tok, &mut |_| {});
+        let ms = s.elapsed().as_secs_f64() * 1e3;
+        match r {
+            Ok(tr) => {
+                // Compare on the common grid (every 1 ms for dt ≤ 1 ms, else every dt).
+                let stride_ref = ((dt / 1e-3).round() as usize).max(1);
+                let stride_sim = ((1e-3 / dt).round() as usize).max(1);
+                let e = (0..)
+                    .map(|k| (k * stride_sim, k * stride_ref))
+                    .take_while(|(a, b)| *a < tr.q.len() && *b < q_ref.len())
+                    .map(|(a, b)| (tr.q[a][0] - q_ref[b]).abs())
+                    .fold(0.0, f64::max);
+                println!("{name:<34}{e:>12.2e}{ms:>12.3}{:>10}", tr.evaluations);
+            }
+            Err(e) => println!("{name:<34}{:>12}{ms:>12.3}   ({e})", "failed"),
+        }
+    }
+}
+
+fn main() {
+    // `cargo test --benches` runs this with --bench absent; keep it quick then.
+    let quick = !std::env::args().any(|a| a == "--bench");
+    let dir = shared().join("data/reference");
+    if quick {
+        println!("dynamics bench: run with `cargo bench --bench dynamics` for the tables");
+        return;
+    }
+    for (name, file) in [("human44", "human44.urdf"), ("ur5", "ur5_robot.urdf")] {
+        per_call(name, &dir.join(file));
+    }
+    effects();
+    work_precision();
+}
