@@ -27,3 +27,5 @@ pub use groups::{group_overlapping, solve_all};
 pub mod precond;
 pub mod sp;
 pub use sp::{SpOptions, SpReport, fill_hermite, sp, torque_energy};
+pub mod cyclify;
+pub use cyclify::{CyclifyOptions, CyclifyReport, cyclify, loop_motion};
