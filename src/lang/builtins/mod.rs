@@ -20,6 +20,7 @@
 //! one line too.
 
 pub mod core;
+pub mod dynamics;
 pub mod motion;
 
 use std::fmt;
@@ -83,6 +84,7 @@ impl Registry {
         let mut r = Registry::new();
         core::register(&mut r);
         motion::register(&mut r);
+        dynamics::register(&mut r);
         r
     }
 
