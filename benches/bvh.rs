@@ -42,12 +42,18 @@ fn main() {
             frames = divan::black_box(load(&p)).frame_count();
         }
         let s = start.elapsed().as_secs_f64() / runs as f64;
+        let start = Instant::now();
+        for _ in 0..runs {
+            divan::black_box(load_mu(&p));
+        }
+        let mu = start.elapsed().as_secs_f64() / runs as f64;
         println!(
-            "{:<45} {:>7} {:>10.2} {:>12.0}",
+            "{:<45} {:>7} {:>10.2} {:>12.0} {:>10.2}",
             p.file_name().unwrap_or_default().to_string_lossy(),
             frames,
             s * 1e3,
-            frames as f64 / s
+            frames as f64 / s,
+            mu * 1e3
         );
     }
     divan::main();
@@ -62,4 +68,15 @@ fn load_dance(b: divan::Bencher) {
         return;
     };
     b.bench(|| load(&p));
+}
+
+#[divan::bench(sample_count = 20)]
+fn load_dance_as_mu(b: divan::Bencher) {
+    let Some(p) = shared_mocap()
+        .into_iter()
+        .find(|p| p.to_string_lossy().contains("dance-short"))
+    else {
+        return;
+    };
+    b.bench(|| load_mu(&p));
 }
