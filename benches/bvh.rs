@@ -29,10 +29,15 @@ fn load(path: &PathBuf) -> bvh::BvhFile {
     f
 }
 
+/// `load("x.bvh")` as the language does it: parse, unwrap, build the MU.
+fn load_mu(path: &PathBuf) -> mx::mocap::Clip {
+    mx::mocap::to_motion::load(path, bvh::Units::Auto).expect("shared clip loads")
+}
+
 fn main() {
     println!(
-        "{:<45} {:>7} {:>10} {:>12}",
-        "clip", "frames", "load ms", "frames/s"
+        "{:<45} {:>7} {:>10} {:>12} {:>10}",
+        "clip", "frames", "parse ms", "frames/s", "MU ms"
     );
     for p in shared_mocap() {
         let runs = 5;
