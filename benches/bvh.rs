@@ -4,7 +4,7 @@
 //! well under 50 ms).
 
 use mx::mocap::bvh;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 fn shared_mocap() -> Vec<PathBuf> {
@@ -23,14 +23,14 @@ fn shared_mocap() -> Vec<PathBuf> {
     v
 }
 
-fn load(path: &PathBuf) -> bvh::BvhFile {
+fn load(path: &Path) -> bvh::BvhFile {
     let mut f = bvh::read_file(path).expect("shared clip loads");
     f.unwrap_rotations();
     f
 }
 
 /// `load("x.bvh")` as the language does it: parse, unwrap, build the MU.
-fn load_mu(path: &PathBuf) -> mx::mocap::Clip {
+fn load_mu(path: &Path) -> mx::mocap::Clip {
     mx::mocap::to_motion::load(path, bvh::Units::Auto).expect("shared clip loads")
 }
 

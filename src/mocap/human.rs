@@ -72,8 +72,7 @@ fn landmarks(sk: &Skeleton) -> Result<Landmarks, MocapError> {
         ])
     };
     let head = (0..sk.joints.len())
-        .filter(|&i| sk.joints[i].name.to_ascii_lowercase().contains("head"))
-        .next_back()
+        .rfind(|&i| sk.joints[i].name.to_ascii_lowercase().contains("head"))
         .map(Ok)
         .unwrap_or_else(|| find(sk, Head, Side::Centre, "head"))?;
     let ankle = both(Foot, "ankle/foot")?;
@@ -533,8 +532,8 @@ pub fn fit(
         max = max.max(frame_max);
         sumsq += r.norm_squared();
         per_frame.push((r.norm_squared() / nt as f64).sqrt());
-        for c in 0..nq {
-            out[c][f] = q[c];
+        for (col, v) in out.iter_mut().zip(q.iter()) {
+            col[f] = *v;
         }
     }
     let dt = file.frame_time;
