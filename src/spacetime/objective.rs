@@ -94,7 +94,9 @@ struct NodeRows {
     rows: [Vec<f64>; 3],
 }
 
-/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t.
+/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t; a
+/// coordinate undefined at t is left NaN (an error unless it is a gap DOF of
+/// the transition being solved).
 pub type Inputs<'a> =
     dyn Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a;
 
@@ -175,8 +177,28 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
         let mut base = Vec::with_capacity(nodes.len());
         for &t in &nodes {
-            let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            let (mut q, mut v, mut a) = (vec![f64::NAN; n], vec![f64::NAN; n], vec![f64::NAN; n]);
             inputs(t, &mut q, &mut v, &mut a)?;
+            for c in 0..n {
+                let in_gap = dofs.iter().any(|d| d.coord == c && t >= d.t0 && t <= d.t1);
+                if in_gap {
+                    continue;
+                }
+                if !(q[c].is_finite() && v[c].is_finite() && a[c].is_finite()) {
+                    let gaps: Vec<String> = dofs
+                        .iter()
+                        .map(|d| {
+                            format!("{} on [{}, {}]", model.coordinate_name(d.coord), d.t0, d.t1)
+                        })
+                        .collect();
+                    return Err(SpError::Evaluation(format!(
+                        "{} is undefined at t = {t} but the transition of {} needs the whole body there; \
+                         define it (e.g. extend its motion, or fill its own gap first)",
+                        model.coordinate_name(c),
+                        gaps.join(", ")
+                    )));
+                }
+            }
             base.push([q, v, a]);
         }
 
@@ -341,6 +363,16 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     /// Assembled as Σ_αβ G_αβ[d, e] · Σ_k w_k r_{α,d,k} r_{β,e,k}ᵀ with
     /// G_αβ = D_αᵀ W D_β, so it costs O(nd²·nf²) per node, not O(nq·(nd·nf)²).
     pub fn preconditioner(&self, s: &mut Scratch<M::Workspace>) -> Result<Precond, SpError> {
+        let x0 = self.hermite_start();
+        self.gauss_newton_at(s, &x0)
+    }
+
+    /// The Gauss–Newton preconditioner linearised at x (see [`Objective::preconditioner`]).
+    pub fn gauss_newton_at(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+        x0: &[f64],
+    ) -> Result<Precond, SpError> {
         let nf = self.n_free;
         let nd = self.dofs.len();
         let nv = nd * nf;
@@ -348,7 +380,6 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             return Ok(Precond::Identity);
         }
         let coords: Vec<usize> = self.dofs.iter().map(|d| d.coord).collect();
-        let x0 = self.hermite_start();
         let nn = self.nodes.len();
         let mut h = DMatrix::<f64>::zeros(nv, nv);
         let w = nalgebra::DVector::from_iterator(self.weights.len(), self.weights.iter().copied());
@@ -357,7 +388,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             if k0 >= k1 {
                 continue;
             }
-            self.load_node((k0 + k1) / 2, &x0, s);
+            self.load_node((k0 + k1) / 2, x0, s);
             let d = self
                 .model
                 .torque_jacobians(&mut s.ws, &s.q, &s.v, &s.a, &coords)?;

@@ -167,3 +167,138 @@ mod tests {
         assert!(RootTransition::new(0.0, 1.0, [f64::NAN, 0.0], [0.0; 2], [0.0; 2], y, y).is_err());
     }
 }
+
+/// Which coordinates of a body are its root (Rose §3.2.1: positioned
+/// kinematically, not by torques), and which of them translate horizontally
+/// or vertically.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct RootCoords {
+    /// Every root coordinate (its virtual forces are excluded from torque sums).
+    pub all: Vec<usize>,
+    /// Translations along horizontal world axes (the floor plane).
+    pub horizontal: Vec<usize>,
+    /// Translation along the vertical.
+    pub vertical: Vec<usize>,
+    /// Root rotations (interpolated by the cubic Hermite curve over a gap).
+    pub rotations: Vec<usize>,
+}
+
+impl RootCoords {
+    /// The root of `model`: the chain of links from the world while they are
+    /// massless and have one child, up to and including the first link with
+    /// mass (a 6-DOF free joint, or BVH/URDF roots written as three slides and
+    /// three hinges). Translational coordinates are classified against
+    /// `up = −gravity` at q = 0; a translation neither horizontal nor vertical
+    /// (a tilted slide) is treated like a rotation.
+    pub fn detect(model: &crate::model::Model, gravity: &nalgebra::Vector3<f64>) -> RootCoords {
+        use crate::model::{Derivatives, JointKinematics};
+        let mut out = RootCoords::default();
+        if model.num_links() == 0 || model.link(0).parent.is_some() {
+            return out;
+        }
+        let up = if gravity.norm() > 0.0 {
+            -gravity / gravity.norm()
+        } else {
+            nalgebra::Vector3::z()
+        };
+        let q0 = vec![0.0; model.nq()];
+        let mut poses = vec![];
+        if model.forward_kinematics(&q0, &mut poses).is_err() {
+            return out;
+        }
+        let mut jk = JointKinematics::default();
+        let mut link = 0;
+        loop {
+            let l = model.link(link);
+            l.joint.kinematics(
+                &q0[l.q_index..l.q_index + l.dof],
+                Derivatives::Jacobian,
+                &mut jk,
+            );
+            for j in 0..l.dof {
+                let c = l.q_index + j;
+                out.all.push(c);
+                let s = jk.s[j];
+                let w = nalgebra::Vector3::new(s[0], s[1], s[2]);
+                let v = nalgebra::Vector3::new(s[3], s[4], s[5]);
+                if w.norm() < 1e-12 && v.norm() > 0.0 {
+                    let axis = poses[link].r * v / v.norm();
+                    let d = axis.dot(&up).abs();
+                    if d > 1.0 - 1e-9 {
+                        out.vertical.push(c);
+                    } else if d < 1e-9 {
+                        out.horizontal.push(c);
+                    } else {
+                        out.rotations.push(c);
+                    }
+                } else {
+                    out.rotations.push(c);
+                }
+            }
+            let children = model.children(link);
+            if l.inertia.mass > 0.0 || children.len() != 1 {
+                break;
+            }
+            link = children[0];
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod detect_tests {
+    use super::*;
+    use crate::lie::Se3;
+    use crate::model::joints::{Prismatic, Revolute};
+    use crate::model::{Inertia, Model};
+    use nalgebra::Vector3;
+    use std::sync::Arc;
+
+    #[test]
+    fn slides_and_hinges_to_the_first_massive_link() {
+        let mut m = Model::new("t");
+        let z = Inertia::zero();
+        let mut p = None;
+        for (i, ax) in [Vector3::x(), Vector3::y(), Vector3::z()]
+            .into_iter()
+            .enumerate()
+        {
+            p = Some(
+                m.add_link(
+                    &format!("s{i}"),
+                    p,
+                    &format!("t{i}"),
+                    Arc::new(Prismatic::new(ax).unwrap()),
+                    Se3::identity(),
+                    z.clone(),
+                )
+                .unwrap(),
+            );
+        }
+        let pelvis = Inertia::point(10.0, Vector3::zeros()).unwrap();
+        let r = m
+            .add_link(
+                "pelvis",
+                p,
+                "rz",
+                Arc::new(Revolute::new(Vector3::z()).unwrap()),
+                Se3::identity(),
+                pelvis.clone(),
+            )
+            .unwrap();
+        m.add_link(
+            "thigh",
+            Some(r),
+            "hip",
+            Arc::new(Revolute::new(Vector3::x()).unwrap()),
+            Se3::identity(),
+            pelvis,
+        )
+        .unwrap();
+        let rc = RootCoords::detect(&m, &Vector3::new(0.0, -9.8, 0.0)); // y up
+        assert_eq!(rc.all, vec![0, 1, 2, 3]);
+        assert_eq!(rc.horizontal, vec![0, 2]);
+        assert_eq!(rc.vertical, vec![1]);
+        assert_eq!(rc.rotations, vec![3]);
+    }
+}

@@ -65,6 +65,8 @@ pub struct GapReport {
 #[derive(Clone, Debug)]
 pub struct GroupSolution {
     pub x: Vec<f64>,
+    /// The spline space of each gap DOF (same order as `coefficients`).
+    pub curves: Vec<super::transition::TransitionCurve>,
     pub coefficients: Vec<Vec<f64>>,
     pub report: GapReport,
 }
@@ -292,6 +294,7 @@ pub fn solve_group<M: TorqueModel>(
     };
     Ok(GroupSolution {
         x,
+        curves: obj.curves().to_vec(),
         coefficients,
         report,
     })

@@ -14,6 +14,11 @@ pub trait TorqueModel: Sync {
 
     fn workspace(&self) -> Self::Workspace;
 
+    /// The name of coordinate i, for messages.
+    fn coordinate_name(&self, i: usize) -> String {
+        format!("coordinate {i}")
+    }
+
     /// τ into `tau`.
     fn torques(
         &self,
@@ -109,6 +114,14 @@ impl TorqueModel for BodyDynamics<'_> {
 
     fn workspace(&self) -> Self::Workspace {
         crate::dynamics::Workspace::new(self.model)
+    }
+
+    fn coordinate_name(&self, i: usize) -> String {
+        self.model
+            .coordinate_names()
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| format!("coordinate {i}"))
     }
 
     fn torques(

@@ -1,0 +1,465 @@
+//! SP over a whole motion (Rose §3.2): find every interior gap of every DOF,
+//! move the root kinematically, solve the remaining gap DOFs as spacetime
+//! transitions (overlapping gaps together, disjoint ones in parallel), and
+//! write the curves back into the motion. Also the Hermite baseline
+//! (`fill(m, "hermite")`) and the torque energy of a motion.
+
+use super::error::{SpError, invalid};
+use super::groups::solve_all;
+use super::objective::{GapDof, Inputs, TransitionSettings};
+use super::quadrature::GaussLegendre;
+use super::root::{RootCoords, RootTransition};
+use super::solve::{GapReport, SolveOptions};
+use super::torque::{BodyDynamics, TorqueModel};
+use super::transition::EndState;
+use crate::model::Model;
+use crate::motion::{Curve, Dof, Func, HermiteCurve, Interval, Mu, conflicts};
+use nalgebra::Vector3;
+use std::fmt;
+
+/// Options of `SP(m, body: b, …)`.
+#[derive(Clone, Debug, Default)]
+pub struct SpOptions {
+    pub settings: TransitionSettings,
+    pub solve: SolveOptions,
+    /// Gravity; `None`: the body's default.
+    pub gravity: Option<Vector3<f64>>,
+}
+
+/// How the root was moved over one gap.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RootShift {
+    pub t0: f64,
+    pub t1: f64,
+    /// (coordinate name, translation applied to the motion after the gap).
+    pub shift: Vec<(String, f64)>,
+}
+
+/// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Undefined {
+    pub dof: String,
+    pub start: f64,
+    pub stop: f64,
+}
+
+/// What SP did: one entry per solved group of gaps.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SpReport {
+    pub groups: Vec<GapReport>,
+    pub root: Vec<RootShift>,
+    /// DOFs filled by the cubic Hermite curve (root rotations and vertical).
+    pub hermite: Vec<Undefined>,
+    pub undefined: Vec<Undefined>,
+}
+
+impl fmt::Display for SpReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.groups.is_empty() && self.root.is_empty() && self.hermite.is_empty() {
+            writeln!(f, "SP: no interior gaps (nothing to fill)")?;
+        }
+        for (i, g) in self.groups.iter().enumerate() {
+            writeln!(
+                f,
+                "gap {} [{:.4}, {:.4}] s, {} DOF{} ({}): {} {} unknowns, {} iterations, {} evaluations, energy {:.6e} (Hermite {:.6e}, {:+.2}%), |∇e| {:.3e}, {} ({:.1} ms)",
+                i + 1,
+                g.t0,
+                g.t1,
+                g.names.len(),
+                if g.names.len() == 1 { "" } else { "s" },
+                abbreviate(&g.names),
+                g.method,
+                g.n_vars,
+                g.iterations,
+                g.evaluations,
+                g.energy,
+                g.initial_energy,
+                100.0 * (g.energy - g.initial_energy)
+                    / g.initial_energy.abs().max(f64::MIN_POSITIVE),
+                g.grad_norm,
+                g.stop,
+                g.seconds * 1e3
+            )?;
+        }
+        for r in &self.root {
+            let s: Vec<String> = r
+                .shift
+                .iter()
+                .map(|(n, d)| format!("{n} {d:+.4}"))
+                .collect();
+            writeln!(
+                f,
+                "root over [{:.4}, {:.4}] s: x–z from interpolated velocities; motion after the gap translated by {}",
+                r.t0,
+                r.t1,
+                s.join(", ")
+            )?;
+        }
+        for h in &self.hermite {
+            writeln!(
+                f,
+                "{} on [{:.4}, {:.4}] s: root, cubic Hermite",
+                h.dof, h.start, h.stop
+            )?;
+        }
+        for u in &self.undefined {
+            writeln!(
+                f,
+                "{} stays undefined on [{:.4}, {:.4}] s (a gap at the start or end is not a transition)",
+                u.dof, u.start, u.stop
+            )?;
+        }
+        Ok(())
+    }
+}
+
+fn abbreviate(names: &[String]) -> String {
+    if names.len() <= 4 {
+        names.join(", ")
+    } else {
+        format!("{}, … {}", names[..3].join(", "), names[names.len() - 1])
+    }
+}
+
+fn motion_err(e: crate::motion::MotionError) -> SpError {
+    SpError::Evaluation(e.to_string())
+}
+
+/// Error on any conflict (SP needs one value per DOF where it is defined).
+fn check_conflicts(m: &Mu) -> Result<(), SpError> {
+    if let Some(c) = conflicts(m).first() {
+        return Err(SpError::Conflict(format!(
+            "DOF '{}' is multiply defined on [{}, {}] (a conflict): SP fills gaps, it cannot choose between motions; \
+             remove one of them there (e.g. a − b) before SP",
+            c.dof, c.start, c.stop
+        )));
+    }
+    Ok(())
+}
+
+/// DOFs undefined at the start or end of the motion's span.
+fn undefined_ends(m: &Mu) -> Vec<Undefined> {
+    let Some((s, e)) = m.span() else {
+        return vec![];
+    };
+    let mut out = vec![];
+    for (name, d) in &m.dofs {
+        match d.span() {
+            None => out.push(Undefined {
+                dof: name.clone(),
+                start: s,
+                stop: e,
+            }),
+            Some((a, b)) => {
+                if a - s > crate::motion::time_tol(s) {
+                    out.push(Undefined {
+                        dof: name.clone(),
+                        start: s,
+                        stop: a,
+                    });
+                }
+                if e - b > crate::motion::time_tol(b) {
+                    out.push(Undefined {
+                        dof: name.clone(),
+                        start: b,
+                        stop: e,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// [q, q̇, q̈] of a DOF at a gap end (the neighbouring interval's value).
+fn end_state(m: &Mu, name: &str, t: f64) -> Result<EndState, SpError> {
+    match m.sample(name, t).map_err(motion_err)? {
+        Some([q, v, a]) => Ok(EndState { q, v, a }),
+        None => Err(SpError::Evaluation(format!(
+            "DOF '{name}' is undefined at the gap end t = {t}"
+        ))),
+    }
+}
+
+fn insert_curve(dof: &mut Dof, curve: Curve, t0: f64, t1: f64) -> Result<(), SpError> {
+    let iv = Interval::curve(curve, t0, t1).map_err(motion_err)?;
+    *dof = dof.plus(&Dof::from(iv));
+    Ok(())
+}
+
+fn hermite_curve(t0: f64, t1: f64, a: &EndState, b: &EndState) -> Result<Curve, SpError> {
+    Ok(Curve::Hermite(
+        HermiteCurve::new(t0, a.q, a.v, t1, b.q, b.v).map_err(motion_err)?,
+    ))
+}
+
+/// `fill(m, "hermite")`: every interior gap of every DOF becomes the cubic
+/// Hermite curve between the end values and velocities. Conflicts are an error.
+pub fn fill_hermite(m: &Mu) -> Result<Mu, SpError> {
+    check_conflicts(m)?;
+    let mut out = m.clone();
+    for (name, dof) in out.dofs.iter_mut() {
+        for (t0, t1) in dof.gaps() {
+            let a = end_state(m, name, t0)?;
+            let b = end_state(m, name, t1)?;
+            insert_curve(dof, hermite_curve(t0, t1, &a, &b)?, t0, t1)?;
+        }
+    }
+    Ok(out)
+}
+
+/// Shift every interval of `dof` that starts at or after `t` by `delta` in value.
+fn shift_after(dof: &mut Dof, t: f64, delta: f64) {
+    for iv in dof.intervals.iter_mut() {
+        if iv.start >= t - crate::motion::time_tol(t) {
+            for f in iv.funcs.iter_mut() {
+                *f = Func {
+                    offset: f.offset + delta,
+                    ..f.clone()
+                };
+            }
+        }
+    }
+}
+
+/// Fill the root's gaps (§3.2.1): horizontal translations from interpolated
+/// velocities (shifting what follows), the vertical and rotations by Hermite.
+fn fill_root(
+    m: &mut Mu,
+    model: &Model,
+    root: &RootCoords,
+    report: &mut SpReport,
+) -> Result<(), SpError> {
+    let names = model.coordinate_names();
+    for &c in &root.all {
+        let name = &names[c];
+        let Some(dof) = m.get(name) else { continue };
+        let gaps = dof.gaps();
+        for (t0, t1) in gaps {
+            let a = end_state(m, name, t0)?;
+            let b = end_state(m, name, t1)?;
+            let curve;
+            if root.horizontal.contains(&c) {
+                // one horizontal component of p(t); y of RootTransition is unused here
+                let rt = RootTransition::new(t0, t1, [a.q, 0.0], [a.v, 0.0], [b.v, 0.0], a, b)?;
+                let shift = rt.end_xz()[0] - b.q;
+                let dof = m
+                    .dofs
+                    .get_mut(name)
+                    .ok_or_else(|| invalid("root DOF vanished"))?;
+                shift_after(dof, t1, shift);
+                // p(t) is the Hermite cubic with end value p(t2) and the same velocities
+                let end = EndState {
+                    q: b.q + shift,
+                    ..b
+                };
+                curve = hermite_curve(t0, t1, &a, &end)?;
+                match report.root.iter_mut().find(|r| r.t0 == t0 && r.t1 == t1) {
+                    Some(r) => r.shift.push((name.clone(), shift)),
+                    None => report.root.push(RootShift {
+                        t0,
+                        t1,
+                        shift: vec![(name.clone(), shift)],
+                    }),
+                }
+            } else {
+                curve = hermite_curve(t0, t1, &a, &b)?;
+                report.hermite.push(Undefined {
+                    dof: name.clone(),
+                    start: t0,
+                    stop: t1,
+                });
+            }
+            let dof = m
+                .dofs
+                .get_mut(name)
+                .ok_or_else(|| invalid("root DOF vanished"))?;
+            insert_curve(dof, curve, t0, t1)?;
+        }
+    }
+    Ok(())
+}
+
+/// Inputs of the objective from a motion: every body coordinate sampled at t,
+/// NaN where undefined.
+fn motion_inputs<'a>(
+    m: &'a Mu,
+    names: &'a [String],
+) -> impl Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a {
+    move |t, q, v, a| {
+        for (i, n) in names.iter().enumerate() {
+            if let Some([x, dx, ddx]) = m.sample(n, t).map_err(motion_err)? {
+                q[i] = x;
+                v[i] = dx;
+                a[i] = ddx;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks that the motion can drive the body: every DOF with a gap is a body
+/// coordinate, and every body coordinate is in the motion.
+fn check_names(m: &Mu, model: &Model) -> Result<(), SpError> {
+    let names = model.coordinate_names();
+    let missing: Vec<&String> = names.iter().filter(|n| m.get(n).is_none()).collect();
+    if !missing.is_empty() {
+        return Err(invalid(format!(
+            "the motion has no DOF for {} of the body's coordinates ({}{}); the body must be the one the motion was made for \
+             (e.g. human(walk) for a clip) — torques need every coordinate",
+            missing.len(),
+            missing
+                .iter()
+                .take(5)
+                .map(|s| s.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            if missing.len() > 5 { ", …" } else { "" }
+        )));
+    }
+    for (name, d) in &m.dofs {
+        if !d.gaps().is_empty() && model.coordinate_index(name).is_none() {
+            return Err(invalid(format!(
+                "DOF '{name}' has a gap but the body has no coordinate of that name, so SP cannot compute its torques; \
+                 fill it another way (fill(m, \"hermite\")) or use the body the motion was made for"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `SP(m, body: b, …)`: the motion with every interior gap filled. Gaps at the
+/// start or end stay undefined (listed in the report).
+pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpError> {
+    check_conflicts(m)?;
+    check_names(m, model)?;
+    let gravity = opts.gravity.unwrap_or(model.default_gravity);
+    let root = RootCoords::detect(model, &gravity);
+    let mut report = SpReport {
+        undefined: undefined_ends(m),
+        ..Default::default()
+    };
+    let mut out = m.clone();
+    fill_root(&mut out, model, &root, &mut report)?;
+
+    let names = model.coordinate_names();
+    let mut gaps = vec![];
+    for (c, name) in names.iter().enumerate() {
+        let Some(dof) = out.get(name) else { continue };
+        for (t0, t1) in dof.gaps() {
+            gaps.push(GapDof {
+                coord: c,
+                t0,
+                t1,
+                start: end_state(&out, name, t0)?,
+                end: end_state(&out, name, t1)?,
+            });
+        }
+    }
+    if gaps.is_empty() {
+        return Ok((out, report));
+    }
+    let weights = joint_weights(model, &root);
+    let body = BodyDynamics { model, gravity };
+    let inputs_fn = motion_inputs(&out, names);
+    let inputs: &Inputs = &inputs_fn;
+    let solutions = solve_all(&body, gaps, &opts.settings, &weights, inputs, &opts.solve)?;
+    let mut result = out.clone();
+    for sol in solutions {
+        let mut r = sol.report.clone();
+        r.names = r.coords.iter().map(|&c| names[c].clone()).collect();
+        // write each DOF's curve back (the objective's order is the report's order)
+        for ((&c, coefs), gap) in r.coords.iter().zip(sol.coefficients).zip(sol.curves.iter()) {
+            let curve = gap.to_curve(coefs)?;
+            let dof = result
+                .dofs
+                .get_mut(&names[c])
+                .ok_or_else(|| invalid("gap DOF vanished"))?;
+            insert_curve(dof, Curve::Spline(curve), gap.t0(), gap.t1())?;
+        }
+        report.groups.push(r);
+    }
+    Ok((result, report))
+}
+
+/// 1 for every joint coordinate, 0 for the root's (nothing actuates the six
+/// virtual root forces; Rose sums joint torques).
+pub fn joint_weights(model: &Model, root: &RootCoords) -> Vec<f64> {
+    let mut w = vec![1.0; model.nq()];
+    for &c in &root.all {
+        w[c] = 0.0;
+    }
+    w
+}
+
+/// Gauss points per piece in [`torque_energy`].
+const ENERGY_POINTS: usize = 5;
+/// Longest piece in [`torque_energy`] (s): pieces also break at every interval end.
+const ENERGY_PIECE: f64 = 1.0 / 30.0;
+
+/// `torque_energy(m, body)`: ∫ Σᵢ τᵢ² dt over the motion's span, τ the joint
+/// torques (root coordinates excluded, as in SP's objective), by 5-point
+/// Gauss–Legendre on pieces of at most 1/30 s that break at every interval end
+/// of every DOF (where q̈ may jump). Undefined or conflicting motion is an error.
+pub fn torque_energy(m: &Mu, model: &Model, gravity: Option<Vector3<f64>>) -> Result<f64, SpError> {
+    check_conflicts(m)?;
+    check_names(m, model)?;
+    let gravity = gravity.unwrap_or(model.default_gravity);
+    let Some((s, e)) = m.span() else {
+        return Err(invalid(
+            "torque_energy of an empty motion: it defines no DOF anywhere",
+        ));
+    };
+    let root = RootCoords::detect(model, &gravity);
+    let weights = joint_weights(model, &root);
+    let names = model.coordinate_names();
+    let mut breaks = vec![s, e];
+    for n in names {
+        if let Some(d) = m.get(n) {
+            for iv in &d.intervals {
+                breaks.push(iv.start);
+                breaks.push(iv.stop);
+            }
+        }
+    }
+    breaks.sort_by(f64::total_cmp);
+    breaks.dedup_by(|a, b| (*a - *b).abs() <= crate::motion::time_tol(*b));
+    let rule = GaussLegendre::new(ENERGY_POINTS).map_err(|e| invalid(e.to_string()))?;
+    let body = BodyDynamics { model, gravity };
+    let mut ws = body.workspace();
+    let n = model.nq();
+    let (mut q, mut v, mut a, mut tau) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut total = 0.0;
+    for w in breaks.windows(2) {
+        let pieces = ((w[1] - w[0]) / ENERGY_PIECE).ceil().max(1.0) as usize;
+        for p in 0..pieces {
+            let a0 = w[0] + (w[1] - w[0]) * p as f64 / pieces as f64;
+            let a1 = w[0] + (w[1] - w[0]) * (p + 1) as f64 / pieces as f64;
+            let (ts, ws_) = rule.on(a0, a1);
+            for (&t, &wq) in ts.iter().zip(&ws_) {
+                for (i, name) in names.iter().enumerate() {
+                    match m.sample(name, t).map_err(motion_err)? {
+                        Some([x, dx, ddx]) => {
+                            q[i] = x;
+                            v[i] = dx;
+                            a[i] = ddx;
+                        }
+                        None => {
+                            return Err(SpError::Evaluation(format!(
+                                "torque_energy: DOF '{name}' is undefined at t = {t}; fill the gap first (SP or fill(m, \"hermite\"))"
+                            )));
+                        }
+                    }
+                }
+                body.torques(&mut ws, &q, &v, &a, &mut tau)?;
+                total += wq
+                    * tau
+                        .iter()
+                        .zip(&weights)
+                        .map(|(t, w)| w * t * t)
+                        .sum::<f64>();
+            }
+        }
+    }
+    Ok(total)
+}
