@@ -4,7 +4,7 @@
 //! well under 50 ms).
 
 use mx::mocap::bvh;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 fn shared_mocap() -> Vec<PathBuf> {
@@ -23,16 +23,21 @@ fn shared_mocap() -> Vec<PathBuf> {
     v
 }
 
-fn load(path: &PathBuf) -> bvh::BvhFile {
+fn load(path: &Path) -> bvh::BvhFile {
     let mut f = bvh::read_file(path).expect("shared clip loads");
     f.unwrap_rotations();
     f
 }
 
+/// `load("x.bvh")` as the language does it: parse, unwrap, build the MU.
+fn load_mu(path: &Path) -> mx::mocap::Clip {
+    mx::mocap::to_motion::load(path, bvh::Units::Auto).expect("shared clip loads")
+}
+
 fn main() {
     println!(
-        "{:<45} {:>7} {:>10} {:>12}",
-        "clip", "frames", "load ms", "frames/s"
+        "{:<45} {:>7} {:>10} {:>12} {:>10}",
+        "clip", "frames", "parse ms", "frames/s", "MU ms"
     );
     for p in shared_mocap() {
         let runs = 5;
@@ -42,12 +47,18 @@ fn main() {
             frames = divan::black_box(load(&p)).frame_count();
         }
         let s = start.elapsed().as_secs_f64() / runs as f64;
+        let start = Instant::now();
+        for _ in 0..runs {
+            divan::black_box(load_mu(&p));
+        }
+        let mu = start.elapsed().as_secs_f64() / runs as f64;
         println!(
-            "{:<45} {:>7} {:>10.2} {:>12.0}",
+            "{:<45} {:>7} {:>10.2} {:>12.0} {:>10.2}",
             p.file_name().unwrap_or_default().to_string_lossy(),
             frames,
             s * 1e3,
-            frames as f64 / s
+            frames as f64 / s,
+            mu * 1e3
         );
     }
     divan::main();
@@ -62,4 +73,15 @@ fn load_dance(b: divan::Bencher) {
         return;
     };
     b.bench(|| load(&p));
+}
+
+#[divan::bench(sample_count = 20)]
+fn load_dance_as_mu(b: divan::Bencher) {
+    let Some(p) = shared_mocap()
+        .into_iter()
+        .find(|p| p.to_string_lossy().contains("dance-short"))
+    else {
+        return;
+    };
+    b.bench(|| load_mu(&p));
 }

@@ -97,3 +97,22 @@ fn malformed_bvh_is_a_diagnostic_with_the_line() {
         "{text}"
     );
 }
+
+#[test]
+fn human_and_fit_in_mx() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data");
+    let mut i = Interpreter::new();
+    let out = i.capture_output();
+    let src = format!(
+        "let wave = load({})\nlet h = human(wave)\nlet m = fit(wave, h)\n[len(h.coordinates), sample(m, 1.0)]",
+        quote(&data.join("wave.bvh"))
+    );
+    let v = i
+        .eval_str(&src)
+        .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let l = v.as_list().unwrap();
+    assert_eq!(l[0].as_number(), Some(44.0));
+    assert!(l[1].as_record().unwrap().contains_key("elbow_R.Yrotation"));
+    let printed = String::from_utf8(out.lock().unwrap().clone()).unwrap();
+    assert!(printed.contains("RMS error"), "{printed}");
+}

@@ -60,7 +60,7 @@ fn bone(sk: &Skeleton, i: usize) -> Vector3<f64> {
 }
 
 /// Inertia of a segment of mass `m` along bone `d` (metres), axisymmetric.
-fn segment_inertia(
+pub(crate) fn segment_inertia(
     m: f64,
     d: &Vector3<f64>,
     com_frac: f64,

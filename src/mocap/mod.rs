@@ -7,6 +7,7 @@
 pub mod body_of;
 pub mod bvh;
 mod error;
+pub mod human;
 pub mod positions;
 pub mod registry;
 pub mod segments;

@@ -1,5 +1,5 @@
 //! Motion-capture built-ins: the `.bvh` format of `load`/`save`, `bvh_info`,
-//! `body_of`, `positions`, `plot`, `view`. The work is done by
+//! `body_of`, `human`, `fit`, `positions`, `plot`, `view`. The work is done by
 //! `crate::mocap` and `crate::io::{plot, viewer}`; this file converts values
 //! and errors.
 //!
@@ -27,6 +27,8 @@ pub struct Body {
     pub model: Arc<Model>,
     /// The BVH skeleton it was built from, with metres per file unit.
     pub skeleton: Option<(Arc<Skeleton>, f64)>,
+    /// Set for the anatomical model made by `human(clip)` (what `fit` needs).
+    pub human: Option<Arc<mocap::human::Human>>,
 }
 
 impl HostObject for Body {
@@ -183,7 +185,47 @@ pub fn register(reg: &mut Registry) {
             Ok(Value::object(Body {
                 model: Arc::new(model),
                 skeleton: Some((k.skeleton, k.metres_per_unit)),
+                human: None,
             }))
+        },
+    );
+    reg.add(
+        "human(clip, mass: 70)",
+        "The 44-DOF anatomical model (6 root + 38 joint DOFs: hinge knees/elbows, 2-DOF ankles/wrists, 3-DOF hips/shoulders/spine/neck) with limb lengths from the clip's skeleton.",
+        |a, _| {
+            let arg = a.arg("clip")?;
+            let m = mu_of(a, "clip", &arg)?;
+            let mass = a.number_or("mass", 70.0)?;
+            let k = registry::find_for(&m).ok_or_else(|| no_skeleton(arg.span))?;
+            let h = mocap::human::human(&k.skeleton, k.metres_per_unit, mass).map_err(|e| mocap_error(e, a.call_span()))?;
+            Ok(Value::object(Body {
+                model: Arc::new(h.model.clone()),
+                skeleton: Some((k.skeleton, k.metres_per_unit)),
+                human: Some(Arc::new(h)),
+            }))
+        },
+    );
+    reg.add(
+        "fit(clip, model)",
+        "Convert a clip to the human model by per-frame least squares on joint positions; prints the fit error (RMS and max, metres) and returns the model's motion.",
+        |a, ev| {
+            let carg = a.arg("clip")?;
+            let m = mu_of(a, "clip", &carg)?;
+            let barg = a.arg("model")?;
+            let body = body_of_arg(a, "model", &barg)?;
+            let span = a.call_span();
+            let Some(h) = body.human.clone() else {
+                return Err(MxError::new(ErrorKind::Type, "fit needs the model made by human(clip)").at(barg.span));
+            };
+            let k = registry::find_for(&m).ok_or_else(|| no_skeleton(carg.span))?;
+            let dt = to_motion::sample_period(&m).unwrap_or(k.frame_time);
+            let (file, _) = to_motion::to_bvh(&m, &k.skeleton, k.metres_per_unit, dt).map_err(|e| mocap_error(e, span))?;
+            let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, Some(&ev.ctx.cancel)).map_err(|e| mocap_error(e, span))?;
+            ev.write_line(
+                &format!("fit: {} frames, {} landmarks, RMS error {:.4} m, max {:.4} m", file.frame_count(), rep.landmarks, rep.rms, rep.max),
+                span,
+            )?;
+            Ok(Value::object(Motion::Mu(mu)))
         },
     );
     reg.add(

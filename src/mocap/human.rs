@@ -1,0 +1,568 @@
+//! The paper's anatomical model (Rose 1996 §2): 6 root DOFs and 38 joint
+//! DOFs, 44 in all, with limb lengths from a clip, and `fit`, which converts
+//! a clip to it by per-frame least squares on joint positions.
+//!
+//! DOFs (y up, facing +z, left = +x, T-pose at q = 0):
+//! - root: `root.Xposition/Yposition/Zposition`, `root.Yrotation/Xrotation/Zrotation` (6)
+//! - `lumbar.*` 3, `thorax.*` 3, `neck.*` 3 (X flex, Z bend, Y twist), `head.Xrotation` 1
+//! - per side S ∈ {L, R}: `clavicle_S.Zrotation` 1, `shoulder_S.*` 3,
+//!   `elbow_S.Yrotation` (hinge) 1, `wrist_S.Zrotation/Yrotation` 2;
+//!   `hip_S.*` 3, `knee_S.Xrotation` (hinge) 1, `ankle_S.Xrotation/Zrotation` 2, `toe_S.Xrotation` 1.
+//!
+//! Segment lengths are distances between landmark joints of the clip's
+//! skeleton (found by the de Leva name mapping of [`super::segments`]);
+//! masses and inertias from de Leva, total `mass`.
+//!
+//! `fit` minimises Σ‖p_k(q) − p̂_k‖² over the landmarks each frame
+//! (Levenberg–Marquardt, forward-difference Jacobian, warm-started from the
+//! previous frame, a small damping towards it keeps redundant DOFs steady)
+//! and reports the RMS and maximum landmark distance. Joint angles are not
+//! matched directly (the two skeletons' frames differ); positions are.
+
+use super::MocapError;
+use super::body_of::segment_inertia;
+use super::bvh::{self, BvhFile, Skeleton};
+use super::segments::{self, Segment, Side};
+use crate::lie::Se3;
+use crate::model::joints::{Fixed, Prismatic, Revolute};
+use crate::model::{Inertia, Model};
+use crate::motion::{Curve, Dof, Interval, Mu};
+use nalgebra::{DMatrix, DVector, Vector3};
+use std::sync::Arc;
+
+/// Landmark joints of a clip's skeleton (indices into its joints).
+#[derive(Clone, Debug)]
+struct Landmarks {
+    pelvis: usize,
+    chest: usize,
+    neck: usize,
+    head: usize,
+    /// [left, right] of: clavicle, shoulder, elbow, wrist, hip, knee, ankle, toe (optional)
+    clav: [usize; 2],
+    shoulder: [usize; 2],
+    elbow: [usize; 2],
+    wrist: [usize; 2],
+    hip: [usize; 2],
+    knee: [usize; 2],
+    ankle: [usize; 2],
+    toe: [Option<usize>; 2],
+}
+
+fn find(sk: &Skeleton, seg: Segment, side: Side, what: &str) -> Result<usize, MocapError> {
+    (0..sk.joints.len())
+        .find(|&i| {
+            let j = &sk.joints[i];
+            segments::classify(&j.name, j.parent.map(|p| sk.joints[p].name.as_str())) == Some(seg)
+                && segments::side(&j.name) == side
+        })
+        .ok_or_else(|| {
+            MocapError::invalid(format!(
+                "human(clip) needs a humanoid skeleton: no {what} joint found (expected names like those of the Bandai or CMU skeletons)"
+            ))
+        })
+}
+
+fn landmarks(sk: &Skeleton) -> Result<Landmarks, MocapError> {
+    use Segment::*;
+    let sides = [Side::Left, Side::Right];
+    let both = |seg: Segment, what: &str| -> Result<[usize; 2], MocapError> {
+        Ok([
+            find(sk, seg, sides[0], &format!("left {what}"))?,
+            find(sk, seg, sides[1], &format!("right {what}"))?,
+        ])
+    };
+    let head = (0..sk.joints.len())
+        .rfind(|&i| sk.joints[i].name.to_ascii_lowercase().contains("head"))
+        .map(Ok)
+        .unwrap_or_else(|| find(sk, Head, Side::Centre, "head"))?;
+    let ankle = both(Foot, "ankle/foot")?;
+    let toe = [0, 1].map(|s| {
+        let a = ankle[s];
+        // The toe: a Foot-segment child of the ankle.
+        sk.children(a).find(|&c| {
+            segments::classify(&sk.joints[c].name, Some(&sk.joints[a].name)) == Some(Foot)
+        })
+    });
+    Ok(Landmarks {
+        pelvis: find(sk, LowerTrunk, Side::Centre, "pelvis (Hips)")?,
+        chest: find(sk, UpperTrunk, Side::Centre, "chest (upper trunk)")?,
+        neck: find(sk, Head, Side::Centre, "neck")?,
+        head,
+        clav: both(UpperTrunk, "clavicle/collar")?,
+        shoulder: both(UpperArm, "upper arm")?,
+        elbow: both(Forearm, "forearm/elbow")?,
+        wrist: both(Hand, "hand/wrist")?,
+        hip: both(Thigh, "thigh/hip")?,
+        knee: both(Shank, "shank/knee")?,
+        ankle,
+        toe,
+    })
+}
+
+/// Rest positions (offsets accumulated, no rotation) of every joint, metres.
+fn rest(sk: &Skeleton, s: f64) -> Vec<Vector3<f64>> {
+    let mut out: Vec<Vector3<f64>> = Vec::with_capacity(sk.joints.len());
+    for j in &sk.joints {
+        let p = j.parent.map(|p| out[p]).unwrap_or_else(Vector3::zeros);
+        out.push(
+            p + if j.parent.is_some() {
+                j.offset * s
+            } else {
+                Vector3::zeros()
+            },
+        );
+    }
+    out
+}
+
+/// The end of a chain: follow first children from `i` to a leaf; its End Site.
+fn chain_end(sk: &Skeleton, mut i: usize) -> (usize, Option<Vector3<f64>>) {
+    while let Some(c) = sk.children(i).next() {
+        i = c;
+    }
+    (i, sk.joints[i].end_sites.first().copied())
+}
+
+/// A model built by [`human`], with what `fit` needs to match it to a clip.
+#[derive(Clone, Debug)]
+pub struct Human {
+    pub model: Model,
+    /// (model link, clip joint; `None` joint = an End Site of the given joint)
+    targets: Vec<(usize, Target)>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Target {
+    Joint(usize),
+    EndSite(usize),
+}
+
+/// Adds a chain of 1-DOF joints; intermediate links are massless and named
+/// after their joint, the last is `link` with `inertia`. Returns its index.
+fn chain(
+    m: &mut Model,
+    parent: Option<usize>,
+    link: &str,
+    offset: Vector3<f64>,
+    dofs: &[(&str, Vector3<f64>, bool)],
+    inertia: Inertia,
+) -> Result<usize, MocapError> {
+    let mut prev = parent;
+    let mut off = Se3::from_translation(offset);
+    for (k, (name, axis, prismatic)) in dofs.iter().enumerate() {
+        let last = k + 1 == dofs.len();
+        let joint: Arc<dyn crate::model::Joint> = if *prismatic {
+            Arc::new(Prismatic::new(*axis).ok_or_else(|| MocapError::invalid("bad axis"))?)
+        } else {
+            Arc::new(Revolute::new(*axis).ok_or_else(|| MocapError::invalid("bad axis"))?)
+        };
+        let l = m.add_link(
+            if last { link } else { name },
+            prev,
+            name,
+            joint,
+            off,
+            if last { inertia } else { Inertia::zero() },
+        )?;
+        off = Se3::identity();
+        prev = Some(l);
+    }
+    prev.ok_or_else(|| MocapError::invalid("empty chain"))
+}
+
+/// Builds the 44-DOF model with the clip skeleton's limb lengths and total `mass` kg.
+pub fn human(sk: &Skeleton, metres_per_unit: f64, mass: f64) -> Result<Human, MocapError> {
+    if !(mass.is_finite() && mass > 0.0) {
+        return Err(MocapError::invalid(format!(
+            "body mass must be a positive number of kg, got {mass}"
+        )));
+    }
+    let lm = landmarks(sk)?;
+    let r = rest(sk, metres_per_unit);
+    let d = |a: usize, b: usize| (r[a] - r[b]).norm();
+    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+    let seg = |s: Segment, bone: Vector3<f64>| {
+        let p = segments::params(s);
+        segment_inertia(mass * p.mass, &bone, p.com, p.r_long, p.r_trans)
+    };
+    let mut m = Model::new("human44");
+    m.default_gravity = Vector3::from(super::body_of::GRAVITY_Y_UP);
+    let mut targets = vec![];
+
+    let spine = d(lm.pelvis, lm.chest);
+    let pelvis = chain(
+        &mut m,
+        None,
+        "pelvis",
+        Vector3::zeros(),
+        &[
+            ("root.Xposition", x, true),
+            ("root.Yposition", y, true),
+            ("root.Zposition", z, true),
+            ("root.Yrotation", y, false),
+            ("root.Xrotation", x, false),
+            ("root.Zrotation", z, false),
+        ],
+        seg(Segment::LowerTrunk, y * spine * 0.3)?,
+    )?;
+    targets.push((pelvis, Target::Joint(lm.pelvis)));
+    let spine3 = |p: &str| {
+        [
+            (format!("{p}.Xrotation"), x),
+            (format!("{p}.Zrotation"), z),
+            (format!("{p}.Yrotation"), y),
+        ]
+    };
+    let dofs3 = |v: &[(String, Vector3<f64>); 3]| -> Vec<(String, Vector3<f64>, bool)> {
+        v.iter().map(|(n, a)| (n.clone(), *a, false)).collect()
+    };
+    let add = |m: &mut Model,
+               parent: usize,
+               link: &str,
+               off: Vector3<f64>,
+               dofs: Vec<(String, Vector3<f64>, bool)>,
+               inertia: Inertia| {
+        let refs: Vec<(&str, Vector3<f64>, bool)> =
+            dofs.iter().map(|(n, a, p)| (n.as_str(), *a, *p)).collect();
+        chain(m, Some(parent), link, off, &refs, inertia)
+    };
+    let abdomen = add(
+        &mut m,
+        pelvis,
+        "abdomen",
+        Vector3::zeros(),
+        dofs3(&spine3("lumbar")),
+        seg(Segment::MiddleTrunk, y * spine)?,
+    )?;
+    let c_n = d(lm.chest, lm.neck);
+    let thorax = add(
+        &mut m,
+        abdomen,
+        "thorax",
+        y * spine,
+        dofs3(&spine3("thorax")),
+        seg(Segment::UpperTrunk, y * c_n)?,
+    )?;
+    targets.push((thorax, Target::Joint(lm.chest)));
+    let neck = add(
+        &mut m,
+        thorax,
+        "neck",
+        y * c_n,
+        dofs3(&spine3("neck")),
+        Inertia::zero(),
+    )?;
+    targets.push((neck, Target::Joint(lm.neck)));
+    let (_, head_top) = chain_end(sk, lm.head);
+    let head_len = head_top
+        .map(|e| e.norm() * metres_per_unit)
+        .filter(|l| *l > 0.05)
+        .unwrap_or(0.2);
+    let head = add(
+        &mut m,
+        neck,
+        "head",
+        y * d(lm.neck, lm.head),
+        vec![("head.Xrotation".into(), x, false)],
+        seg(Segment::Head, y * head_len)?,
+    )?;
+    targets.push((head, Target::Joint(lm.head)));
+
+    for (s, sign, tag) in [(0usize, 1.0, "L"), (1, -1.0, "R")] {
+        let lat = x * sign;
+        let clav = add(
+            &mut m,
+            thorax,
+            &format!("clavicle_{tag}"),
+            y * d(lm.chest, lm.clav[s]),
+            vec![(format!("clavicle_{tag}.Zrotation"), z, false)],
+            Inertia::zero(),
+        )?;
+        targets.push((clav, Target::Joint(lm.clav[s])));
+        let ua = d(lm.shoulder[s], lm.elbow[s]);
+        let upper = add(
+            &mut m,
+            clav,
+            &format!("upperarm_{tag}"),
+            lat * d(lm.clav[s], lm.shoulder[s]),
+            dofs3(&spine3(&format!("shoulder_{tag}"))),
+            seg(Segment::UpperArm, lat * ua)?,
+        )?;
+        targets.push((upper, Target::Joint(lm.shoulder[s])));
+        let fa = d(lm.elbow[s], lm.wrist[s]);
+        let fore = add(
+            &mut m,
+            upper,
+            &format!("forearm_{tag}"),
+            lat * ua,
+            vec![(format!("elbow_{tag}.Yrotation"), y, false)],
+            seg(Segment::Forearm, lat * fa)?,
+        )?;
+        targets.push((fore, Target::Joint(lm.elbow[s])));
+        let (hend_j, hend_site) = chain_end(sk, lm.wrist[s]);
+        let hand_len = {
+            let tip = r[hend_j] + hend_site.unwrap_or_else(Vector3::zeros) * metres_per_unit;
+            (tip - r[lm.wrist[s]]).norm().max(0.05)
+        };
+        let hand = add(
+            &mut m,
+            fore,
+            &format!("hand_{tag}"),
+            lat * fa,
+            vec![
+                (format!("wrist_{tag}.Zrotation"), z, false),
+                (format!("wrist_{tag}.Yrotation"), y, false),
+            ],
+            seg(Segment::Hand, lat * hand_len)?,
+        )?;
+        targets.push((hand, Target::Joint(lm.wrist[s])));
+
+        let half = d(lm.hip[0], lm.hip[1]) / 2.0;
+        let vert = (d(lm.pelvis, lm.hip[s]).powi(2) - half * half)
+            .max(0.0)
+            .sqrt();
+        let th = d(lm.hip[s], lm.knee[s]);
+        let thigh = add(
+            &mut m,
+            pelvis,
+            &format!("thigh_{tag}"),
+            lat * half - y * vert,
+            dofs3(&spine3(&format!("hip_{tag}"))),
+            seg(Segment::Thigh, -y * th)?,
+        )?;
+        targets.push((thigh, Target::Joint(lm.hip[s])));
+        let sh = d(lm.knee[s], lm.ankle[s]);
+        let shank = add(
+            &mut m,
+            thigh,
+            &format!("shank_{tag}"),
+            -y * th,
+            vec![(format!("knee_{tag}.Xrotation"), x, false)],
+            seg(Segment::Shank, -y * sh)?,
+        )?;
+        targets.push((shank, Target::Joint(lm.knee[s])));
+        let foot_len = lm.toe[s]
+            .map(|t| d(lm.ankle[s], t))
+            .filter(|l| *l > 0.03)
+            .unwrap_or(0.12);
+        let foot_dir = Vector3::new(0.0, -0.45, 0.89).normalize();
+        let foot = add(
+            &mut m,
+            shank,
+            &format!("foot_{tag}"),
+            -y * sh,
+            vec![
+                (format!("ankle_{tag}.Xrotation"), x, false),
+                (format!("ankle_{tag}.Zrotation"), z, false),
+            ],
+            seg(Segment::Foot, foot_dir * foot_len)?,
+        )?;
+        targets.push((foot, Target::Joint(lm.ankle[s])));
+        let toes = add(
+            &mut m,
+            foot,
+            &format!("toes_{tag}"),
+            foot_dir * foot_len,
+            vec![(format!("toe_{tag}.Xrotation"), x, false)],
+            Inertia::zero(),
+        )?;
+        if let Some(t) = lm.toe[s] {
+            targets.push((toes, Target::Joint(t)));
+            if let (tj, Some(site)) = chain_end(sk, t) {
+                let l = site.norm() * metres_per_unit;
+                if l > 1e-3 && tj == t {
+                    let end = m.add_link(
+                        &format!("toes_{tag}.end"),
+                        Some(toes),
+                        &format!("toes_{tag}.end"),
+                        Arc::new(Fixed::new(Se3::identity())),
+                        Se3::from_translation(z * l),
+                        Inertia::zero(),
+                    )?;
+                    targets.push((end, Target::EndSite(t)));
+                }
+            }
+        }
+    }
+    // Keep the total exactly `mass` (neck and clavicles carry none; their
+    // de Leva shares sit on head and thorax).
+    let total = m.total_mass();
+    if total > 0.0 {
+        for i in 0..m.num_links() {
+            let l = m.link(i).inertia;
+            if l.mass > 0.0 {
+                let k = mass / total;
+                let scaled = Inertia::from_com(l.mass * k, l.com(), l.inertia_com() * k)
+                    .map_err(MocapError::Invalid)?;
+                m.set_inertia(i, scaled)?;
+            }
+        }
+    }
+    debug_assert_eq!(m.nq(), 44);
+    Ok(Human { model: m, targets })
+}
+
+/// How well a fit matches the clip.
+#[derive(Clone, Debug)]
+pub struct FitReport {
+    /// RMS landmark distance over all frames and landmarks (m).
+    pub rms: f64,
+    /// Largest landmark distance (m).
+    pub max: f64,
+    /// RMS per frame (m).
+    pub per_frame: Vec<f64>,
+    pub landmarks: usize,
+}
+
+/// Converts a clip to the human model: per-frame least squares on landmark
+/// positions. Returns the motion (the model's coordinates, sampled at the
+/// clip's frames) and the fit error.
+pub fn fit(
+    file: &BvhFile,
+    metres_per_unit: f64,
+    h: &Human,
+    cancel: Option<&crate::cancel::CancelToken>,
+) -> Result<(Mu, FitReport), MocapError> {
+    let frames = file.frame_count();
+    if frames == 0 {
+        return Err(MocapError::invalid("the clip has no frames to fit"));
+    }
+    let model = &h.model;
+    let nq = model.nq();
+    let nt = h.targets.len();
+    let mut q = DVector::<f64>::zeros(nq);
+    let mut poses = Vec::with_capacity(model.num_links());
+    let mut out = vec![vec![0.0; frames]; nq];
+    let mut per_frame = Vec::with_capacity(frames);
+    let mut max: f64 = 0.0;
+    let mut sumsq = 0.0;
+    let residual = |q: &DVector<f64>,
+                    want: &[Vector3<f64>],
+                    poses: &mut Vec<Se3>|
+     -> Result<DVector<f64>, MocapError> {
+        model.forward_kinematics(q.as_slice(), poses)?;
+        let mut r = DVector::zeros(3 * nt);
+        for (k, (link, _)) in h.targets.iter().enumerate() {
+            let e = poses[*link].p - want[k];
+            r.fixed_rows_mut::<3>(3 * k).copy_from(&e);
+        }
+        Ok(r)
+    };
+    for f in 0..frames {
+        if let Some(c) = cancel {
+            c.check()
+                .map_err(|_| MocapError::invalid("fit cancelled"))?;
+        }
+        let world = bvh::fk::world_transforms(file, f, metres_per_unit);
+        let want: Vec<Vector3<f64>> =
+            h.targets
+                .iter()
+                .map(|(_, t)| match t {
+                    Target::Joint(j) => world[*j].p,
+                    Target::EndSite(j) => world[*j]
+                        .act_point(&(file.skeleton.joints[*j].end_sites[0] * metres_per_unit)),
+                })
+                .collect();
+        let prev = q.clone();
+        if f == 0 {
+            // Start at the pelvis, facing along the hips' perpendicular.
+            q.fill(0.0);
+            q[0] = want[0].x;
+            q[1] = want[0].y;
+            q[2] = want[0].z;
+            let (hl, hr) = (
+                h.targets
+                    .iter()
+                    .position(|(l, _)| model.link(*l).name == "thigh_L"),
+                h.targets
+                    .iter()
+                    .position(|(l, _)| model.link(*l).name == "thigh_R"),
+            );
+            if let (Some(a), Some(b)) = (hl, hr) {
+                let v = want[a] - want[b];
+                q[3] = (-v.z).atan2(v.x);
+            }
+        }
+        let iters = if f == 0 { 200 } else { 30 };
+        let mut lambda = 1e-3;
+        let mut r = residual(&q, &want, &mut poses)?;
+        let mut cost = r.norm_squared();
+        let damp = if f == 0 { 0.0 } else { 1e-6 };
+        for _ in 0..iters {
+            let mut jac = DMatrix::<f64>::zeros(3 * nt, nq);
+            let step = 1e-6;
+            for c in 0..nq {
+                let mut qc = q.clone();
+                qc[c] += step;
+                let rc = residual(&qc, &want, &mut poses)?;
+                jac.set_column(c, &((rc - &r) / step));
+            }
+            let jt = jac.transpose();
+            let mut a = &jt * &jac;
+            let g = &jt * &r + (&q - &prev) * damp;
+            for i in 0..nq {
+                a[(i, i)] += lambda * (1.0 + a[(i, i)]) + damp;
+            }
+            let Some(chol) = a.cholesky() else {
+                lambda *= 10.0;
+                continue;
+            };
+            let dq = chol.solve(&(-g));
+            let qn = &q + &dq;
+            let rn = residual(&qn, &want, &mut poses)?;
+            let cn = rn.norm_squared() + damp * (&qn - &prev).norm_squared();
+            if cn < cost + damp * (&q - &prev).norm_squared() {
+                q = qn;
+                r = rn;
+                cost = r.norm_squared();
+                lambda = (lambda * 0.3).max(1e-9);
+                if dq.norm() < 1e-9 {
+                    break;
+                }
+            } else {
+                lambda *= 10.0;
+                if lambda > 1e8 {
+                    break;
+                }
+            }
+        }
+        let frame_max = (0..nt)
+            .map(|k| r.fixed_rows::<3>(3 * k).norm())
+            .fold(0.0, f64::max);
+        max = max.max(frame_max);
+        sumsq += r.norm_squared();
+        per_frame.push((r.norm_squared() / nt as f64).sqrt());
+        for (col, v) in out.iter_mut().zip(q.iter()) {
+            col[f] = *v;
+        }
+    }
+    let dt = file.frame_time;
+    let stop = if frames > 1 {
+        (frames - 1) as f64 * dt
+    } else {
+        dt
+    };
+    let mut mu = Mu::new();
+    for (c, name) in model.coordinate_names().iter().enumerate() {
+        let vals = std::mem::take(&mut out[c]);
+        let curve = if frames > 1 {
+            Curve::samples(0.0, dt, vals)?
+        } else {
+            Curve::constant(vals[0])?
+        };
+        mu.insert(
+            name.clone(),
+            Dof::new(vec![Interval::curve(curve, 0.0, stop)?])?,
+        );
+    }
+    let rms = (sumsq / (frames * nt) as f64).sqrt();
+    Ok((
+        mu,
+        FitReport {
+            rms,
+            max,
+            per_frame,
+            landmarks: nt,
+        },
+    ))
+}
