@@ -14,51 +14,13 @@ use crate::dynamics::{
     DynamicsError, ExternalForce, Integrator, LimitPenalty, Scene, Spring, State, Workspace,
     forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
+use super::body::Body;
 use crate::lang::builtins::motion::Motion;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
 use crate::lang::value::{HostObject, Value};
 use crate::model::Model;
 use crate::motion::{Curve, Dof, Interval, Mu};
-
-/// A body: a model of links and joints.
-#[derive(Clone, Debug)]
-pub struct Body {
-    pub model: Arc<Model>,
-}
-
-impl HostObject for Body {
-    fn type_name(&self) -> &'static str {
-        "Body"
-    }
-    fn summary(&self) -> String {
-        format!(
-            "Body `{}` ({} links, {} coordinates)",
-            self.model.name,
-            self.model.num_links(),
-            self.model.nq()
-        )
-    }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-    fn field(&self, name: &str) -> Option<Value> {
-        match name {
-            "coordinates" => Some(names_value(&self.model)),
-            "nq" => Some(Value::Number(self.model.nq() as f64)),
-            "name" => Some(Value::str(&self.model.name)),
-            "mass" => Some(Value::Number(self.model.total_mass())),
-            "links" => Some(Value::list(
-                self.model
-                    .links()
-                    .iter()
-                    .map(|l| Value::str(&l.name))
-                    .collect(),
-            )),
-            _ => None,
-        }
-    }
-}
 
 /// A scene: a body and the effects it declares.
 #[derive(Clone, Debug)]
@@ -103,9 +65,7 @@ impl HostObject for SceneValue {
     }
     fn field(&self, name: &str) -> Option<Value> {
         match name {
-            "body" => Some(Value::object(Body {
-                model: self.scene.model.clone(),
-            })),
+            "body" => Some(Value::object(Body::from_model(self.scene.model.clone()))),
             "coordinates" => Some(names_value(&self.scene.model)),
             _ => None,
         }
@@ -577,7 +537,7 @@ pub fn register(reg: &mut Registry) {
                 MxError::new(ErrorKind::Io, e.to_string())
                     .help("mx reads fixed-base URDF with revolute, continuous, prismatic and fixed joints")
             })?;
-            Ok(Value::object(Body { model: Arc::new(m) }))
+            Ok(Value::object(Body::from_model(Arc::new(m))))
         },
     );
     reg.add(

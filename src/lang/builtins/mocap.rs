@@ -11,56 +11,15 @@ use std::sync::Arc;
 
 use indexmap::IndexMap;
 
+use super::body::Body;
 use super::motion::{Motion, motion_error};
 use super::{ArgValue, Args, Registry, describe};
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
-use crate::lang::value::{HostObject, Value};
-use crate::mocap::bvh::{Skeleton, Units};
+use crate::lang::value::Value;
+use crate::mocap::bvh::Units;
 use crate::mocap::{self, Missing, MocapError, registry, to_motion};
-use crate::model::Model;
 use crate::motion::{Curve, Dof, Interval, Mu};
-
-/// A body (multibody model) value; bodies made from a clip keep its skeleton.
-#[derive(Clone, Debug)]
-pub struct Body {
-    pub model: Arc<Model>,
-    /// The BVH skeleton it was built from, with metres per file unit.
-    pub skeleton: Option<(Arc<Skeleton>, f64)>,
-    /// Set for the anatomical model made by `human(clip)` (what `fit` needs).
-    pub human: Option<Arc<mocap::human::Human>>,
-}
-
-impl HostObject for Body {
-    fn type_name(&self) -> &'static str {
-        "Body"
-    }
-    fn summary(&self) -> String {
-        format!(
-            "Body {} ({} links, {} coordinates, {:.1} kg)",
-            self.model.name,
-            self.model.num_links(),
-            self.model.nq(),
-            self.model.total_mass()
-        )
-    }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-    fn field(&self, name: &str) -> Option<Value> {
-        match name {
-            "mass" => Some(Value::Number(self.model.total_mass())),
-            "coordinates" => Some(Value::list(
-                self.model
-                    .coordinate_names()
-                    .iter()
-                    .map(Value::str)
-                    .collect(),
-            )),
-            _ => None,
-        }
-    }
-}
 
 fn mocap_error(e: MocapError, span: Span) -> MxError {
     match e {

@@ -19,6 +19,7 @@
 //! [`Registry::loader`] / [`Registry::saver`], so a domain adds a format with
 //! one line too.
 
+pub mod body;
 pub mod core;
 pub mod dynamics;
 pub mod joints;
