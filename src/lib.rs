@@ -13,6 +13,7 @@ pub mod lie;
 pub mod mocap;
 pub mod model;
 pub mod motion;
+pub mod report;
 pub mod spacetime;
 pub mod spline;
 

@@ -34,6 +34,14 @@ enum Command {
     Eval { source: String },
     /// Start the interactive REPL (the default).
     Repl,
+    /// Regenerate the accuracy report (docs/accuracy.md and its figures).
+    Report {
+        /// Fewer points per curve, same code path (CI).
+        #[arg(long)]
+        smoke: bool,
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
@@ -73,5 +81,17 @@ fn main() -> ExitCode {
             Err(d) => report(d),
         },
         Command::Repl => repl::run(mx),
+        Command::Report { smoke, out } => {
+            match mx::report::generate(&mx::report::Options::new(out, smoke)) {
+                Ok(s) => {
+                    eprintln!("{}", mx::report::describe(&s));
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
     }
 }

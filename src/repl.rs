@@ -101,14 +101,6 @@ fn history_path() -> Option<std::path::PathBuf> {
 
 pub fn run(mut mx: mx::Interpreter) -> ExitCode {
     let token = mx.cancel_token();
-    {
-        let t = token.clone();
-        // Ctrl-C while evaluating: cancel. (At the prompt rustyline reads the
-        // key itself and reports Interrupted.)
-        if let Err(e) = ctrlc::set_handler(move || t.cancel()) {
-            eprintln!("warning: Ctrl-C will not cancel evaluations: {e}");
-        }
-    }
     let names = Arc::new(Mutex::new(mx.names()));
     let config = Config::builder().auto_add_history(false).build();
     let mut rl: Editor<MxHelper, rustyline::history::DefaultHistory> =
@@ -122,6 +114,15 @@ pub fn run(mut mx: mx::Interpreter) -> ExitCode {
     rl.set_helper(Some(MxHelper {
         names: names.clone(),
     }));
+    {
+        let t = token.clone();
+        // Ctrl-C while evaluating: cancel. Installed after the editor,
+        // which sets its own SIGINT handler when it is created. (At the prompt rustyline reads the
+        // key itself and reports Interrupted.)
+        if let Err(e) = ctrlc::set_handler(move || t.cancel()) {
+            eprintln!("warning: Ctrl-C will not cancel evaluations: {e}");
+        }
+    }
     let history = history_path();
     if let Some(h) = &history {
         let _ = rl.load_history(h);
@@ -216,7 +217,7 @@ fn help(mx: &mx::Interpreter, topic: &str) {
     if topic.is_empty() {
         println!("Commands: :help [name], :type EXPR, :load FILE, :time EXPR, :quit");
         println!("Built-ins (:help NAME for details, :help formats for files):");
-        let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.clone()).collect();
+        let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.to_string()).collect();
         sigs.sort();
         for s in sigs {
             println!("  {s}");

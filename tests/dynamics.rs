@@ -302,7 +302,7 @@ fn bad_inputs_are_errors_not_panics() {
         &[0.0; 4],
         &[0.0; 4],
         &G,
-        &mut vec![0.0; 4],
+        &mut [0.0; 4],
     )
     .unwrap_err();
     assert!(e.to_string().contains("another model"), "{e}");

@@ -326,7 +326,7 @@ fn spline_curve_joint_errors() {
     // just below π is fine
     assert!(SplineCurveJoint::from_knots(vec![f0, f2, f0, f2], &[0., 1., 2., 3.]).is_ok());
     // wrong knot counts, decreasing knots
-    assert!(SplineCurveJoint::from_knots(vec![f0; 5], &[0., 1., 2.]).is_err());
+    assert!(SplineCurveJoint::from_knots(vec![f0; 5], &[0., 1., 2., 3.]).is_err());
     assert!(SplineCurveJoint::from_knots(vec![f0; 4], &[0., 2., 1., 3.]).is_err());
     assert!(SplineCurveJoint::from_knots(vec![f0; 3], &[0., 1., 2.]).is_err());
     // coincident control frames: the Jacobian vanishes and it is reported
@@ -457,4 +457,52 @@ fn spherical_singularity_is_reported() {
     assert!(Universal::new(Vector3::x(), Vector3::x() * 2.0).is_err());
     assert!(Helical::new(Vector3::zeros(), 0.1).is_err());
     assert!(Planar::new(Vector3::z(), Vector3::z()).is_err());
+}
+
+#[test]
+fn curve_joint_with_a_double_knot_is_c1_there_and_exact_elsewhere() {
+    // A double interior knot lowers continuity to C¹ at that knot (documented);
+    // elsewhere S and ∇S stay exact and everything is finite.
+    let mut rng = Lcg(5);
+    let frames = random_frames(&mut rng, 7, 0.5);
+    let knots = vec![0., 0., 0., 0., 0.4, 1.0, 1.0, 2., 2., 2., 2.];
+    let j = SplineCurveJoint::from_knots(frames, &knots).unwrap();
+    let qs: Vec<Vec<f64>> = [0.1, 0.5, 0.9, 1.1, 1.7].iter().map(|&q| vec![q]).collect();
+    check("spline curve (double knot)", &j, &qs, 1e-6);
+    let mut k = JointKinematics::default();
+    j.kinematics(&[1.0], Derivatives::Hessian, &mut k);
+    assert!(
+        k.transform.to_matrix().iter().all(|x| x.is_finite())
+            && k.ds[0][0].iter().all(|x| x.is_finite())
+    );
+    // tiny and huge coordinate steps stay finite (screw continuation far outside)
+    for q in [-1e6, -1e-300, 1e-300, 1e6] {
+        j.kinematics(&[q], Derivatives::Hessian, &mut k);
+        assert!(
+            k.transform.r.iter().all(|x| x.is_finite()) && k.s[0].iter().all(|x| x.is_finite()),
+            "q = {q}"
+        );
+        let rtr = k.transform.r.transpose() * k.transform.r;
+        assert!(
+            (rtr - nalgebra::Matrix3::identity()).abs().max() < 1e-9,
+            "q = {q}"
+        );
+    }
+}
+
+#[test]
+fn curve_joint_knot_forms_agree() {
+    // breakpoints (frames − 2) and the equivalent full clamped knot vector give the same joint
+    let mut rng = Lcg(9);
+    let frames = random_frames(&mut rng, 6, 0.4);
+    let a = SplineCurveJoint::from_knots(frames.clone(), &[0.0, 0.3, 1.0, 2.0]).unwrap();
+    let b =
+        SplineCurveJoint::from_knots(frames, &[0., 0., 0., 0., 0.3, 1.0, 2., 2., 2., 2.]).unwrap();
+    let (mut ka, mut kb) = (JointKinematics::default(), JointKinematics::default());
+    for q in [0.0, 0.2, 0.7, 1.5, 2.0] {
+        a.kinematics(&[q], Derivatives::Hessian, &mut ka);
+        b.kinematics(&[q], Derivatives::Hessian, &mut kb);
+        assert_eq!(ka.transform, kb.transform);
+        assert_eq!(ka.ds[0][0], kb.ds[0][0]);
+    }
 }

@@ -297,7 +297,10 @@ fn only_by_name_and_glob() {
 #[test]
 fn unknown_dof_suggests() {
     let m = mu1("Hips.Xposition", vec![c(0.0, 0.0, 1.0)]);
-    let e = m.sample("Hips.Xpositon", 0.5).unwrap_err();
+    // A DOF the motion does not name is undefined everywhere…
+    assert_eq!(m.sample("Hips.Xpositon", 0.5).unwrap(), None);
+    // …and looking it up by name reports the likely typo.
+    let e = m.dof("Hips.Xpositon").unwrap_err();
     assert!(
         e.to_string().contains("did you mean 'Hips.Xposition'"),
         "{e}"
@@ -310,4 +313,96 @@ impl TimeFunction for Lin {
     fn eval(&self, t: f64) -> Result<f64, String> {
         Ok(t)
     }
+}
+
+#[test]
+fn extreme_affine_maps_are_errors_not_infinities() {
+    let m = mu1("x", vec![c(1.0, 0.0, 1.0)]);
+    // Overflow to infinity.
+    let e = affine(0.0, 1e308, &mu1("x", vec![c(1.0, 1.0, 10.0)])).unwrap_err();
+    assert!(matches!(e, MotionError::AffineDegenerate { .. }), "{e}");
+    // Shrinks an interval below the time resolution.
+    let e = affine(0.0, 1e-12, &m).unwrap_err();
+    assert!(e.to_string().contains("d nearer 1"), "{e}");
+    // Bad scale even with no DOF to map.
+    assert!(affine(0.0, 0.0, &Mu::new()).is_err());
+    // Large but representable maps are fine, and exact on dyadic numbers.
+    let big = affine(1e6, 1024.0, &m).unwrap();
+    assert_eq!(big.span(), Some((1e6, 1e6 + 1024.0)));
+    assert_eq!(big.sample_value("x", 1e6 + 512.0).unwrap(), Some(1.0));
+}
+
+#[test]
+fn non_finite_sample_times_are_errors() {
+    let m = mu1("x", vec![c(1.0, 0.0, 1.0)]);
+    for t in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert!(matches!(m.sample("x", t), Err(MotionError::BadTime { .. })));
+        assert!(matches!(
+            m.sample_value("x", t),
+            Err(MotionError::BadTime { .. })
+        ));
+    }
+}
+
+#[test]
+fn rounding_after_affine_leaves_no_slivers() {
+    // 0.1 + 0.2 ≠ 0.3 in floating point: the pieces still touch, no gap appears.
+    let a = mu1("x", vec![c(1.0, 0.0, 0.1 + 0.2)]);
+    let b = mu1("x", vec![c(2.0, 0.3, 1.0)]);
+    let s = plus(&a, &b);
+    assert!(gaps(&s).is_empty() && conflicts(&s).is_empty());
+    assert_eq!(s.get("x").unwrap().intervals.len(), 2);
+    // Scale by 1/3 then by 3: the same span up to rounding, and ops still see one interval.
+    let round = affine(0.0, 3.0, &affine(0.0, 1.0 / 3.0, &b).unwrap()).unwrap();
+    let d = minus(&round, &b);
+    assert!(d.get("x").unwrap().is_empty(), "{d:?}");
+}
+
+#[test]
+fn long_chains_of_operations_stay_in_normal_form() {
+    // 200 pasted pieces, each undefining a hole first: O(n) pieces, no conflicts.
+    let mut m = mu1("x", vec![c(0.0, 0.0, 1000.0)]);
+    let piece = mu1("x", vec![c(1.0, 0.0, 1.0)]);
+    for k in 0..200 {
+        let at = 2.0 + 4.9 * k as f64;
+        m = plus(
+            &affine(at, 1.0, &piece).unwrap(),
+            &minus(&m, &affine(at - 0.5, 2.0, &piece).unwrap()),
+        );
+    }
+    let d = m.get("x").unwrap();
+    assert_eq!(d.intervals.len(), 401);
+    assert_eq!(gaps(&m).len(), 400);
+    assert!(conflicts(&m).is_empty());
+    for w in d.intervals.windows(2) {
+        assert!(w[0].stop <= w[1].start);
+    }
+}
+
+#[test]
+fn hand_built_interval_without_functions_is_an_error_not_a_panic() {
+    let mut m = Mu::new();
+    m.insert(
+        "x",
+        Dof {
+            intervals: vec![Interval {
+                start: 0.0,
+                stop: 1.0,
+                funcs: vec![],
+            }],
+        },
+    );
+    assert!(matches!(m.sample("x", 0.5), Err(MotionError::NoFunction)));
+    assert!(matches!(
+        m.sample_value("x", 0.5),
+        Err(MotionError::NoFunction)
+    ));
+    assert!(
+        Dof::new(vec![Interval {
+            start: 0.0,
+            stop: 1.0,
+            funcs: vec![]
+        }])
+        .is_err()
+    );
 }

@@ -232,3 +232,44 @@ fn json_checks_spline_coefficients() {
     let e = from_json_str(bad, &compile).unwrap_err();
     assert!(e.contains("needs 2 coefficients"), "{e}");
 }
+
+#[test]
+fn csv_loads_back_what_it_saved() {
+    use mx::io::csv::{from_csv_str, load_csv};
+    let mut m = Mu::new();
+    let vals: Vec<f64> = (0..61).map(|k| (k as f64 * 0.05).sin()).collect();
+    m.insert(
+        "a,\"q\"",
+        Dof::new(vec![
+            Interval::curve(Curve::samples(0.0, 0.05, vals.clone()).unwrap(), 0.0, 1.0).unwrap(),
+            Interval::curve(Curve::samples(0.0, 0.05, vals).unwrap(), 2.0, 3.0).unwrap(),
+        ])
+        .unwrap(),
+    );
+    m.insert("b", Dof::from(c(0.1, 0.5, 3.0)));
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("m.csv");
+    save_csv(&m, &p, 20.0).unwrap();
+    let back = load_csv(&p).unwrap();
+    assert_eq!(back.names().collect::<Vec<_>>(), vec!["a,\"q\"", "b"]);
+    assert_eq!(gaps(&back).len(), 1);
+    // Same text when saved again: every value at every grid time is exact.
+    assert_eq!(
+        to_csv_string(&back, 20.0, None).unwrap(),
+        std::fs::read_to_string(&p).unwrap()
+    );
+
+    for (bad, why) in [
+        ("", "empty"),
+        ("x,a\n0,1\n", "first column"),
+        ("t,a\n0,1\n0.1\n", "line 3"),
+        ("t,a\n0,1\n0.1,x\n", "not a finite number"),
+        ("t,a\n0,1\n0.1,2\n0.35,3\n", "uniform grid"),
+        ("t,a\n0,1\n0.1,\n0.2,3\n0.3,4\n", "isolated"),
+        ("t,a,a\n0,1,1\n1,2,2\n", "twice"),
+        ("t,\"a\n0,1\n", "unclosed quote"),
+    ] {
+        let e = from_csv_str(bad).unwrap_err();
+        assert!(e.contains(why), "{bad:?}: {e}");
+    }
+}

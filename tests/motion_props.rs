@@ -236,4 +236,16 @@ proptest! {
             Err(e) => prop_assert!(false, "{e}"),
         }
     }
+
+    /// `Dof::new` (with its sorted-and-disjoint fast path) is the fold of `+`.
+    #[test]
+    fn dof_new_is_the_sum_of_its_intervals(a in arb_dof(), b in arb_dof()) {
+        let mut list: Vec<Interval> = a.intervals.iter().chain(&b.intervals).cloned().collect();
+        list.reverse();
+        let built = Dof::new(list.clone()).unwrap();
+        check_normal(&built)?;
+        let folded = list.into_iter().fold(Dof::empty(), |acc, i| acc.plus(&Dof::from(i)));
+        prop_assert!(same_cover(&coverage(&built), &coverage(&folded)));
+        prop_assert!(same_cover(&merge(built.conflicts()), &merge(folded.conflicts())));
+    }
 }

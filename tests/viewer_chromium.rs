@@ -159,3 +159,15 @@ fn shared_clip_is_drawn() {
     }
     check(&page, 1000);
 }
+
+#[test]
+fn example_walk_on_its_body_is_drawn() {
+    use mx::mocap::{body_of::body_of, to_motion};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/walk.bvh");
+    let clip = to_motion::load(&path, bvh::Units::Auto).unwrap();
+    let (body, _) = body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+    let data = mx::io::viewer::from_motion(&clip.mu, &body, "walk", &[]).unwrap();
+    assert_eq!(data.curves.len(), 6);
+    assert_eq!(data.up, 1, "y-up body");
+    check(&html(&data).unwrap(), 500);
+}

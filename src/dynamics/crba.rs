@@ -1,5 +1,6 @@
 //! The joint-space mass matrix by the composite-rigid-body algorithm:
-//! `M_ij = S_iᵀ Ad*(I^c_i S_j)` with `I^c_i` the inertia of the subtree of link i.
+//! `M_ij = S_iᵀ I^c_j S_j` (i an ancestor of j) with `I^c_j` the inertia of the
+//! subtree of link j, all in the world frame.
 
 use crate::dynamics::DynamicsError;
 use crate::dynamics::workspace::Workspace;
@@ -26,31 +27,40 @@ pub fn mass_matrix(
     }
     // Entries between coordinates of different branches are never written below.
     m.fill(0.0);
+    // Everything in the world frame (as Pinocchio does): composite inertias then
+    // add up without transforms, and each entry above the diagonal block is a
+    // plain dot product `S_aᵀ (I^c_i S_i)` instead of a transform per ancestor.
     for (i, l) in model.links().iter().enumerate() {
         l.joint.kinematics(
             &q[l.q_index..l.q_index + l.dof],
             Derivatives::Jacobian,
             &mut ws.kin[i],
         );
-        ws.xt[i] = l.offset.compose(&ws.kin[i].transform);
-        ws.ic[i] = l.inertia;
+        let local = l.offset.compose(&ws.kin[i].transform);
+        let world = match l.parent {
+            Some(p) => ws.world[p].compose(&local),
+            None => local,
+        };
+        ws.world[i] = world;
+        for j in 0..l.dof {
+            ws.u[i][j] = world.ad_twist(&ws.kin[i].s[j]);
+        }
+        ws.ic[i] = l.inertia.transformed(&world);
     }
     for i in (0..model.num_links()).rev() {
         let l = model.link(i);
         let ic = ws.ic[i];
         for j in 0..l.dof {
             let col = l.q_index + j;
-            let mut f = ic.mul_twist(&ws.kin[i].s[j]);
+            let f = ic.mul_twist(&ws.u[i][j]);
             for k in 0..l.dof {
-                m[(l.q_index + k, col)] = ws.kin[i].s[k].dot(&f);
+                m[(l.q_index + k, col)] = ws.u[i][k].dot(&f);
             }
-            // Walk up to the root, filling the column above the diagonal block.
             let mut c = i;
             while let Some(p) = model.link(c).parent {
-                f = ws.xt[c].ad_wrench(&f);
                 let lp = model.link(p);
                 for k in 0..lp.dof {
-                    let x = ws.kin[p].s[k].dot(&f);
+                    let x = ws.u[p][k].dot(&f);
                     m[(lp.q_index + k, col)] = x;
                     m[(col, lp.q_index + k)] = x;
                 }
@@ -58,8 +68,7 @@ pub fn mass_matrix(
             }
         }
         if let Some(p) = l.parent {
-            let moved = ic.transformed(&ws.xt[i]);
-            ws.ic[p] += moved;
+            ws.ic[p] += ic;
         }
     }
     Ok(())

@@ -88,6 +88,12 @@ pub fn rnea_derivatives(
     let mut tau = std::mem::take(&mut ws.tau);
     rnea_core(model, ws, q, v, a, gravity, None, &mut tau);
     ws.tau = tau;
+    // Entries outside a column's subtree and ancestors stay zero.
+    dtau_dq.fill(0.0);
+    dtau_dv.fill(0.0);
+    for x in ws.mark.iter_mut() {
+        *x = 0;
+    }
     for j in 0..model.num_links() {
         let l = model.link(j);
         for k in 0..l.dof {
@@ -173,21 +179,19 @@ fn sweep(
     col: usize,
 ) {
     let nl = model.num_links();
-    for x in ws.mark.iter_mut() {
-        *x = false;
-    }
-    for r in 0..model.nq() {
-        out[(r, col)] = 0.0;
-    }
-    ws.mark[j] = true;
+    // A link carries the stamp j + 1 exactly when it is in j's subtree: only
+    // sweeps of j write that stamp, and they write it on that subtree. So the
+    // marks need no reset between columns.
+    let stamp = j + 1;
+    ws.mark[j] = stamp;
     ws.dv[j] = dv;
     ws.da[j] = da;
     for i in j..nl {
         let l = model.link(i);
         if i != j {
             match l.parent {
-                Some(p) if ws.mark[p] => {
-                    ws.mark[i] = true;
+                Some(p) if ws.mark[p] == stamp => {
+                    ws.mark[i] = stamp;
                     ws.dv[i] = ws.xt[i].inv_ad_twist(&ws.dv[p]);
                     ws.da[i] = ws.xt[i].inv_ad_twist(&ws.da[p]) + ad(&ws.dv[i], &ws.sv[i]);
                 }
@@ -200,7 +204,7 @@ fn sweep(
             - ad_dual(&ws.v[i], &g.mul_twist(&ws.dv[i]));
     }
     for i in (j + 1..nl).rev() {
-        if !ws.mark[i] {
+        if ws.mark[i] != stamp {
             continue;
         }
         let l = model.link(i);

@@ -267,6 +267,14 @@ pub fn simulate(
     }
     let nsteps = steps_f as usize;
     let n = m.nq();
+    // The trajectory keeps q and q̇ at every sample: bound its memory (~1.6 GB).
+    if (nsteps as f64 + 1.0) * (2 * n.max(1)) as f64 > 2e8 {
+        return Err(DynamicsError::Input(format!(
+            "{duration} s at dt = {dt} s gives {} samples of {n} coordinates, too many to keep; \
+             use a larger dt or a shorter duration",
+            nsteps + 1
+        )));
+    }
     let mut st = Stepper {
         scene,
         sw: SceneWorkspace::new(scene),

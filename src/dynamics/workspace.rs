@@ -42,7 +42,7 @@ pub struct Workspace {
     pub(crate) dv: Vec<Twist>,
     pub(crate) da: Vec<Twist>,
     pub(crate) df: Vec<Wrench>,
-    pub(crate) mark: Vec<bool>,
+    pub(crate) mark: Vec<usize>,
     pub(crate) tau: Vec<f64>,
     pub(crate) scratch: JointKinematics,
     /// World poses (energies).
@@ -73,7 +73,7 @@ impl Workspace {
             dv: vec![Twist::zeros(); n],
             da: vec![Twist::zeros(); n],
             df: vec![Wrench::zeros(); n],
-            mark: vec![false; n],
+            mark: vec![0; n],
             tau: vec![0.0; model.nq()],
             scratch: JointKinematics::default(),
             world: vec![Se3::identity(); n],

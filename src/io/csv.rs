@@ -63,3 +63,140 @@ fn push_field(out: &mut String, s: &str) {
         out.push_str(s);
     }
 }
+
+/// Read a motion CSV (as written by [`save_csv`]): the `t` column must be a
+/// uniform grid; each run of two or more consecutive filled cells of a
+/// column becomes an interval of sampled data (C² spline through the
+/// values), empty cells stay undefined. Conflicts cannot be represented in
+/// CSV, so a loaded motion has none.
+pub fn load_csv(path: impl AsRef<Path>) -> Result<Mu, FileError> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|source| FileError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    from_csv_str(&text).map_err(|m| FileError::format(path, m))
+}
+
+/// Parse motion CSV text; the error says which line and what is wrong.
+pub fn from_csv_str(text: &str) -> Result<Mu, String> {
+    use crate::motion::{Curve, Dof, Interval};
+
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, header) = lines
+        .next()
+        .ok_or("the file is empty; a motion CSV starts with a header `t,<DOF names>`")?;
+    let names = split_header(header.trim_end_matches('\r'))?;
+    if names.first().map(String::as_str) != Some("t") {
+        return Err("the first column must be `t` (time in seconds)".into());
+    }
+    let names = &names[1..];
+    let mut times: Vec<f64> = Vec::new();
+    let mut cols: Vec<Vec<Option<f64>>> = vec![Vec::new(); names.len()];
+    for (ln, line) in lines {
+        let cells: Vec<&str> = line.trim_end_matches('\r').split(',').collect();
+        if cells.len() != names.len() + 1 {
+            return Err(format!(
+                "line {}: {} cells, expected {}",
+                ln + 1,
+                cells.len(),
+                names.len() + 1
+            ));
+        }
+        let num = |s: &str, what: &str| -> Result<f64, String> {
+            match s.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(format!(
+                    "line {}: {what} `{s}` is not a finite number",
+                    ln + 1
+                )),
+            }
+        };
+        times.push(num(cells[0], "time")?);
+        for (c, cell) in cells[1..].iter().enumerate() {
+            cols[c].push(if cell.trim().is_empty() {
+                None
+            } else {
+                Some(num(cell, &names[c])?)
+            });
+        }
+    }
+    // Uniform time grid (as saved: k/R).
+    let dt = match times.len() {
+        0 | 1 => 1.0,
+        n => (times[n - 1] - times[0]) / (n - 1) as f64,
+    };
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err("times must increase".into());
+    }
+    for (k, t) in times.iter().enumerate() {
+        let want = times[0] + k as f64 * dt;
+        if (t - want).abs() > 1e-6 * dt {
+            return Err(format!(
+                "row {}: time {t} is off the uniform grid (step {dt}); resample the data first",
+                k + 1
+            ));
+        }
+    }
+    let mut mu = Mu::new();
+    for (c, name) in names.iter().enumerate() {
+        if mu.get(name).is_some() {
+            return Err(format!("DOF '{name}' appears twice in the header"));
+        }
+        let mut intervals = Vec::new();
+        let col = &cols[c];
+        let mut k = 0;
+        while k < col.len() {
+            if col[k].is_none() {
+                k += 1;
+                continue;
+            }
+            let first = k;
+            while k < col.len() && col[k].is_some() {
+                k += 1;
+            }
+            if k - first < 2 {
+                return Err(format!(
+                    "DOF '{name}' has a single isolated value at t = {}; an interval needs at least two samples",
+                    times[first]
+                ));
+            }
+            let values: Vec<f64> = col[first..k].iter().flatten().copied().collect();
+            let curve = Curve::samples(times[first], dt, values)
+                .map_err(|e| format!("DOF '{name}': {e}"))?;
+            let iv = Interval::curve(curve, times[first], times[k - 1])
+                .map_err(|e| format!("DOF '{name}': {e}"))?;
+            intervals.push(iv);
+        }
+        mu.insert(name.clone(), Dof { intervals });
+    }
+    Ok(mu)
+}
+
+/// Split a header line, honouring RFC 4180 quotes (`"a,x"`, `""` for a quote).
+fn split_header(line: &str) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut chars = line.chars().peekable();
+    let mut quoted = false;
+    while let Some(ch) = chars.next() {
+        match (quoted, ch) {
+            (false, ',') => out.push(std::mem::take(&mut cur)),
+            (false, '"') if cur.is_empty() => quoted = true,
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                cur.push('"');
+            }
+            (true, '"') => quoted = false,
+            (_, ch) => cur.push(ch),
+        }
+    }
+    if quoted {
+        return Err("the header has an unclosed quote".into());
+    }
+    out.push(cur);
+    Ok(out)
+}

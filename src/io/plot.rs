@@ -244,6 +244,71 @@ pub fn terminal(series: &[Series], width: usize, height: usize) -> String {
     out
 }
 
+/// The series of DOFs of a motion: each interval sampled at `rate` Hz (plus
+/// its ends); gaps and conflicts as the DOF reports them. Conflict intervals
+/// draw no curve (the value there is not defined), only their band.
+pub fn series_of(
+    mu: &crate::motion::Mu,
+    names: &[&str],
+    rate: f64,
+) -> Result<Vec<Series>, PlotError> {
+    if !(rate.is_finite() && rate > 0.0) {
+        return Err(PlotError::Empty(format!(
+            "sampling rate must be positive, got {rate}"
+        )));
+    }
+    let mut out = Vec::with_capacity(names.len());
+    for &name in names {
+        let dof = mu.dof(name).map_err(|e| PlotError::Empty(e.to_string()))?;
+        let mut pieces = Vec::new();
+        for iv in dof.intervals.iter().filter(|i| !i.is_conflict()) {
+            let n = (((iv.stop - iv.start) * rate).ceil() as usize).clamp(1, 100_000);
+            let mut piece = Vec::with_capacity(n + 1);
+            for k in 0..=n {
+                let t = iv.start + (iv.stop - iv.start) * k as f64 / n as f64;
+                let v = iv.funcs[0]
+                    .value(t)
+                    .map_err(|e| PlotError::Draw(format!("{name} at t = {t}: {e}")))?;
+                piece.push((t, v));
+            }
+            pieces.push(piece);
+        }
+        out.push(Series {
+            name: name.to_string(),
+            pieces,
+            gaps: dof.gaps(),
+            conflicts: dof.conflicts(),
+        });
+    }
+    Ok(out)
+}
+
+/// `plot(m, "file.svg")`: the chosen DOFs (all when `names` is empty) of a
+/// motion over time, sampled at `rate` Hz, with gaps and conflicts marked.
+pub fn plot_motion(
+    mu: &crate::motion::Mu,
+    names: &[&str],
+    rate: f64,
+    path: &Path,
+) -> Result<(), PlotError> {
+    let all: Vec<&str> = mu.names().collect();
+    let chosen = if names.is_empty() {
+        all.as_slice()
+    } else {
+        names
+    };
+    if chosen.is_empty() {
+        return Err(PlotError::Empty("the motion has no DOFs".into()));
+    }
+    let series = series_of(mu, chosen, rate)?;
+    let title = if chosen.len() == 1 {
+        chosen[0].to_string()
+    } else {
+        format!("{} DOFs", chosen.len())
+    };
+    write_svg(&series, &title, path)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

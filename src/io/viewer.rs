@@ -141,6 +141,66 @@ pub fn write_html(data: &ViewerData, path: &Path) -> Result<(), ViewerError> {
     })
 }
 
+/// The viewer of motion `mu` on `body`: joint positions by forward kinematics
+/// (coordinates the motion lacks stay 0, gaps hold the last value), and below
+/// the figure the DOF curves `curve_names` (default: the 6 DOFs that move most).
+pub fn from_motion(
+    mu: &crate::motion::Mu,
+    body: &crate::model::Model,
+    title: &str,
+    curve_names: &[&str],
+) -> Result<ViewerData, ViewerError> {
+    use crate::mocap::{Missing, positions};
+    let p = positions(mu, body, None, Missing::Hold)
+        .map_err(|e| ViewerError::Invalid(e.to_string()))?;
+    let frame_time = if p.times.len() > 1 {
+        p.times[1] - p.times[0]
+    } else {
+        1.0 / 30.0
+    };
+    let g = body.default_gravity;
+    let up = (0..3)
+        .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
+        .unwrap_or(1);
+    let names: Vec<&str> = if curve_names.is_empty() {
+        // The DOFs with the largest range over the sampled times.
+        let mut ranked: Vec<(f64, &str)> = mu
+            .dofs
+            .iter()
+            .map(|(n, d)| {
+                let vals: Vec<f64> = p
+                    .times
+                    .iter()
+                    .filter_map(|&t| d.sample_value(n, t).ok().flatten())
+                    .collect();
+                let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
+                let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                (if hi >= lo { hi - lo } else { 0.0 }, n.as_str())
+            })
+            .collect();
+        ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
+        ranked.into_iter().take(6).map(|(_, n)| n).collect()
+    } else {
+        curve_names.to_vec()
+    };
+    let rate = 1.0 / frame_time;
+    let series = super::plot::series_of(mu, &names, rate.min(120.0))
+        .map_err(|e| ViewerError::Invalid(e.to_string()))?;
+    Ok(ViewerData {
+        title: title.to_string(),
+        joint_names: p.names.clone(),
+        parents: p.parents.clone(),
+        frame_time,
+        positions: p
+            .points
+            .iter()
+            .map(|fr| fr.iter().map(|v| [v.x, v.y, v.z]).collect())
+            .collect(),
+        up,
+        curves: series.iter().map(CurveData::from).collect(),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

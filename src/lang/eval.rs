@@ -367,7 +367,7 @@ impl Evaluator {
     ) -> MxResult<Value> {
         match f {
             Value::Builtin(b) => {
-                let mut args = Args::new(&b.signature, call_span, pos, named);
+                let mut args = Args::new(b.signature.clone(), call_span, pos, named);
                 let v = (b.func)(&mut args, self).map_err(|e| e.or_at(call_span))?;
                 args.finish()?;
                 Ok(v)

@@ -24,6 +24,7 @@ use crate::cancel::CancelToken;
 /// The standard library, written in mx and loaded by [`Interpreter::new`].
 pub const PRELUDE: &str = include_str!("../../stdlib/prelude.mx");
 
+#[derive(Clone)]
 pub struct Interpreter {
     sources: Vec<Source>,
     globals: Env,

@@ -284,8 +284,17 @@ fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> MxErr
         }
         ErrorVariant::CustomError { .. } => vec![],
     };
-    if rest.trim().is_empty()
-        && let Some((pos, open)) = unclosed_bracket(src)
+    let line_rest = rest.split('\n').next().unwrap_or("");
+    if rest.starts_with('"') && !line_rest[1..].contains('"') {
+        return MxError::new(ErrorKind::Syntax, "this string is never closed")
+            .at(Span::new(file, start, start + line_rest.trim_end().len()))
+            .label("string starts here")
+            .help(
+                "add a `\"` before the end of the line (write `\\\"` for a quote inside a string)",
+            );
+    }
+    if let Some((pos, open)) = unclosed_bracket(src)
+        && pos < start
     {
         let close = match open {
             '(' => ')',
@@ -295,7 +304,9 @@ fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> MxErr
         return MxError::new(ErrorKind::Syntax, format!("this `{open}` is never closed"))
             .at(Span::new(file, pos, pos + 1))
             .label("opened here")
-            .help(format!("add a matching `{close}`"));
+            .help(format!(
+                "add a matching `{close}`; inside brackets, items are separated by `,`"
+            ));
     }
     let message = if expected.is_empty() {
         format!("unexpected {found}")

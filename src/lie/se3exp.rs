@@ -9,6 +9,14 @@ use nalgebra::{Matrix6, Vector3};
 pub fn exp_se3(x: &Twist) -> Se3 {
     let w = Vector3::new(x[0], x[1], x[2]);
     let v = Vector3::new(x[3], x[4], x[5]);
+    // Pure translations and pure rotations (most joint factors) skip the
+    // work they do not need; the results are identical to the general case.
+    if w == Vector3::zeros() {
+        return Se3::from_translation(v);
+    }
+    if v == Vector3::zeros() {
+        return Se3::from_rotation(exp_so3(&w));
+    }
     Se3::new(exp_so3(&w), left_jacobian_so3(&w) * v)
 }
 

@@ -4,10 +4,16 @@
 //! Layering: uses `lie`, `spline`, `model`, `dynamics`, `motion`; used by
 //! `spacetime`, `io` and `lang`. Knows nothing of the language.
 
+pub mod body_of;
 pub mod bvh;
 mod error;
+pub mod positions;
+pub mod registry;
+pub mod segments;
 pub mod synth;
 pub mod to_motion;
 
+pub use body_of::body_of;
 pub use error::MocapError;
+pub use positions::{Missing, Positions, positions};
 pub use to_motion::{Clip, from_bvh, load};

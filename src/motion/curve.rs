@@ -214,8 +214,10 @@ impl SampledCurve {
         self.t0 + (self.values.len() - 1) as f64 * self.dt
     }
 
-    /// Segment index and offset into it, or an error outside the data.
-    fn locate(&self, t: f64) -> Result<(usize, f64), MotionError> {
+    /// Segment index, offset into it, and the knot index when `t` is a
+    /// sample time (within 1e-9 of a step: rounding of k/R vs t0 + k·dt), or
+    /// an error outside the data.
+    fn locate(&self, t: f64) -> Result<(usize, f64, Option<usize>), MotionError> {
         let end = self.t_end();
         if !t.is_finite() || t < self.t0 - time_tol(self.t0) || t > end + time_tol(end) {
             return Err(MotionError::OutsideSamples {
@@ -226,40 +228,52 @@ impl SampledCurve {
         }
         let n = self.values.len();
         if n == 1 {
-            return Ok((0, 0.0));
+            return Ok((0, 0.0, Some(0)));
         }
-        let x = ((t - self.t0) / self.dt).clamp(0.0, (n - 1) as f64);
+        let mut x = ((t - self.t0) / self.dt).clamp(0.0, (n - 1) as f64);
+        let knot = if (x - x.round()).abs() < 1e-9 {
+            x = x.round();
+            Some(x as usize)
+        } else {
+            None
+        };
         let i = (x.floor() as usize).min(n - 2);
-        Ok((i, (x - i as f64) * self.dt))
+        Ok((i, (x - i as f64) * self.dt, knot))
     }
 
+    /// Value only. At a sample time it is that sample, exactly, so saving a
+    /// clip at its own frame rate reproduces the data bit for bit.
     pub fn value(&self, t: f64) -> Result<f64, MotionError> {
-        let (i, s) = self.locate(t)?;
-        if self.values.len() == 1 {
-            return Ok(self.values[0]);
+        let (i, s, knot) = self.locate(t)?;
+        if let Some(k) = knot {
+            return Ok(self.values[k]);
         }
-        let h = self.dt;
-        let u = h - s;
-        let (y0, y1, m0, m1) = (self.values[i], self.values[i + 1], self.m[i], self.m[i + 1]);
-        Ok((m0 * u * u * u + m1 * s * s * s) / (6.0 * h)
-            + (y0 / h - m0 * h / 6.0) * u
-            + (y1 / h - m1 * h / 6.0) * s)
+        let [b, c, d] = self.power(i);
+        Ok(self.values[i] + s * (b + s * (c + s * d)))
     }
 
     pub fn eval(&self, t: f64) -> Result<[f64; 3], MotionError> {
-        let (i, s) = self.locate(t)?;
+        let (i, s, knot) = self.locate(t)?;
         if self.values.len() == 1 {
             return Ok([self.values[0], 0.0, 0.0]);
         }
+        let [b, c, d] = self.power(i);
+        let v = match knot {
+            Some(k) => self.values[k],
+            None => self.values[i] + s * (b + s * (c + s * d)),
+        };
+        Ok([v, b + s * (2.0 * c + 3.0 * d * s), 2.0 * c + 6.0 * d * s])
+    }
+
+    /// Segment i as y[i] + b·s + c·s² + d·s³ (s = t − t[i]): exact at s = 0.
+    fn power(&self, i: usize) -> [f64; 3] {
         let h = self.dt;
-        let u = h - s;
         let (y0, y1, m0, m1) = (self.values[i], self.values[i + 1], self.m[i], self.m[i + 1]);
-        let a = y0 / h - m0 * h / 6.0;
-        let b = y1 / h - m1 * h / 6.0;
-        let v = (m0 * u * u * u + m1 * s * s * s) / (6.0 * h) + a * u + b * s;
-        let d = (-m0 * u * u + m1 * s * s) / (2.0 * h) - a + b;
-        let dd = (m0 * u + m1 * s) / h;
-        Ok([v, d, dd])
+        [
+            (y1 - y0) / h - h * (2.0 * m0 + m1) / 6.0,
+            0.5 * m0,
+            (m1 - m0) / (6.0 * h),
+        ]
     }
 }
 
@@ -434,6 +448,18 @@ mod tests {
         }
         // O(h⁴), O(h³), O(h²) with h = 1/120 (ends included).
         assert!(err[0] < 1e-7 && err[1] < 1e-5 && err[2] < 2e-2, "{err:?}");
+    }
+
+    #[test]
+    fn sample_times_give_the_samples_exactly() {
+        let values: Vec<f64> = (0..50).map(|k| (k as f64 * 0.37).sin() * 1e3).collect();
+        let c = Curve::samples(0.2, 1.0 / 30.0, values.clone()).unwrap();
+        for (k, v) in values.iter().enumerate() {
+            // Both ways of writing the time: t0 + k·dt and (6 + k)/30.
+            assert_eq!(c.value(0.2 + k as f64 / 30.0).unwrap(), *v);
+            assert_eq!(c.value((6 + k) as f64 / 30.0).unwrap(), *v);
+            assert_eq!(c.eval((6 + k) as f64 / 30.0).unwrap()[0], *v);
+        }
     }
 
     #[test]

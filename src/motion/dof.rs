@@ -42,13 +42,21 @@ impl Dof {
 
     /// A DOF from any list of intervals (`dof(i1, i2, …)`): they are added
     /// with `+`, so overlapping intervals become an explicit conflict.
-    pub fn new(intervals: Vec<Interval>) -> Result<Dof, MotionError> {
-        let mut d = Dof::empty();
-        for i in intervals {
+    pub fn new(mut intervals: Vec<Interval>) -> Result<Dof, MotionError> {
+        for i in &intervals {
             check_span(i.start, i.stop)?;
             if i.funcs.is_empty() {
                 return Err(MotionError::NoFunction);
             }
+        }
+        // Fast path (the usual case, e.g. many clips in sequence): once sorted,
+        // disjoint intervals are already in normal form.
+        intervals.sort_by(|a, b| a.start.total_cmp(&b.start));
+        if intervals.windows(2).all(|w| w[1].start >= w[0].stop) {
+            return Ok(Dof { intervals });
+        }
+        let mut d = Dof::empty();
+        for i in intervals {
             d = d.plus(&Dof::from(i));
         }
         Ok(d)
@@ -81,7 +89,12 @@ impl Dof {
     /// Time t ↦ ts + d·t. `Err` when ts or d is not finite or d ≤ 0.
     pub fn affine(&self, ts: f64, d: f64) -> Result<Dof, MotionError> {
         check_affine(ts, d)?;
-        Ok(self.affine_unchecked(ts, d))
+        let intervals = self
+            .intervals
+            .iter()
+            .map(|i| i.affine_checked(ts, d))
+            .collect::<Result<_, _>>()?;
+        Ok(Dof { intervals })
     }
 
     pub(crate) fn affine_unchecked(&self, ts: f64, d: f64) -> Dof {

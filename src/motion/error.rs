@@ -24,6 +24,24 @@ pub enum MotionError {
     #[error("affine time scale must be positive (time t ↦ ts + d·t), got d = {d}")]
     BadScale { d: f64 },
 
+    /// `affine` that would push an interval's times beyond floating point or
+    /// shrink it below the time resolution ([`crate::motion::time_tol`]).
+    #[error(
+        "affine(ts = {ts}, d = {d}) maps interval [{start}, {stop}] to [{new_start}, {new_stop}], which is not a usable time span; use a time scale d nearer 1"
+    )]
+    AffineDegenerate {
+        ts: f64,
+        d: f64,
+        start: f64,
+        stop: f64,
+        new_start: f64,
+        new_stop: f64,
+    },
+
+    /// A sampling time that is not a finite number.
+    #[error("sample time must be a finite number, got {t}")]
+    BadTime { t: f64 },
+
     /// `clip` / `clip_in_place` with a window that is not inside the motion's span.
     /// `name` is the motion's name when the caller knows it (e.g. the variable).
     #[error(

@@ -28,8 +28,8 @@ pub fn fill_hermite(m: &Mu) -> Result<Mu, MotionError> {
             if r.start - l.stop <= super::time_tol(l.stop) {
                 continue; // touching: no gap
             }
-            let [q0, v0, _] = l.funcs[0].eval(l.stop)?;
-            let [q1, v1, _] = r.funcs[0].eval(r.start)?;
+            let [q0, v0, _] = l.first_func()?.eval(l.stop)?;
+            let [q1, v1, _] = r.first_func()?.eval(r.start)?;
             let h = HermiteCurve::new(l.stop, q0, v0, r.start, q1, v1)?;
             bridges.push(Interval::curve(Curve::Hermite(h), l.stop, r.start)?);
         }

@@ -59,6 +59,11 @@ impl Interval {
         Interval::new(Func::new(c), start, stop)
     }
 
+    /// The first function; `Err(NoFunction)` for an interval built by hand with none.
+    pub fn first_func(&self) -> Result<&Func, MotionError> {
+        self.funcs.first().ok_or(MotionError::NoFunction)
+    }
+
     pub fn duration(&self) -> f64 {
         self.stop - self.start
     }
@@ -75,7 +80,33 @@ impl Interval {
         t >= self.start - time_tol(self.start) && t <= self.stop + time_tol(self.stop)
     }
 
-    /// The interval after time t ↦ ts + d·t (d > 0, checked by the caller).
+    /// The interval after time t ↦ ts + d·t (ts finite and d > 0 checked by
+    /// the caller); `Err` if the image is not finite or shorter than the time
+    /// resolution, or a function's time map overflows.
+    pub(crate) fn affine_checked(&self, ts: f64, d: f64) -> Result<Interval, MotionError> {
+        let out = self.affine(ts, d);
+        let ok = out.start.is_finite()
+            && out.stop.is_finite()
+            && out.stop - out.start > time_tol(out.start)
+            && out
+                .funcs
+                .iter()
+                .all(|f| f.shift.is_finite() && f.scale.is_finite() && f.scale > 0.0);
+        if ok {
+            Ok(out)
+        } else {
+            Err(MotionError::AffineDegenerate {
+                ts,
+                d,
+                start: self.start,
+                stop: self.stop,
+                new_start: out.start,
+                new_stop: out.stop,
+            })
+        }
+    }
+
+    /// The interval after time t ↦ ts + d·t, unchecked (shifts with d = 1).
     pub(crate) fn affine(&self, ts: f64, d: f64) -> Interval {
         Interval {
             start: ts + d * self.start,

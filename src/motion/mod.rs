@@ -13,6 +13,7 @@
 //!   containment, so floating-point rounding never creates sliver gaps.
 
 pub mod curve;
+mod display;
 pub mod dof;
 pub mod error;
 pub mod fill;

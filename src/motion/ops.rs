@@ -48,11 +48,11 @@ fn union_with(a: &Mu, b: &Mu, op: impl Fn(&Dof, &Dof) -> Dof) -> Mu {
 /// Time t ↦ ts + d·t for every DOF; values at the pre-image time, so first
 /// and second derivatives scale by 1/d and 1/d². `Err` unless d > 0 and both are finite.
 pub fn affine(ts: f64, d: f64, m: &Mu) -> Result<Mu, MotionError> {
-    check_affine(ts, d)?;
-    Ok(m.dofs
+    check_affine(ts, d)?; // also for a motion with no DOF
+    m.dofs
         .iter()
-        .map(|(n, dof)| (n.clone(), dof.affine_unchecked(ts, d)))
-        .collect())
+        .map(|(n, dof)| Ok((n.clone(), dof.affine(ts, d)?)))
+        .collect()
 }
 
 /// Cut out [ts, tf] and move it to start at time 0.

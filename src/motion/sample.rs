@@ -55,9 +55,10 @@ impl Dof {
     /// `[q, q̇, q̈]` at `t`; `Ok(None)` where undefined; `Err` in a conflict
     /// (named `dof_name`) or if the curve fails.
     pub fn sample(&self, dof_name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
+        check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
-            Located::Single(i) => Ok(Some(i.funcs[0].eval(t)?)),
+            Located::Single(i) => Ok(Some(i.first_func()?.eval(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
     }
@@ -79,7 +80,7 @@ impl Dof {
             }
             out.push(match self.locate_from(k, t) {
                 Located::Undefined => None,
-                Located::Single(i) => Some(i.funcs[0].value(t)?),
+                Located::Single(i) => Some(i.first_func()?.value(t)?),
                 Located::Conflict(i) => return Err(conflict(dof_name, i, t)),
             });
         }
@@ -88,11 +89,20 @@ impl Dof {
 
     /// The value only (one curve evaluation).
     pub fn sample_value(&self, dof_name: &str, t: f64) -> Result<Option<f64>, MotionError> {
+        check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
-            Located::Single(i) => Ok(Some(i.funcs[0].value(t)?)),
+            Located::Single(i) => Ok(Some(i.first_func()?.value(t)?)),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
+    }
+}
+
+fn check_time(t: f64) -> Result<(), MotionError> {
+    if t.is_finite() {
+        Ok(())
+    } else {
+        Err(MotionError::BadTime { t })
     }
 }
 
@@ -106,14 +116,23 @@ fn conflict(dof: &str, i: &Interval, t: f64) -> MotionError {
 }
 
 impl Mu {
-    /// `[q, q̇, q̈]` of DOF `name` at `t`. `Ok(None)`: undefined there (also
-    /// outside all intervals); `Err`: unknown DOF name, conflict, or a curve failure.
+    /// `[q, q̇, q̈]` of DOF `name` at `t`. `Ok(None)`: undefined there —
+    /// outside its intervals, or a DOF this motion does not name (undefined
+    /// everywhere, as in Rose §4). `Err`: a conflict (naming the DOF and time
+    /// span), a non-finite time or a curve failure. To treat an unknown name
+    /// as a typo instead, look it up with [`Mu::dof`] (did-you-mean error).
     pub fn sample(&self, name: &str, t: f64) -> Result<Option<[f64; 3]>, MotionError> {
-        self.dof(name)?.sample(name, t)
+        match self.get(name) {
+            Some(d) => d.sample(name, t),
+            None => check_time(t).map(|_| None),
+        }
     }
 
     pub fn sample_value(&self, name: &str, t: f64) -> Result<Option<f64>, MotionError> {
-        self.dof(name)?.sample_value(name, t)
+        match self.get(name) {
+            Some(d) => d.sample_value(name, t),
+            None => check_time(t).map(|_| None),
+        }
     }
 }
 

@@ -20,6 +20,9 @@
 //! one line too.
 
 pub mod core;
+pub mod dynamics;
+pub mod joints;
+pub mod mocap;
 pub mod motion;
 
 use std::fmt;
@@ -45,7 +48,7 @@ pub type SaveFn = dyn Fn(&Value, &Path, &mut Args, &mut Evaluator) -> MxResult<(
 pub struct Builtin {
     pub name: String,
     /// `name(a, b, rate: 30)`: shown in `:help` and in arity/type errors.
-    pub signature: String,
+    pub signature: Arc<str>,
     pub doc: String,
     pub func: Arc<BuiltinFn>,
 }
@@ -83,6 +86,9 @@ impl Registry {
         let mut r = Registry::new();
         core::register(&mut r);
         motion::register(&mut r);
+        joints::register(&mut r);
+        dynamics::register(&mut r);
+        mocap::register(&mut r);
         r
     }
 
@@ -99,7 +105,7 @@ impl Registry {
             .to_string();
         let b = Builtin {
             name: name.clone(),
-            signature: signature.to_string(),
+            signature: Arc::from(signature),
             doc: doc.to_string(),
             func: Arc::new(f),
         };
@@ -170,7 +176,7 @@ impl Registry {
     /// `(signature, doc)` for `:help name`.
     pub fn help(&self, name: &str) -> Option<(String, String)> {
         if let Some(b) = self.functions.get(name) {
-            return Some((b.signature.clone(), b.doc.clone()));
+            return Some((b.signature.to_string(), b.doc.clone()));
         }
         self.constants
             .get(name)
@@ -190,7 +196,7 @@ pub struct ArgValue {
 
 /// The arguments of one call, taken by the built-in in order.
 pub struct Args {
-    signature: String,
+    signature: Arc<str>,
     call_span: Span,
     positional: Vec<ArgValue>,
     named: Vec<(String, Span, ArgValue, bool)>,
@@ -221,13 +227,13 @@ impl<T: HostObject> std::ops::Deref for ObjRef<T> {
 
 impl Args {
     pub fn new(
-        signature: &str,
+        signature: impl Into<Arc<str>>,
         call_span: Span,
         positional: Vec<ArgValue>,
         named: Vec<(String, Span, ArgValue)>,
     ) -> Self {
         Args {
-            signature: signature.to_string(),
+            signature: signature.into(),
             call_span,
             positional,
             named: named

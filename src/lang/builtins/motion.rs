@@ -118,9 +118,9 @@ impl HostObject for Motion {
             }),
             (Motion::Mu(_), _) | (_, Motion::Mu(_)) => {
                 return Some(Err(format!(
-                    "cannot combine a {} with a {}: a DOF has no name; wrap it with `mu({{name: d}})` first",
-                    a.type_name(),
-                    b.type_name()
+                    "cannot combine {} with {}: a DOF has no name; wrap it with `mu({{name: d}})` first",
+                    article(a.type_name()),
+                    article(b.type_name())
                 )));
             }
             _ => {
@@ -166,7 +166,10 @@ pub fn motion_error(e: MotionError, span: crate::lang::ast::Span) -> MxError {
     } else {
         ErrorKind::Motion
     };
-    MxError::new(kind, e.to_string()).at(span).help(help)
+    MxError::new(kind, e.to_string())
+        .at(span)
+        .label("in this call")
+        .help(help)
 }
 
 /// Take a motion argument (Interval, Dof or Mu).
@@ -494,7 +497,21 @@ pub fn register(reg: &mut Registry) {
                     format!("CSV holds a motion unit (Mu), not {}", describe(v)),
                 ));
             };
-            let Some(rate) = a.opt_named("rate") else {
+            let rate = a.opt_named("rate");
+            if let Some((n, v)) = a.rest_named().into_iter().next() {
+                let e = MxError::new(ErrorKind::Arity, format!("saving CSV has no option `{n}`"))
+                    .at(v.span)
+                    .label("unknown option");
+                return Err(match crate::lang::diagnostics::did_you_mean(&n, ["rate"]) {
+                    Some(s) => e.help(format!(
+                        "did you mean `{s}`? e.g. `save(m, \"x.csv\", rate: 30)`"
+                    )),
+                    None => {
+                        e.help("the only option is `rate`, e.g. `save(m, \"x.csv\", rate: 30)`")
+                    }
+                });
+            }
+            let Some(rate) = rate else {
                 return Err(a.error(
                     ErrorKind::Arity,
                     "saving CSV needs a sampling rate: `save(m, \"x.csv\", rate: 30)`",
@@ -532,6 +549,14 @@ pub fn register(reg: &mut Registry) {
             obj(Motion::Mu(m))
         },
     );
+}
+
+fn article(name: &str) -> String {
+    if name.starts_with(['A', 'E', 'I', 'O', 'U']) {
+        format!("an {name}")
+    } else {
+        format!("a {name}")
+    }
 }
 
 fn dof_spans(m: &Motion, f: fn(&Dof) -> Vec<(f64, f64)>) -> Vec<motion::DofSpan> {

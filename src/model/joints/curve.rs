@@ -61,8 +61,9 @@ impl SplineCurveJoint {
     }
 
     /// Control frames with knots, cubic. `knots` is either the full knot vector
-    /// (frames + 4 values) or one parameter per control frame (frames values,
-    /// increasing): then a clamped knot vector is built by averaging
+    /// (frames + 4 values), the breakpoints of a clamped cubic (frames − 2
+    /// increasing values, ends included), or one parameter per control frame
+    /// (frames values, increasing): then a clamped knot vector is built by averaging
     /// (u_{j+3} = (t_j + t_{j+1} + t_{j+2})/3, Piegl & Tiller eq. 9.8), so the
     /// joint passes through the first and last frames at t_0 and t_m.
     pub fn from_knots(frames: Vec<Se3>, knots: &[f64]) -> Result<Self, JointSpecError> {
@@ -72,8 +73,19 @@ impl SplineCurveJoint {
                 "a cubic spline curve joint needs at least 4 control frames, got {m1}"
             ));
         }
+        let increasing =
+            |k: &[f64]| k.iter().all(|x| x.is_finite()) && k.windows(2).all(|w| w[1] > w[0]);
         let knots = if knots.len() == m1 + 4 {
             knots.to_vec()
+        } else if knots.len() == m1 - 2 {
+            // the distinct breakpoints of a clamped cubic (ends included)
+            if !increasing(knots) {
+                return jerr("breakpoints must be finite and strictly increasing");
+            }
+            let mut k = vec![knots[0]; 3];
+            k.extend_from_slice(knots);
+            k.extend([knots[knots.len() - 1]; 3]);
+            k
         } else if knots.len() == m1 {
             if knots.windows(2).any(|w| w[1] <= w[0] || w[1].is_nan())
                 || knots.iter().any(|k| !k.is_finite())
@@ -83,8 +95,9 @@ impl SplineCurveJoint {
             clamped_from_parameters(knots)
         } else {
             return jerr(format!(
-                "{} knots for {m1} control frames: give one knot per frame ({m1}) or a full cubic knot vector ({})",
+                "{} knots for {m1} control frames: give one knot per frame ({m1}), the {} breakpoints of a clamped cubic, or a full cubic knot vector ({})",
                 knots.len(),
+                m1 - 2,
                 m1 + 4
             ));
         };

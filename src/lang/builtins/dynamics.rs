@@ -1,0 +1,643 @@
+//! Dynamics built-ins: bodies (`load("robot.urdf")`), `coordinates`,
+//! `inverse_dynamics`, `forward_dynamics`, `mass_matrix`, `scene`.
+//! Vectors are plain lists in the body's coordinate order. A body loaded from
+//! URDF uses gravity `[0, 0, −9.81]` (Pinocchio's default, z up) unless a call
+//! passes `gravity: [...]`, so results match Pinocchio.
+
+use std::sync::Arc;
+
+use indexmap::IndexMap;
+use nalgebra::{DMatrix, Vector3};
+
+use super::{ArgValue, Args, Registry};
+use crate::dynamics::{
+    DynamicsError, ExternalForce, Integrator, LimitPenalty, Scene, Spring, State, Workspace,
+    forward_dynamics, inverse_dynamics, mass_matrix, simulate,
+};
+use crate::lang::builtins::motion::Motion;
+use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::eval::Evaluator;
+use crate::lang::value::{HostObject, Value};
+use crate::model::Model;
+use crate::motion::{Curve, Dof, Interval, Mu};
+
+/// A body: a model of links and joints.
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub model: Arc<Model>,
+}
+
+impl HostObject for Body {
+    fn type_name(&self) -> &'static str {
+        "Body"
+    }
+    fn summary(&self) -> String {
+        format!(
+            "Body `{}` ({} links, {} coordinates)",
+            self.model.name,
+            self.model.num_links(),
+            self.model.nq()
+        )
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn field(&self, name: &str) -> Option<Value> {
+        match name {
+            "coordinates" => Some(names_value(&self.model)),
+            "nq" => Some(Value::Number(self.model.nq() as f64)),
+            "name" => Some(Value::str(&self.model.name)),
+            "mass" => Some(Value::Number(self.model.total_mass())),
+            "links" => Some(Value::list(
+                self.model
+                    .links()
+                    .iter()
+                    .map(|l| Value::str(&l.name))
+                    .collect(),
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// A scene: a body and the effects it declares.
+#[derive(Clone, Debug)]
+pub struct SceneValue {
+    pub scene: Scene,
+}
+
+impl HostObject for SceneValue {
+    fn type_name(&self) -> &'static str {
+        "Scene"
+    }
+    fn summary(&self) -> String {
+        let s = &self.scene;
+        let mut fx = Vec::new();
+        if let Some(g) = s.gravity {
+            fx.push(format!("gravity [{}, {}, {}]", g.x, g.y, g.z));
+        }
+        if s.damping.is_some() {
+            fx.push("damping".into());
+        }
+        if !s.springs.is_empty() {
+            fx.push(format!("{} springs", s.springs.len()));
+        }
+        if !s.forces.is_empty() {
+            fx.push(format!("{} forces", s.forces.len()));
+        }
+        if s.limits.is_some() {
+            fx.push("joint limits".into());
+        }
+        format!(
+            "Scene of `{}` ({})",
+            s.model.name,
+            if fx.is_empty() {
+                "no effects".to_string()
+            } else {
+                fx.join(", ")
+            }
+        )
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn field(&self, name: &str) -> Option<Value> {
+        match name {
+            "body" => Some(Value::object(Body {
+                model: self.scene.model.clone(),
+            })),
+            "coordinates" => Some(names_value(&self.scene.model)),
+            _ => None,
+        }
+    }
+}
+
+fn names_value(m: &Model) -> Value {
+    Value::list(m.coordinate_names().iter().map(Value::str).collect())
+}
+
+fn nums(v: &[f64]) -> Value {
+    Value::list(v.iter().map(|x| Value::Number(*x)).collect())
+}
+
+pub(crate) fn dyn_error(e: DynamicsError, a: &Args) -> MxError {
+    let kind = match e {
+        DynamicsError::Cancelled => ErrorKind::Cancelled,
+        DynamicsError::Input(_) => ErrorKind::Value,
+        DynamicsError::Singular(_) => ErrorKind::Host,
+    };
+    MxError::new(kind, e.to_string())
+        .at(a.call_span())
+        .help(format!("usage: {}", a.signature()))
+}
+
+fn body(a: &mut Args) -> MxResult<Arc<Model>> {
+    let arg = a.arg("body")?;
+    if let Some(b) = arg.value.as_object::<Body>() {
+        return Ok(b.model.clone());
+    }
+    if let Some(s) = arg.value.as_object::<SceneValue>() {
+        return Ok(s.scene.model.clone());
+    }
+    Err(a.type_error("body", "a body (e.g. `load(\"robot.urdf\")`)", &arg))
+}
+
+/// A list of `n` numbers named `name` (the body's coordinates in order).
+fn coords(a: &mut Args, m: &Model, name: &str) -> MxResult<Vec<f64>> {
+    let arg = a.arg(name)?;
+    list_n(a, &arg, name, m)
+}
+
+fn list_n(a: &Args, arg: &ArgValue, name: &str, m: &Model) -> MxResult<Vec<f64>> {
+    let Value::List(l) = &arg.value else {
+        return Err(a.type_error(name, "a list of numbers", arg));
+    };
+    let n = m.nq();
+    if l.len() != n {
+        return Err(MxError::value(format!(
+            "`{}`: `{name}` has {} numbers but the body has {n} coordinates",
+            a.name(),
+            l.len()
+        ))
+        .at(arg.span)
+        .help(format!(
+            "the coordinates, in order: {}",
+            m.coordinate_names().join(", ")
+        )));
+    }
+    l.iter()
+        .enumerate()
+        .map(|(i, v)| match v.as_number() {
+            Some(x) if x.is_finite() => Ok(x),
+            _ => Err(MxError::type_error(format!(
+                "`{}`: element {i} of `{name}` (`{}`) must be a finite number",
+                a.name(),
+                m.coordinate_names()[i]
+            ))
+            .at(arg.span)),
+        })
+        .collect()
+}
+
+fn vec3(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vector3<f64>> {
+    let bad = || {
+        MxError::type_error(format!(
+            "`{}`: `{name}` must be a list of 3 finite numbers",
+            a.name()
+        ))
+        .at(arg.span)
+        .help(format!("usage: {}", a.signature()))
+    };
+    let Value::List(l) = &arg.value else {
+        return Err(bad());
+    };
+    if l.len() != 3 {
+        return Err(bad());
+    }
+    let x: Vec<f64> = l
+        .iter()
+        .filter_map(|v| v.as_number())
+        .filter(|x| x.is_finite())
+        .collect();
+    if x.len() != 3 {
+        return Err(bad());
+    }
+    Ok(Vector3::new(x[0], x[1], x[2]))
+}
+
+fn gravity(a: &mut Args, m: &Model) -> MxResult<Vector3<f64>> {
+    match a.opt_named("gravity") {
+        Some(g) => vec3(a, &g, "gravity"),
+        None => Ok(m.default_gravity),
+    }
+}
+
+/// A link by name, or `"world"` / `nil` for the world.
+fn link_ref(
+    a: &Args,
+    v: Option<&Value>,
+    m: &Model,
+    span: crate::lang::ast::Span,
+) -> MxResult<Option<usize>> {
+    match v {
+        None | Some(Value::Nil) => Ok(None),
+        Some(Value::Str(s)) if &**s == "world" => Ok(None),
+        Some(Value::Str(s)) => m.link_index(s).map(Some).ok_or_else(|| {
+            MxError::value(format!("`{}`: the body has no link named `{s}`", a.name()))
+                .at(span)
+                .help(format!(
+                    "links: {}",
+                    m.links()
+                        .iter()
+                        .map(|l| l.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+        }),
+        Some(other) => Err(MxError::type_error(format!(
+            "`{}`: a link is given by its name (a string) or \"world\", found {}",
+            a.name(),
+            other.type_name()
+        ))
+        .at(span)),
+    }
+}
+
+fn rec_num(
+    a: &Args,
+    r: &IndexMap<String, Value>,
+    keys: &[&str],
+    span: crate::lang::ast::Span,
+) -> MxResult<Option<f64>> {
+    for k in keys {
+        if let Some(v) = r.get(*k) {
+            return match v.as_number() {
+                Some(x) if x.is_finite() => Ok(Some(x)),
+                _ => Err(MxError::type_error(format!(
+                    "`{}`: `{k}` must be a finite number",
+                    a.name()
+                ))
+                .at(span)),
+            };
+        }
+    }
+    Ok(None)
+}
+
+fn rec_vec3(
+    a: &Args,
+    r: &IndexMap<String, Value>,
+    keys: &[&str],
+    span: crate::lang::ast::Span,
+) -> MxResult<Option<Vector3<f64>>> {
+    for k in keys {
+        if let Some(v) = r.get(*k) {
+            return vec3(
+                a,
+                &ArgValue {
+                    value: v.clone(),
+                    span,
+                    name: None,
+                },
+                k,
+            )
+            .map(Some);
+        }
+    }
+    Ok(None)
+}
+
+fn build_scene(a: &mut Args) -> MxResult<Value> {
+    let m = body(a)?;
+    let mut s = Scene::new(m.clone());
+    let err = |e: DynamicsError, a: &Args| dyn_error(e, a);
+    if let Some(g) = a.opt_named("gravity") {
+        let g = vec3(a, &g, "gravity")?;
+        s = s.with_gravity(g).map_err(|e| err(e, a))?;
+    }
+    if let Some(d) = a.opt_named("damping") {
+        let coeffs: Vec<f64> = match &d.value {
+            Value::Number(x) => vec![*x],
+            Value::List(_) => list_n(a, &d, "damping", &m)?,
+            _ => {
+                return Err(a.type_error(
+                    "damping",
+                    "a number or a list with one per coordinate",
+                    &d,
+                ));
+            }
+        };
+        s = s.with_damping(&coeffs).map_err(|e| err(e, a))?;
+    }
+    if let Some(sp) = a.opt_named("springs") {
+        let Value::List(l) = &sp.value else {
+            return Err(a.type_error(
+                "springs",
+                "a list of records {a:, pa:, b:, pb:, k:, c:, rest:}",
+                &sp,
+            ));
+        };
+        for v in l.iter() {
+            let Value::Record(r) = v else {
+                return Err(a.type_error(
+                    "springs",
+                    "a list of records {a:, pa:, b:, pb:, k:, c:, rest:}",
+                    &sp,
+                ));
+            };
+            let la = link_ref(a, r.get("a").or(r.get("from")), &m, sp.span)?;
+            let lb = link_ref(a, r.get("b").or(r.get("to")), &m, sp.span)?;
+            let pa =
+                rec_vec3(a, r, &["pa", "at_a", "point_a"], sp.span)?.unwrap_or_else(Vector3::zeros);
+            let pb =
+                rec_vec3(a, r, &["pb", "at_b", "point_b"], sp.span)?.unwrap_or_else(Vector3::zeros);
+            let k = rec_num(a, r, &["k", "stiffness"], sp.span)?.unwrap_or(0.0);
+            let c = rec_num(a, r, &["c", "damping"], sp.span)?.unwrap_or(0.0);
+            // Default rest length: the distance at the zero configuration.
+            let rest = match rec_num(a, r, &["rest", "rest_length"], sp.span)? {
+                Some(x) => x,
+                None => {
+                    let q0 = vec![0.0; m.nq()];
+                    let at = |l: Option<usize>, p: &Vector3<f64>| match l {
+                        None => Ok(*p),
+                        Some(i) => m.point_position(&q0, i, p),
+                    };
+                    let d = at(lb, &pb).and_then(|b| at(la, &pa).map(|a| (b - a).norm()));
+                    d.map_err(|e| MxError::value(e.to_string()).at(sp.span))?
+                }
+            };
+            s = s
+                .with_spring(Spring {
+                    link_a: la,
+                    point_a: pa,
+                    link_b: lb,
+                    point_b: pb,
+                    stiffness: k,
+                    damping: c,
+                    rest_length: rest,
+                })
+                .map_err(|e| err(e, a))?;
+        }
+    }
+    if let Some(fs) = a.opt_named("forces") {
+        let Value::List(l) = &fs.value else {
+            return Err(a.type_error(
+                "forces",
+                "a list of records {link:, at:, force: [x, y, z]}",
+                &fs,
+            ));
+        };
+        for v in l.iter() {
+            let Value::Record(r) = v else {
+                return Err(a.type_error(
+                    "forces",
+                    "a list of records {link:, at:, force: [x, y, z]}",
+                    &fs,
+                ));
+            };
+            let Some(link) = link_ref(a, r.get("link"), &m, fs.span)? else {
+                return Err(
+                    MxError::value("a force needs `link:` naming a link of the body").at(fs.span),
+                );
+            };
+            let point = rec_vec3(a, r, &["at", "point"], fs.span)?.unwrap_or_else(Vector3::zeros);
+            let Some(force) = rec_vec3(a, r, &["force", "f"], fs.span)? else {
+                return Err(
+                    MxError::value("a force needs `force: [x, y, z]` (world frame, N)").at(fs.span),
+                );
+            };
+            s = s
+                .with_force(ExternalForce { link, point, force })
+                .map_err(|e| err(e, a))?;
+        }
+    }
+    if let Some(lim) = a.opt_named("limits") {
+        let p = match &lim.value {
+            Value::Bool(false) | Value::Nil => None,
+            Value::Bool(true) => Some(LimitPenalty {
+                stiffness: 1e4,
+                damping: 100.0,
+            }),
+            Value::Record(r) => Some(LimitPenalty {
+                stiffness: rec_num(a, r, &["k", "stiffness"], lim.span)?.unwrap_or(1e4),
+                damping: rec_num(a, r, &["c", "damping"], lim.span)?.unwrap_or(100.0),
+            }),
+            _ => {
+                return Err(a.type_error(
+                    "limits",
+                    "true or a record {stiffness:, damping:}",
+                    &lim,
+                ));
+            }
+        };
+        if let Some(p) = p {
+            s = s.with_limits(p).map_err(|e| err(e, a))?;
+        }
+    }
+    Ok(Value::object(SceneValue { scene: s }))
+}
+
+/// Initial coordinates from `init: {name: value, …}` or `init: {q: {…}, v: {…}}`.
+fn initial_state(a: &Args, init: Option<ArgValue>, m: &Model) -> MxResult<State> {
+    let mut st = State {
+        q: vec![0.0; m.nq()],
+        v: vec![0.0; m.nq()],
+    };
+    let Some(init) = init else { return Ok(st) };
+    let Value::Record(r) = &init.value else {
+        return Err(a.type_error(
+            "init",
+            "a record {coordinate: value, …} or {q: {…}, v: {…}}",
+            &init,
+        ));
+    };
+    let nested = r.keys().all(|k| k == "q" || k == "v") && !r.is_empty();
+    let parts: Vec<(&IndexMap<String, Value>, bool)> = if nested {
+        let mut p = Vec::new();
+        for (k, v) in r.iter() {
+            let Value::Record(inner) = v else {
+                return Err(MxError::type_error(format!(
+                    "`init.{k}` must be a record {{coordinate: value, …}}"
+                ))
+                .at(init.span));
+            };
+            p.push((&**inner, k == "v"));
+        }
+        p
+    } else {
+        vec![(&**r, false)]
+    };
+    for (rec, is_v) in parts {
+        for (k, v) in rec.iter() {
+            let Some(i) = m.coordinate_index(k) else {
+                return Err(MxError::value(format!(
+                    "`{}`: the body has no coordinate `{k}`",
+                    a.name()
+                ))
+                .at(init.span)
+                .help(format!("coordinates: {}", m.coordinate_names().join(", "))));
+            };
+            let Some(x) = v.as_number().filter(|x| x.is_finite()) else {
+                return Err(
+                    MxError::type_error(format!("`init`: `{k}` must be a finite number"))
+                        .at(init.span),
+                );
+            };
+            if is_v {
+                st.v[i] = x;
+            } else {
+                st.q[i] = x;
+            }
+        }
+    }
+    Ok(st)
+}
+
+fn run_simulation(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
+    let sarg = a.arg("scene")?;
+    let scene = match (
+        sarg.value.as_object::<SceneValue>(),
+        sarg.value.as_object::<Body>(),
+    ) {
+        (Some(s), _) => s.scene.clone(),
+        // A bare body is a scene with no effects at all (not even gravity).
+        (None, Some(b)) => Scene::new(b.model.clone()),
+        _ => {
+            return Err(a.type_error(
+                "scene",
+                "a scene (`scene(body, gravity: …)`) or a body",
+                &sarg,
+            ));
+        }
+    };
+    let duration = a.finite("duration")?;
+    let dt = a.named_number_or("dt", 1e-3)?;
+    let tol = match a.opt_named("tol") {
+        Some(t) => Some(
+            t.value
+                .as_number()
+                .ok_or_else(|| a.type_error("tol", "a number", &t))?,
+        ),
+        None => None,
+    };
+    let method = match a.opt_named("integrator") {
+        Some(v) => match &v.value {
+            Value::Str(s) => Integrator::from_name(s, tol)
+                .map_err(|e| MxError::value(e.to_string()).at(v.span))?,
+            _ => {
+                return Err(a.type_error(
+                    "integrator",
+                    "a name: \"euler\", \"semi_implicit_euler\", \"rk4\" or \"dopri5\"",
+                    &v,
+                ));
+            }
+        },
+        None => Integrator::Rk4,
+    };
+    let init = a.opt_named("init");
+    let st = initial_state(a, init, &scene.model)?;
+    let want_v = match a.opt_named("velocities") {
+        Some(v) => matches!(v.value, Value::Bool(true)),
+        None => false,
+    };
+    let steps = (duration / dt).round();
+    // A progress bar on stderr for long runs (hidden when stderr is not a terminal).
+    let bar = (steps * scene.model.num_links() as f64 > 2e6).then(|| {
+        let b = indicatif::ProgressBar::new(1000);
+        b.set_message("simulate");
+        b
+    });
+    let mut progress = |f: f64| {
+        if let Some(b) = &bar {
+            b.set_position((f * 1000.0) as u64);
+        }
+    };
+    let token = ev.ctx.cancel.clone();
+    let tr = simulate(&scene, duration, dt, method, &st, &token, &mut progress);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let tr = tr.map_err(|e| dyn_error(e, a))?;
+    if tr.t.len() < 2 {
+        return Err(MxError::value(
+            "`simulate`: the duration must cover at least one step (duration ≥ dt)",
+        )
+        .at(a.call_span()));
+    }
+    let tend = tr.t[tr.t.len() - 1];
+    let mut mu = Mu::new();
+    let mut add = |name: String, values: Vec<f64>| -> MxResult<()> {
+        let c = Curve::samples(0.0, dt, values).map_err(|e| MxError::value(e.to_string()))?;
+        let iv = Interval::curve(c, 0.0, tend).map_err(|e| MxError::value(e.to_string()))?;
+        mu.insert(name, Dof::from(iv));
+        Ok(())
+    };
+    for (k, name) in tr.names.iter().enumerate() {
+        add(name.clone(), tr.q.iter().map(|q| q[k]).collect())?;
+        if want_v {
+            add(format!("{name}.v"), tr.v.iter().map(|v| v[k]).collect())?;
+        }
+    }
+    Ok(Value::object(Motion::Mu(mu)))
+}
+
+pub fn register(reg: &mut Registry) {
+    reg.add(
+        "simulate(scene, duration, dt: 0.001, integrator: \"rk4\", tol: 1e-8, init: {}, velocities: false)",
+        "Simulate a scene from `init` (coordinate values; or {q: {…}, v: {…}}) and return a motion of its \
+         coordinates sampled every dt (velocities as `<name>.v` on request). Integrators: euler, \
+         semi_implicit_euler, rk4, dopri5 (adaptive, `tol`). Ctrl-C cancels.",
+        run_simulation,
+    );
+    reg.loader(
+        "urdf",
+        "A body from a URDF robot description (fixed base; gravity [0, 0, -9.81] by default).",
+        |path, _a, _ev| {
+            let m = Model::from_urdf_file(path).map_err(|e| {
+                MxError::new(ErrorKind::Io, e.to_string())
+                    .help("mx reads fixed-base URDF with revolute, continuous, prismatic and fixed joints")
+            })?;
+            Ok(Value::object(Body { model: Arc::new(m) }))
+        },
+    );
+    reg.add(
+        "coordinates(body)",
+        "The names of the body's coordinates, in the order every dynamics list uses.",
+        |a, _| Ok(names_value(&*body(a)?)),
+    );
+    reg.add(
+        "inverse_dynamics(body, q, v, a, gravity: [0, 0, -9.81])",
+        "Joint torques τ = M(q) a + C(q, v) v + g(q) (lists in coordinate order).",
+        |a, _| {
+            let m = body(a)?;
+            let q = coords(a, &m, "q")?;
+            let v = coords(a, &m, "v")?;
+            let acc = coords(a, &m, "a")?;
+            let g = gravity(a, &m)?;
+            let mut ws = Workspace::new(&m);
+            let mut tau = vec![0.0; m.nq()];
+            inverse_dynamics(&m, &mut ws, &q, &v, &acc, &g, &mut tau)
+                .map_err(|e| dyn_error(e, a))?;
+            Ok(nums(&tau))
+        },
+    );
+    reg.add(
+        "forward_dynamics(body, q, v, tau, gravity: [0, 0, -9.81])",
+        "Joint accelerations under torques tau (articulated-body algorithm).",
+        |a, _| {
+            let m = body(a)?;
+            let q = coords(a, &m, "q")?;
+            let v = coords(a, &m, "v")?;
+            let tau = coords(a, &m, "tau")?;
+            let g = gravity(a, &m)?;
+            let mut ws = Workspace::new(&m);
+            let mut qdd = vec![0.0; m.nq()];
+            forward_dynamics(&m, &mut ws, &q, &v, &tau, &g, &mut qdd)
+                .map_err(|e| dyn_error(e, a))?;
+            Ok(nums(&qdd))
+        },
+    );
+    reg.add(
+        "mass_matrix(body, q)",
+        "The joint-space mass matrix M(q), a list of rows.",
+        |a, _| {
+            let m = body(a)?;
+            let q = coords(a, &m, "q")?;
+            let mut ws = Workspace::new(&m);
+            let n = m.nq();
+            let mut mm = DMatrix::zeros(n, n);
+            mass_matrix(&m, &mut ws, &q, &mut mm).map_err(|e| dyn_error(e, a))?;
+            Ok(Value::list(
+                (0..n)
+                    .map(|i| nums(&mm.row(i).iter().copied().collect::<Vec<_>>()))
+                    .collect(),
+            ))
+        },
+    );
+    reg.add(
+        "scene(body, gravity: [x, y, z], damping: d, springs: [...], forces: [...], limits: true)",
+        "A body with the effects it declares; only those are computed. springs: records \
+         {a: link, pa: [..], b: link|\"world\", pb: [..], k:, c:, rest:}; forces: {link:, at: [..], force: [..]}.",
+        |a, _| build_scene(a),
+    );
+}

@@ -1,0 +1,266 @@
+//! Motion-capture built-ins: the `.bvh` format of `load`/`save`, `bvh_info`,
+//! `body_of`, `positions`, `plot`, `view`. The work is done by
+//! `crate::mocap` and `crate::io::{plot, viewer}`; this file converts values
+//! and errors.
+//!
+//! A motion unit holds no skeleton: `save(m, "x.bvh")` and `body_of(m)` use
+//! the most recently loaded clip's skeleton that names all of `m`'s DOFs
+//! (`crate::mocap::registry`), or the one of a body given as `body:`.
+
+use std::sync::Arc;
+
+use indexmap::IndexMap;
+
+use super::motion::{Motion, motion_error};
+use super::{ArgValue, Args, Registry, describe};
+use crate::lang::ast::Span;
+use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::value::{HostObject, Value};
+use crate::mocap::bvh::{Skeleton, Units};
+use crate::mocap::{self, Missing, MocapError, registry, to_motion};
+use crate::model::Model;
+use crate::motion::{Curve, Dof, Interval, Mu};
+
+/// A body (multibody model) value; bodies made from a clip keep its skeleton.
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub model: Arc<Model>,
+    /// The BVH skeleton it was built from, with metres per file unit.
+    pub skeleton: Option<(Arc<Skeleton>, f64)>,
+}
+
+impl HostObject for Body {
+    fn type_name(&self) -> &'static str {
+        "Body"
+    }
+    fn summary(&self) -> String {
+        format!(
+            "Body {} ({} links, {} coordinates, {:.1} kg)",
+            self.model.name,
+            self.model.num_links(),
+            self.model.nq(),
+            self.model.total_mass()
+        )
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn field(&self, name: &str) -> Option<Value> {
+        match name {
+            "mass" => Some(Value::Number(self.model.total_mass())),
+            "coordinates" => Some(Value::list(
+                self.model
+                    .coordinate_names()
+                    .iter()
+                    .map(Value::str)
+                    .collect(),
+            )),
+            _ => None,
+        }
+    }
+}
+
+fn mocap_error(e: MocapError, span: Span) -> MxError {
+    match e {
+        MocapError::Motion(m) => motion_error(m, span),
+        MocapError::Bvh(b) => MxError::new(ErrorKind::Io, b.to_string())
+            .at(span)
+            .help("the BVH file is malformed at the line named; fix or re-export it"),
+        other => MxError::new(ErrorKind::Value, other.to_string()).at(span),
+    }
+}
+
+fn mu_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Mu> {
+    match arg.value.as_object::<Motion>() {
+        Some(Motion::Mu(m)) => Ok(m.clone()),
+        _ => Err(a.type_error(name, "a motion unit (Mu), e.g. load(\"walk.bvh\")", arg)),
+    }
+}
+
+fn body_of_arg(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Body> {
+    match arg.value.as_object::<Body>() {
+        Some(b) => Ok(b.clone()),
+        None => Err(a.type_error(name, "a body, e.g. body_of(clip, mass: 70)", arg)),
+    }
+}
+
+/// The optional `unit:` argument (metres per file unit).
+fn units_arg(a: &mut Args) -> MxResult<Units> {
+    match a.opt_named("unit") {
+        None => Ok(Units::Auto),
+        Some(v) => match v.value {
+            Value::Number(s) if s.is_finite() && s > 0.0 => Ok(Units::MetresPerUnit(s)),
+            _ => Err(a.type_error(
+                "unit",
+                "a positive number of metres per file unit (0.01 for centimetres)",
+                &v,
+            )),
+        },
+    }
+}
+
+fn no_skeleton(span: Span) -> MxError {
+    MxError::new(
+        ErrorKind::Value,
+        "no loaded clip's skeleton names all of this motion's DOFs",
+    )
+    .at(span)
+    .help("load the .bvh the motion came from first, or pass `body: body_of(clip)`")
+}
+
+pub fn register(reg: &mut Registry) {
+    reg.loader(
+        "bvh",
+        "BVH motion capture: an Mu with DOFs `Joint.channel` (radians, metres; cubic between frames). Option `unit:` metres per file unit (default: detected; see bvh_info).",
+        |path, a, _| {
+            let units = units_arg(a)?;
+            let clip = to_motion::load(path, units).map_err(|e| mocap_error(e, a.call_span()))?;
+            registry::remember(&clip.skeleton, clip.units.metres_per_unit, clip.frame_time);
+            Ok(Value::object(Motion::Mu(clip.mu)))
+        },
+    );
+    reg.saver(
+        "bvh",
+        "BVH: skeleton and motion, sampled at the clip's frame rate (or `rate:`); `body:` chooses the skeleton.",
+        |v, path, a, _| {
+            let span = a.call_span();
+            let Some(Motion::Mu(m)) = v.as_object::<Motion>() else {
+                return Err(a.error(ErrorKind::Type, format!("BVH holds a motion unit (Mu), not {}", describe(v))));
+            };
+            let body = match a.opt_named("body") {
+                Some(b) => Some(body_of_arg(a, "body", &b)?),
+                None => None,
+            };
+            let rate = match a.opt_named("rate") {
+                Some(r) => match r.value {
+                    Value::Number(x) if x.is_finite() && x > 0.0 => Some(x),
+                    _ => return Err(a.type_error("rate", "a positive number of frames per second", &r)),
+                },
+                None => None,
+            };
+            let (skeleton, scale, dt) = match body.and_then(|b| b.skeleton) {
+                Some((s, scale)) => (s, scale, None),
+                None => {
+                    let k = registry::find_for(m).ok_or_else(|| no_skeleton(span))?;
+                    (k.skeleton, k.metres_per_unit, Some(k.frame_time))
+                }
+            };
+            let dt = rate.map(|r| 1.0 / r).or(dt).or_else(|| to_motion::sample_period(m)).unwrap_or(1.0 / 30.0);
+            to_motion::save(m, &skeleton, scale, dt, path).map_err(|e| mocap_error(e, span))?;
+            Ok(())
+        },
+    );
+    reg.add(
+        "bvh_info(path, unit: auto)",
+        "What load(path) would read: a record {frames, frame_time, joints, dofs, metres_per_unit, units, reason, wraps}.",
+        |a, ev| {
+            let arg = a.arg("path")?;
+            let Value::Str(p) = &arg.value else { return Err(a.type_error("path", "a file name string", &arg)) };
+            let path = ev.resolve_path(p, arg.span)?;
+            let units = units_arg(a)?;
+            let clip = to_motion::load(&path, units).map_err(|e| mocap_error(e, arg.span))?;
+            let mut r = IndexMap::new();
+            r.insert("frames".into(), Value::Number(clip.frames as f64));
+            r.insert("frame_time".into(), Value::Number(clip.frame_time));
+            r.insert("joints".into(), Value::Number(clip.skeleton.joints.len() as f64));
+            r.insert("dofs".into(), Value::Number(clip.mu.len() as f64));
+            r.insert("metres_per_unit".into(), Value::Number(clip.units.metres_per_unit));
+            r.insert("units".into(), Value::str(&clip.units.name));
+            r.insert("reason".into(), Value::str(&clip.units.reason));
+            r.insert("wraps".into(), Value::Number(clip.wraps_removed as f64));
+            Ok(Value::record(r))
+        },
+    );
+    reg.add(
+        "body_of(clip, mass: 70)",
+        "A body whose coordinates are exactly the clip's DOFs (revolute per rotation channel, prismatic per position channel), de Leva (1996) segments scaled by bone lengths and `mass` (kg).",
+        |a, _| {
+            let arg = a.arg("clip")?;
+            let m = mu_of(a, "clip", &arg)?;
+            let mass = a.number_or("mass", 70.0)?;
+            let k = registry::find_for(&m).ok_or_else(|| no_skeleton(arg.span))?;
+            let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| mocap_error(e, a.call_span()))?;
+            Ok(Value::object(Body {
+                model: Arc::new(model),
+                skeleton: Some((k.skeleton, k.metres_per_unit)),
+            }))
+        },
+    );
+    reg.add(
+        "positions(m, body)",
+        "World positions of the body's joints over time as an Mu with DOFs `Joint.x`, `Joint.y`, `Joint.z` (metres), sampled at the motion's frame rate.",
+        |a, _| {
+            let marg = a.arg("m")?;
+            let m = mu_of(a, "m", &marg)?;
+            let barg = a.arg("body")?;
+            let body = body_of_arg(a, "body", &barg)?;
+            let span = a.call_span();
+            let p = mocap::positions(&m, &body.model, None, Missing::Error).map_err(|e| mocap_error(e, span))?;
+            positions_mu(&p).map_err(|e| mocap_error(e, span)).map(|mu| Value::object(Motion::Mu(mu)))
+        },
+    );
+    reg.add(
+        "plot(m, path)",
+        "Draw every DOF of m over time to an SVG file (use m.only(…) or only(m, …) to choose), gaps grey, conflicts red.",
+        |a, ev| {
+            let marg = a.arg("m")?;
+            let m = match marg.value.as_object::<Motion>() {
+                Some(Motion::Mu(m)) => m.clone(),
+                Some(other) => {
+                    let d = other.as_dof().unwrap_or_default();
+                    Mu::from_iter([("value".to_string(), d)])
+                }
+                None => return Err(a.type_error("m", "a motion (Interval, Dof or Mu)", &marg)),
+            };
+            let parg = a.arg("path")?;
+            let Value::Str(p) = &parg.value else { return Err(a.type_error("path", "an .svg file name", &parg)) };
+            let path = ev.resolve_path(p, parg.span)?;
+            let rate = to_motion::sample_period(&m).map(|d| 1.0 / d).unwrap_or(60.0).min(240.0);
+            crate::io::plot::plot_motion(&m, &[], rate, &path)
+                .map_err(|e| MxError::new(ErrorKind::Io, e.to_string()).at(parg.span))?;
+            Ok(Value::Nil)
+        },
+    );
+    reg.add(
+        "view(m, body, path)",
+        "Write a self-contained HTML viewer of m played on body (3D figure, play/pause, slider, orbit; DOF curves below).",
+        |a, ev| {
+            let marg = a.arg("m")?;
+            let m = mu_of(a, "m", &marg)?;
+            let barg = a.arg("body")?;
+            let body = body_of_arg(a, "body", &barg)?;
+            let parg = a.arg("path")?;
+            let Value::Str(p) = &parg.value else { return Err(a.type_error("path", "an .html file name", &parg)) };
+            let path = ev.resolve_path(p, parg.span)?;
+            let title = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
+            let data = crate::io::viewer::from_motion(&m, &body.model, &title, &[])
+                .map_err(|e| MxError::new(ErrorKind::Value, e.to_string()).at(a.call_span()))?;
+            crate::io::viewer::write_html(&data, &path).map_err(|e| MxError::new(ErrorKind::Io, e.to_string()).at(parg.span))?;
+            Ok(Value::Nil)
+        },
+    );
+}
+
+/// Joint positions as an Mu: `Joint.x/.y/.z`, sampled curves over the times.
+fn positions_mu(p: &mocap::Positions) -> Result<Mu, MocapError> {
+    let t0 = p.times.first().copied().unwrap_or(0.0);
+    let n = p.times.len();
+    let dt = if n > 1 { p.times[1] - p.times[0] } else { 1.0 };
+    let stop = if n > 1 { p.times[n - 1] } else { t0 + dt };
+    let mut mu = Mu::new();
+    for (j, name) in p.names.iter().enumerate() {
+        for (axis, suffix) in ["x", "y", "z"].iter().enumerate() {
+            let vals: Vec<f64> = p.points.iter().map(|fr| fr[j][axis]).collect();
+            let curve = if n > 1 {
+                Curve::samples(t0, dt, vals)?
+            } else {
+                Curve::constant(vals[0])?
+            };
+            mu.insert(
+                format!("{name}.{suffix}"),
+                Dof::new(vec![Interval::curve(curve, t0, stop)?])?,
+            );
+        }
+    }
+    Ok(mu)
+}

@@ -1,0 +1,180 @@
+//! Spline-joint fitting work–precision on the OpenSim knee samples (paper
+//! §6.2–6.3): control frames → max/RMS error against fit time, and the
+//! smoothing weight → error to the clean samples against ∫‖∇S‖².
+
+use super::plot::{Figure, Series};
+use super::timed;
+use crate::lie::Se3;
+use crate::lie::{Twist, exp_se3};
+use crate::model::joints::{
+    FitOptions, JointSamples, fit_spline_joint, hessian_energy, joint_error,
+};
+use std::path::Path;
+
+pub struct FrameRow {
+    pub frames: usize,
+    pub max_mm: f64,
+    pub rms_mm: f64,
+    pub max_deg: f64,
+    pub rms_deg: f64,
+    pub ms: f64,
+}
+
+pub struct SmoothRow {
+    pub weight: f64,
+    pub energy: f64,
+    pub max_mm: f64,
+    pub rms_mm: f64,
+    pub max_deg: f64,
+    pub ms: f64,
+}
+
+pub struct Outcome {
+    pub frames: Vec<FrameRow>,
+    pub smoothing: Vec<SmoothRow>,
+    pub noisy_frames: usize,
+    pub figures: Vec<Figure>,
+}
+
+/// xorshift + Box–Muller: fixed-seed Gaussian noise, no dependency.
+struct Noise(u64);
+impl Noise {
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    fn gauss(&mut self) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+/// The clean samples with 1 mm (per axis) and 0.5° (per axis) Gaussian noise.
+pub fn noisy(clean: &JointSamples, seed: u64) -> Result<JointSamples, String> {
+    let mut rng = Noise(seed);
+    let d = 0.5f64.to_radians();
+    let t: Vec<Se3> = clean
+        .transforms
+        .iter()
+        .map(|g| {
+            let w = Twist::new(
+                rng.gauss() * d,
+                rng.gauss() * d,
+                rng.gauss() * d,
+                0.0,
+                0.0,
+                0.0,
+            );
+            let dp = nalgebra::Vector3::new(rng.gauss(), rng.gauss(), rng.gauss()) * 1e-3;
+            let mut n = g.compose(&exp_se3(&w));
+            n.p += dp;
+            n
+        })
+        .collect();
+    JointSamples::new(clean.q.clone(), t).map_err(|e| e.to_string())
+}
+
+pub const DEFAULT_FRAMES: usize = 8;
+
+pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+    let path = shared.join("data/opensim/knee_r_gait2392_samples.json");
+    let clean = JointSamples::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let (a, b) = clean.range();
+    let counts: &[usize] = if smoke {
+        &[4, 8]
+    } else {
+        &[4, 5, 6, 8, 10, 12, 16, 24, 32]
+    };
+    let mut frames = Vec::new();
+    for &n in counts {
+        let opt = FitOptions {
+            frames: n,
+            ..Default::default()
+        };
+        let (r, secs) = timed(|| fit_spline_joint(&clean, &opt));
+        let r = r.map_err(|e| format!("fit with {n} frames: {e}"))?;
+        let e = joint_error(&r.joint, &clean).map_err(|e| e.to_string())?;
+        frames.push(FrameRow {
+            frames: n,
+            max_mm: e.max_mm,
+            rms_mm: e.rms_mm,
+            max_deg: e.max_deg,
+            rms_deg: e.rms_deg,
+            ms: secs * 1e3,
+        });
+        tick();
+    }
+    let noisy_frames = 16;
+    let dirty = noisy(&clean, 2024)?;
+    let weights: &[f64] = if smoke {
+        &[0.0, 1e-3]
+    } else {
+        &[0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2]
+    };
+    let mut smoothing = Vec::new();
+    for &w in weights {
+        let opt = FitOptions {
+            frames: noisy_frames,
+            smooth: w,
+            ..Default::default()
+        };
+        let (r, secs) = timed(|| fit_spline_joint(&dirty, &opt));
+        let r = r.map_err(|e| format!("smoothing weight {w}: {e}"))?;
+        let e = joint_error(&r.joint, &clean).map_err(|e| e.to_string())?;
+        smoothing.push(SmoothRow {
+            weight: w,
+            energy: hessian_energy(&r.joint, a, b, if smoke { 200 } else { 2000 }),
+            max_mm: e.max_mm,
+            rms_mm: e.rms_mm,
+            max_deg: e.max_deg,
+            ms: secs * 1e3,
+        });
+        tick();
+    }
+    let d = frames.iter().position(|r| r.frames == DEFAULT_FRAMES);
+    let col = |label: &str, f: &dyn Fn(&FrameRow) -> f64| Series {
+        label: label.into(),
+        points: frames.iter().map(|r| (r.ms, f(r))).collect(),
+        default_at: d,
+    };
+    let figures = vec![
+        Figure {
+            file: "fit_frames.svg".into(),
+            title: "Knee spline joint: control frames → error vs fit time".into(),
+            x_label: "fit time (ms, this machine)".into(),
+            y_label: "error on the OpenSim samples (mm or °)".into(),
+            series: vec![
+                col("max mm", &|r| r.max_mm),
+                col("rms mm", &|r| r.rms_mm),
+                col("max °", &|r| r.max_deg),
+                col("rms °", &|r| r.rms_deg),
+            ],
+        },
+        Figure {
+            file: "fit_smoothing.svg".into(),
+            title: format!("Smoothing noisy knee samples ({noisy_frames} frames)"),
+            x_label: "∫‖∇S‖² dq".into(),
+            y_label: "error to the clean samples (mm or °)".into(),
+            series: vec![
+                Series {
+                    label: "max mm".into(),
+                    points: smoothing.iter().map(|r| (r.energy, r.max_mm)).collect(),
+                    default_at: smoothing.iter().position(|r| r.weight == 0.0),
+                },
+                Series {
+                    label: "max °".into(),
+                    points: smoothing.iter().map(|r| (r.energy, r.max_deg)).collect(),
+                    default_at: smoothing.iter().position(|r| r.weight == 0.0),
+                },
+            ],
+        },
+    ];
+    Ok(Outcome {
+        frames,
+        smoothing,
+        noisy_frames,
+        figures,
+    })
+}

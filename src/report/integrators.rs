@@ -1,0 +1,292 @@
+//! Integrator work–precision: every integrator at several steps/tolerances on
+//! the OpenSim gait2392 knee pendulum (error against OpenSim's accuracy-1e-12
+//! run, or against our own tight Dormand–Prince run when the shared data is
+//! absent), and the energy drift of a conservative double pendulum.
+
+use super::plot::{Figure, Series};
+use super::timed;
+use crate::cancel::CancelToken;
+use crate::dynamics::{Integrator, Scene, SceneWorkspace, State, simulate};
+use crate::lie::Se3;
+use crate::model::joints::{FunctionJoint, Revolute};
+use crate::model::{Inertia, Model};
+use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
+use serde_json::Value;
+use std::path::Path;
+use std::sync::Arc;
+
+fn floats(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .map(|a| a.iter().filter_map(|x| x.as_f64()).collect())
+        .unwrap_or_default()
+}
+
+fn rows(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .map(|a| a.iter().flat_map(floats).collect())
+        .unwrap_or_default()
+}
+
+/// The OpenSim knee pendulum of `data/opensim` (run
+/// `shank_foot_femur_flexed_50deg`): scene, initial state and OpenSim's
+/// accuracy-1e-12 q on a 1 ms grid. Lifted from `benches/dynamics.rs`.
+pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), String> {
+    let dir = shared.join("data/opensim");
+    let read = |f: &str| -> Result<Value, String> {
+        let p = dir.join(f);
+        let t = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+        serde_json::from_str(&t).map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let samples = read("knee_r_gait2392_samples.json")?;
+    let pend = read("knee_r_gait2392_pendulum.json")?;
+    let bad = |what: &str| format!("knee_r_gait2392_pendulum.json: missing or malformed {what}");
+    let run = pend["runs"]
+        .as_array()
+        .and_then(|r| {
+            r.iter()
+                .find(|r| r["name"] == "shank_foot_femur_flexed_50deg")
+        })
+        .ok_or_else(|| bad("run shank_foot_femur_flexed_50deg"))?;
+    let joint =
+        Arc::new(FunctionJoint::from_opensim_samples_json(&samples).map_err(|e| e.to_string())?);
+    let mut inertia = Inertia::zero();
+    for b in run["setup"]["bodies"]
+        .as_array()
+        .ok_or_else(|| bad("setup.bodies"))?
+    {
+        let i = rows(&b["inertia_about_com_in_body"]);
+        let t = rows(&b["T_tibia_body"]);
+        let c = floats(&b["com_in_body"]);
+        if i.len() != 9 || t.len() != 16 || c.len() != 3 {
+            return Err(bad("body inertia / frame / com"));
+        }
+        let local = Inertia::from_com(
+            b["mass"].as_f64().ok_or_else(|| bad("mass"))?,
+            Vector3::from_vec(c),
+            Matrix3::from_row_slice(&i),
+        )
+        .map_err(|e| e.to_string())?;
+        inertia += local.transformed(&Se3::from_matrix(&Matrix4::from_row_slice(&t)));
+    }
+    let flex = run["femur_flexion_rad"]
+        .as_f64()
+        .ok_or_else(|| bad("femur_flexion_rad"))?;
+    let mut m = Model::new("knee");
+    m.add_link(
+        "tibia_r",
+        None,
+        "knee_r",
+        joint,
+        Se3::from_rotation(Rotation3::from_axis_angle(&Vector3::z_axis(), flex).into_inner()),
+        inertia,
+    )
+    .map_err(|e| e.to_string())?;
+    let scene = Scene::new(Arc::new(m))
+        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
+        .map_err(|e| e.to_string())?;
+    let init = State {
+        q: vec![run["q0"].as_f64().ok_or_else(|| bad("q0"))?],
+        v: vec![run["u0"].as_f64().ok_or_else(|| bad("u0"))?],
+    };
+    Ok((scene, init, floats(&run["q_accuracy_1e-12"])))
+}
+
+/// A frictionless double pendulum under gravity: its energy is conserved, so
+/// any change is the integrator's.
+pub fn double_pendulum() -> Result<(Scene, State), String> {
+    let mut m = Model::new("double_pendulum");
+    for i in 0..2 {
+        let inertia = Inertia::from_com(
+            1.0,
+            Vector3::new(0.0, -0.5, 0.0),
+            Matrix3::identity() * 0.02,
+        )
+        .map_err(|e| e.to_string())?;
+        m.add_link(
+            &format!("l{i}"),
+            if i == 0 { None } else { Some(0) },
+            &format!("j{i}"),
+            Arc::new(Revolute::new(Vector3::z()).ok_or("zero revolute axis")?),
+            Se3::from_translation(Vector3::new(0.0, if i == 0 { 0.0 } else { -1.0 }, 0.0)),
+            inertia,
+        )
+        .map_err(|e| e.to_string())?;
+    }
+    let scene = Scene::new(Arc::new(m))
+        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
+        .map_err(|e| e.to_string())?;
+    Ok((
+        scene,
+        State {
+            q: vec![1.2, -0.6],
+            v: vec![0.0, 0.0],
+        },
+    ))
+}
+
+/// One row of the integrator table.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub method: &'static str,
+    pub setting: String,
+    pub error: f64,
+    pub energy_drift: f64,
+    pub ms: f64,
+    pub drift_ms: f64,
+}
+
+pub struct Outcome {
+    pub rows: Vec<Row>,
+    pub reference: String,
+    pub figures: Vec<Figure>,
+}
+
+fn cases(smoke: bool) -> Vec<(&'static str, String, Integrator, f64)> {
+    let dts: &[f64] = if smoke {
+        &[1e-2, 1e-3]
+    } else {
+        &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4]
+    };
+    let tols: &[f64] = if smoke {
+        &[1e-4, 1e-8]
+    } else {
+        &[1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
+    };
+    let mut c = Vec::new();
+    for (name, m) in [
+        ("euler", Integrator::Euler),
+        ("semi_implicit_euler", Integrator::SemiImplicitEuler),
+        ("rk4", Integrator::Rk4),
+    ] {
+        for &dt in dts {
+            c.push((name, format!("dt = {dt:.0e} s"), m, dt));
+        }
+    }
+    for &t in tols {
+        c.push((
+            "dopri5",
+            format!("tol = {t:.0e}"),
+            Integrator::DormandPrince { rtol: t, atol: t },
+            1e-3,
+        ));
+    }
+    c
+}
+
+/// The library default the figures mark (the `simulate` built-in uses
+/// Dormand–Prince at tolerance 1e-8 unless told otherwise).
+pub const DEFAULT: (&str, &str) = ("dopri5", "tol = 1e-8");
+
+/// Max |q − q_ref| on the common grid (q_ref every `ref_dt`, simulation every `dt`).
+fn grid_error(q: &[Vec<f64>], dt: f64, q_ref: &[f64], ref_dt: f64) -> f64 {
+    let stride_ref = ((dt / ref_dt).round() as usize).max(1);
+    let stride_sim = ((ref_dt / dt).round() as usize).max(1);
+    (0..)
+        .map(|k| (k * stride_sim, k * stride_ref))
+        .take_while(|(a, b)| *a < q.len() && *b < q_ref.len())
+        .map(|(a, b)| (q[a][0] - q_ref[b]).abs())
+        .fold(0.0, f64::max)
+}
+
+pub fn run(shared: Option<&Path>, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+    let tok = CancelToken::new();
+    let duration = if smoke { 0.3 } else { 1.0 };
+    let (scene, init, q_ref, reference) = match shared.map(knee_pendulum) {
+        Some(Ok((s, i, q))) => (
+            s,
+            i,
+            q,
+            "OpenSim 4 knee pendulum, accuracy 1e-12 (`$MX_SHARED/data/opensim/knee_r_gait2392_pendulum.json`)".to_string(),
+        ),
+        other => {
+            let why = match other {
+                Some(Err(e)) => e,
+                _ => "MX_SHARED not found".into(),
+            };
+            // Fallback: the double pendulum against our own tight run.
+            let (s, i) = double_pendulum()?;
+            let r = simulate(
+                &s,
+                duration,
+                1e-3,
+                Integrator::DormandPrince { rtol: 1e-13, atol: 1e-13 },
+                &i,
+                &tok,
+                &mut |_| {},
+            )
+            .map_err(|e| e.to_string())?;
+            let q = r.q.iter().map(|x| x[0]).collect();
+            (s, i, q, format!("self-computed Dormand–Prince tol 1e-13 reference on a double pendulum (OpenSim data unavailable: {why})"))
+        }
+    };
+    let (dp, dp0) = double_pendulum()?;
+    let mut sw = SceneWorkspace::new(&dp);
+    let e0 = dp
+        .energy(&mut sw, &dp0.q, &dp0.v)
+        .map_err(|e| e.to_string())?;
+    let mut rows = Vec::new();
+    for (method, setting, m, dt) in cases(smoke) {
+        let (r, secs) = timed(|| simulate(&scene, duration, dt, m, &init, &tok, &mut |_| {}));
+        let error = match r {
+            Ok(tr) => grid_error(&tr.q, dt, &q_ref, 1e-3),
+            Err(_) => f64::INFINITY,
+        };
+        let (d, dsecs) = timed(|| simulate(&dp, duration * 5.0, dt, m, &dp0, &tok, &mut |_| {}));
+        let energy_drift = match d {
+            Ok(tr) => {
+                let mut w = 0.0f64;
+                for (q, v) in tr.q.iter().zip(&tr.v) {
+                    let e = dp.energy(&mut sw, q, v).map_err(|e| e.to_string())?;
+                    w = w.max((e - e0).abs() / e0.abs().max(1e-12));
+                }
+                w
+            }
+            Err(_) => f64::INFINITY,
+        };
+        rows.push(Row {
+            method,
+            setting,
+            error,
+            energy_drift,
+            ms: secs * 1e3,
+            drift_ms: dsecs * 1e3,
+        });
+        tick();
+    }
+    let series = |f: &dyn Fn(&Row) -> (f64, f64)| -> Vec<Series> {
+        ["euler", "semi_implicit_euler", "rk4", "dopri5"]
+            .iter()
+            .map(|m| {
+                let rs: Vec<&Row> = rows.iter().filter(|r| r.method == *m).collect();
+                Series {
+                    label: m.to_string(),
+                    points: rs.iter().map(|r| f(r)).collect(),
+                    default_at: rs
+                        .iter()
+                        .position(|r| r.method == DEFAULT.0 && r.setting == DEFAULT.1),
+                }
+            })
+            .collect()
+    };
+    let figures = vec![
+        Figure {
+            file: "integrators_error.svg".into(),
+            title: format!("Knee pendulum: max |q − q_ref| over {duration} s"),
+            x_label: "wall time (ms, this machine)".into(),
+            y_label: "max |Δq| (rad)".into(),
+            series: series(&|r| (r.ms, r.error)),
+        },
+        Figure {
+            file: "integrators_energy.svg".into(),
+            title: format!("Double pendulum: energy drift over {} s", duration * 5.0),
+            x_label: "wall time (ms, this machine)".into(),
+            y_label: "max |E − E₀| / |E₀|".into(),
+            series: series(&|r| (r.drift_ms, r.energy_drift)),
+        },
+    ];
+    Ok(Outcome {
+        rows,
+        reference,
+        figures,
+    })
+}

@@ -1,0 +1,544 @@
+//! `mx report`: regenerates `docs/accuracy.md` and its SVG figures from runs
+//! of the current code — work–precision of every accuracy knob, the
+//! hard-case table (from the same registry `tests/hard_cases.rs` asserts) and
+//! performance side by side with Pinocchio. Nothing in the output is typed
+//! in by hand: every number comes from the run that writes it.
+//!
+//! Uses every library module but `lang` (the report is about the engine).
+
+pub mod fit;
+pub mod hard_cases;
+pub mod integrators;
+pub mod machine;
+pub mod mocap;
+pub mod perf;
+pub mod plot;
+pub mod spacetime;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use plot::Figure;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Runs `f` and returns its value with the wall time in seconds.
+pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let s = Instant::now();
+    let r = f();
+    (r, s.elapsed().as_secs_f64())
+}
+
+/// What to run and where to write.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Fewer points, same code path (CI).
+    pub smoke: bool,
+    /// Output folder (`docs`); `accuracy.md` and the SVGs go here.
+    pub out: PathBuf,
+    /// Folder holding `data/` (reference data); `None` skips sections needing it.
+    pub shared: Option<PathBuf>,
+    /// The project's own data (`examples/data`).
+    pub own_data: PathBuf,
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+}
+
+impl Options {
+    /// Defaults: `$MX_SHARED` or `../shared` next to the crate, `examples/data` of the crate.
+    pub fn new(out: PathBuf, smoke: bool) -> Options {
+        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+        let shared = std::env::var_os("MX_SHARED")
+            .map(PathBuf::from)
+            .unwrap_or_else(|| root.join("..").join("shared"));
+        Options {
+            smoke,
+            out,
+            shared: shared.join("data").is_dir().then_some(shared),
+            own_data: root.join("examples").join("data"),
+            progress: true,
+        }
+    }
+}
+
+/// What was written.
+#[derive(Debug, Default)]
+pub struct Summary {
+    pub markdown: PathBuf,
+    pub figures: Vec<PathBuf>,
+    /// Every number printed in a table or plotted (the smoke test checks they are finite).
+    pub numbers: Vec<f64>,
+    /// Sections that could not run, with why.
+    pub pending: Vec<String>,
+    pub hard_cases: Vec<hard_cases::HardCase>,
+}
+
+fn g(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else if (1e-3..1e4).contains(&x.abs()) {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+struct Doc {
+    md: String,
+    numbers: Vec<f64>,
+    figures: Vec<PathBuf>,
+    pending: Vec<String>,
+    out: PathBuf,
+}
+
+impl Doc {
+    /// A number into the text, remembered for the finiteness check.
+    fn n(&mut self, x: f64) -> String {
+        self.numbers.push(x);
+        g(x)
+    }
+    fn figure(&mut self, f: &Figure) {
+        self.numbers.extend(f.values());
+        match plot::draw(f, &self.out) {
+            Ok(()) => {
+                self.figures.push(self.out.join(&f.file));
+                let _ = writeln!(self.md, "\n![{}]({})\n", f.title, f.file);
+            }
+            Err(e) => {
+                self.pending.push(format!("figure {}: {e}", f.file));
+                let _ = writeln!(self.md, "\n*Figure {} could not be drawn: {e}*\n", f.file);
+            }
+        }
+    }
+    fn pending(&mut self, section: &str, why: &str) {
+        self.pending.push(format!("{section}: {why}"));
+        let _ = writeln!(self.md, "\n**Pending** — {section} did not run: {why}\n");
+    }
+}
+
+/// Regenerates the report. Errors only for the output folder itself; a
+/// section that cannot run is listed as pending in the report and the summary.
+pub fn generate(opts: &Options) -> Result<Summary, String> {
+    std::fs::create_dir_all(&opts.out)
+        .map_err(|e| format!("cannot create {}: {e}", opts.out.display()))?;
+    // From scratch: old figures must not survive a run that no longer makes them.
+    if let Ok(rd) = std::fs::read_dir(&opts.out) {
+        for e in rd.flatten() {
+            if e.path().extension().is_some_and(|x| x == "svg") {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+    let pb = if opts.progress {
+        let pb = ProgressBar::new(0);
+        pb.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        pb
+    } else {
+        ProgressBar::hidden()
+    };
+    let smoke = opts.smoke;
+    let mut d = Doc {
+        md: String::new(),
+        numbers: Vec::new(),
+        figures: Vec::new(),
+        pending: Vec::new(),
+        out: opts.out.clone(),
+    };
+    let machine = machine::describe();
+    let _ = writeln!(
+        d.md,
+        "# What accuracy costs in time\n\n\
+         Generated by `mx report{}` (the numbers below are from that run; rerun it to refresh). \
+         Machine: **{machine}**. All absolute times are this machine's, from a {} build, \
+         while other work may share the cores; ratios and errors transfer, milliseconds do not.\n",
+        if smoke { " --smoke" } else { "" },
+        if cfg!(debug_assertions) {
+            "debug"
+        } else {
+            "release"
+        }
+    );
+    if smoke {
+        let _ = writeln!(
+            d.md,
+            "*Smoke mode: fewer points per curve, same code path.*\n"
+        );
+    }
+
+    // ---- spacetime
+    let _ = writeln!(d.md, "## Spacetime transitions\n");
+    pb.set_message("spacetime transitions");
+    pb.inc_length(if smoke { 2 } else { 24 });
+    let mut st_default_ms = None;
+    match opts
+        .shared
+        .as_ref()
+        .map(|s| s.join("data/reference/human44.urdf"))
+    {
+        Some(urdf) => match spacetime::run(&urdf, smoke, &mut || pb.inc(1)) {
+            Ok(o) => {
+                st_default_ms = o.default_ms;
+                let def = crate::spacetime::TransitionSettings::default();
+                let _ = writeln!(
+                    d.md,
+                    "All {} joint DOFs of the 44-DOF human (`human44.urdf`) are left undefined for {:.1} s and \
+                     re-made as Rose-et-al. transitions minimising Σ τ² (root unactuated). The knobs are the free \
+                     B-spline coefficients per DOF (`coefficients:`), the Gauss points of the torque quadrature \
+                     (`samples:`) and the solver's gradient tolerance. Each solution's energy is re-measured with \
+                     one fine quadrature so the settings compare on the same scale; the gap is to the best of the \
+                     table. The default ({} coefficients, {} samples, tolerance {:.0e}) is ringed. Fewer \
+                     coefficients or samples are faster but leave torque energy on the table (a stiffer-looking \
+                     motion); the loose tolerance stops early. Continuity at the gap ends is exact by \
+                     construction (end coefficients are fixed), which the second figure confirms at round-off.\n\n\
+                     End states come from a smooth synthetic motion of all 44 coordinates (the one in \
+                     `tests/spacetime_human44.rs`), not yet from `examples/data/*.bvh`: mapping the BVH \
+                     skeleton's channels onto the URDF's coordinates is pending.",
+                    o.dofs,
+                    o.duration,
+                    def.coefficients,
+                    def.samples,
+                    spacetime::DEFAULT_TOL
+                );
+                for f in &o.figures {
+                    d.figure(f);
+                }
+                let _ = writeln!(
+                    d.md,
+                    "| coefficients/DOF | samples | grad tol | unknowns | iterations | energy (fine quadrature) | gap to best | end jump | Hermite energy | ms |\n|---|---|---|---|---|---|---|---|---|---|"
+                );
+                for r in &o.rows {
+                    let cells = [
+                        r.coefficients.to_string(),
+                        r.samples.to_string(),
+                        format!("{:.0e}", r.grad_rtol),
+                        r.n_vars.to_string(),
+                        r.iterations.to_string(),
+                        d.n(r.energy),
+                        d.n(r.gap),
+                        d.n(r.continuity),
+                        d.n(r.hermite_energy),
+                        d.n(r.ms),
+                    ];
+                    let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                }
+            }
+            Err(e) => d.pending("spacetime work–precision", &e),
+        },
+        None => d.pending(
+            "spacetime work–precision",
+            "needs `$MX_SHARED/data/reference/human44.urdf` (set MX_SHARED)",
+        ),
+    }
+
+    // ---- integrators
+    let _ = writeln!(d.md, "\n## Integrators\n");
+    pb.set_message("integrators");
+    pb.inc_length(if smoke { 8 } else { 20 });
+    match integrators::run(opts.shared.as_deref(), smoke, &mut || pb.inc(1)) {
+        Ok(o) => {
+            let _ = writeln!(
+                d.md,
+                "The knob is the integrator and its step `dt` (fixed-step methods) or tolerance (adaptive \
+                 Dormand–Prince 5(4), where `dt` is only the output interval). Error reference: {}. \
+                 Energy drift is the worst relative change of total energy of a frictionless double pendulum \
+                 over five times the span. The default, `dopri5` at tolerance 1e-8, is ringed. Explicit Euler \
+                 is the cheapest per step but gains energy and needs tiny steps; semi-implicit Euler keeps the \
+                 energy bounded at first order; RK4 is accurate at moderate steps but has no error control; \
+                 loosening the adaptive tolerance buys speed with error roughly proportional to it.",
+                o.reference
+            );
+            for f in &o.figures {
+                d.figure(f);
+            }
+            let _ = writeln!(
+                d.md,
+                "| integrator | setting | max abs Δq (rad) | ms | energy drift | ms (drift run) |\n|---|---|---|---|---|---|"
+            );
+            for r in &o.rows {
+                let err = if r.error.is_finite() {
+                    d.n(r.error)
+                } else {
+                    "failed (clear error)".into()
+                };
+                let dr = if r.energy_drift.is_finite() {
+                    d.n(r.energy_drift)
+                } else {
+                    "failed (clear error)".into()
+                };
+                let cells = [
+                    r.method.to_string(),
+                    r.setting.clone(),
+                    err,
+                    d.n(r.ms),
+                    dr,
+                    d.n(r.drift_ms),
+                ];
+                let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+            }
+        }
+        Err(e) => d.pending("integrator work–precision", &e),
+    }
+
+    // ---- spline joint fitting
+    let _ = writeln!(d.md, "\n## Spline-joint fitting\n");
+    pb.set_message("spline-joint fitting");
+    pb.inc_length(if smoke { 4 } else { 15 });
+    match opts.shared.as_ref() {
+        Some(sh) => match fit::run(sh, smoke, &mut || pb.inc(1)) {
+            Ok(o) => {
+                let _ = writeln!(
+                    d.md,
+                    "A spline curve joint (cumulative B-spline on SE(3)) is fitted to OpenSim's gait2392 knee samples. \
+                     The knob is the number of control frames; the default ({}) is ringed. More frames follow the \
+                     samples more closely at a higher fit (and evaluation) cost; too few leave millimetres of error in \
+                     the tibia's path.",
+                    fit::DEFAULT_FRAMES
+                );
+                for f in &o.figures[..1] {
+                    d.figure(f);
+                }
+                let _ = writeln!(
+                    d.md,
+                    "| frames | max mm | rms mm | max ° | rms ° | fit ms |\n|---|---|---|---|---|---|"
+                );
+                for r in &o.frames {
+                    let cells = [
+                        r.frames.to_string(),
+                        d.n(r.max_mm),
+                        d.n(r.rms_mm),
+                        d.n(r.max_deg),
+                        d.n(r.rms_deg),
+                        d.n(r.ms),
+                    ];
+                    let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                }
+                let _ = writeln!(
+                    d.md,
+                    "\nSmoothing: the samples get 1 mm and 0.5° of Gaussian noise per axis and {} frames are fitted with \
+                     smoothing weight w on ∫‖∇S‖². The default is w = 0 (ringed: plain least squares). Raising w \
+                     lowers the wiggle energy ∫‖∇S‖² and the error to the clean samples until it starts flattening \
+                     the true shape.",
+                    o.noisy_frames
+                );
+                for f in &o.figures[1..] {
+                    d.figure(f);
+                }
+                let _ = writeln!(
+                    d.md,
+                    "| w | ∫‖∇S‖² dq | max mm | rms mm | max ° | fit ms |\n|---|---|---|---|---|---|"
+                );
+                for r in &o.smoothing {
+                    let cells = [
+                        format!("{:.0e}", r.weight),
+                        d.n(r.energy),
+                        d.n(r.max_mm),
+                        d.n(r.rms_mm),
+                        d.n(r.max_deg),
+                        d.n(r.ms),
+                    ];
+                    let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                }
+            }
+            Err(e) => d.pending("spline-joint fitting", &e),
+        },
+        None => d.pending(
+            "spline-joint fitting",
+            "needs `$MX_SHARED/data/opensim/knee_r_gait2392_samples.json`",
+        ),
+    }
+
+    // ---- mocap
+    let _ = writeln!(
+        d.md,
+        "\n## Mocap: B-spline fits, cyclification and sampling\n"
+    );
+    pb.set_message("mocap sampling");
+    pb.inc_length(if smoke { 4 } else { 15 });
+    let clip = opts.own_data.join("walk.bvh");
+    match mocap::run(&clip, smoke, &mut || pb.inc(1)) {
+        Ok(o) => {
+            let _ = writeln!(
+                d.md,
+                "The project's own clip `examples/data/walk.bvh` ({} rotation channels, {} frames, {:.2} s at {:.0} Hz). \
+                 First knob: B-spline coefficients per second of a cubic least-squares fit to every frame, clamped or \
+                 periodic (the periodic fit is the cyclic fit used for cyclification: the clip becomes one closed C² \
+                 cycle). There is no library default for this knob; fewer coefficients smooth away fast detail. \
+                 Second knob: the rate at which the clip's curve is resampled into a sampled curve, compared with the \
+                 original on a 240 Hz grid; the clip's own {:.0} Hz is ringed. Resampling below the capture rate \
+                 loses the fastest joint motion.",
+                o.channels, o.frames, o.duration, o.frame_rate, o.frame_rate
+            );
+            for f in &o.figures {
+                d.figure(f);
+            }
+            let _ = writeln!(
+                d.md,
+                "| method | per second | coefficients / samples | max ° | rms ° | ms |\n|---|---|---|---|---|---|"
+            );
+            for r in &o.rows {
+                let cells = [
+                    r.method.to_string(),
+                    d.n(r.rate),
+                    r.count.to_string(),
+                    d.n(r.max_deg),
+                    d.n(r.rms_deg),
+                    d.n(r.ms),
+                ];
+                let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+            }
+            let _ = writeln!(
+                d.md,
+                "\nA dedicated `cyclify` (blending a clip's ends into a cycle) has not landed; the periodic fit above is the operation it is built on."
+            );
+        }
+        Err(e) => d.pending("mocap sampling", &e),
+    }
+
+    // ---- hard cases
+    let _ = writeln!(d.md, "\n## Hard cases\n");
+    pb.set_message("hard cases");
+    pb.inc_length(1);
+    let cases = hard_cases::all();
+    pb.inc(1);
+    let _ = writeln!(
+        d.md,
+        "Every numerically delicate case of the suite, from `mx::report::hard_cases::all()` — the registry \
+         `tests/hard_cases.rs` asserts, so this table and the tests cannot disagree. A case expecting a clear \
+         error scores 0 when the error arrives with the expected words.\n\n\
+         | case | module | what the engine returns | worst error | bound | passed |\n|---|---|---|---|---|---|"
+    );
+    for c in &cases {
+        let cells = [
+            c.name.to_string(),
+            c.area.to_string(),
+            c.returned.replace('|', "\\|"),
+            d.n(c.worst_error),
+            d.n(c.bound),
+            if c.passed {
+                "yes".into()
+            } else {
+                "**NO**".into()
+            },
+        ];
+        let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+    }
+
+    // ---- performance
+    let _ = writeln!(d.md, "\n## Performance (this machine)\n");
+    pb.set_message("dynamics timings");
+    pb.inc_length(2);
+    let n_states = if smoke { 200 } else { 2000 };
+    match opts.shared.as_ref() {
+        Some(sh) => {
+            let pin_available = perf::pinocchio_exe().exists();
+            let _ = writeln!(
+                d.md,
+                "Median µs per call over {n_states} random states. {}\n",
+                if pin_available {
+                    format!(
+                        "Pinocchio's timer (`{}`) ran on the same URDF in the same session; ratio = mx / Pinocchio.",
+                        perf::pinocchio_exe().display()
+                    )
+                } else {
+                    "Pinocchio's timer was not found: build it with `/work/shared/tools/pinocchio/build.sh /tmp/pinocchio-bench` (or set `PINOCCHIO_BENCH`) and rerun for the ratios.".into()
+                }
+            );
+            for (name, file) in [("human44", "human44.urdf"), ("ur5", "ur5_robot.urdf")] {
+                let urdf = sh.join("data/reference").join(file);
+                let r = crate::model::Model::from_urdf_file(&urdf)
+                    .map_err(|e| e.to_string())
+                    .and_then(|m| perf::per_call(&m, n_states).map(|t| (m.nq(), t)));
+                pb.inc(1);
+                match r {
+                    Ok((nq, t)) => {
+                        let pin = if pin_available {
+                            perf::pinocchio(&urdf)
+                        } else {
+                            None
+                        };
+                        let _ = writeln!(
+                            d.md,
+                            "**{name}** (nq = {nq})\n\n| algorithm | mx µs | Pinocchio µs | ratio |\n|---|---|---|---|"
+                        );
+                        for (i, alg) in ["rnea", "aba", "crba", "rnea_derivatives"]
+                            .iter()
+                            .enumerate()
+                        {
+                            let (p, ratio) = match pin {
+                                Some(p) => (d.n(p[i]), d.n(t[i] / p[i])),
+                                None => ("not run".into(), "—".into()),
+                            };
+                            let cells = [alg.to_string(), d.n(t[i]), p, ratio];
+                            let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                        }
+                        let adj = d.n(t[4]);
+                        let rel = d.n(t[4] / t[0]);
+                        let _ = writeln!(
+                            d.md,
+                            "| adjoint Σwτ² gradient | {adj} | — | {rel}× one RNEA |\n"
+                        );
+                    }
+                    Err(e) => d.pending(&format!("dynamics timings on {file}"), &e),
+                }
+            }
+        }
+        None => d.pending(
+            "dynamics timings",
+            "needs `$MX_SHARED/data/reference/*.urdf`",
+        ),
+    }
+    match st_default_ms {
+        Some(ms) => {
+            let v = d.n(ms);
+            let _ = writeln!(
+                d.md,
+                "Spacetime: one transition of all 38 joint DOFs of the 44-DOF human over a 0.6 s gap at the default settings takes **{v} ms** on this machine (set-up + solve, from the spacetime table above).\n"
+            );
+        }
+        None => {
+            let _ = writeln!(
+                d.md,
+                "Spacetime time per transition: not measured (the spacetime section did not run).\n"
+            );
+        }
+    }
+
+    if !d.pending.is_empty() {
+        let _ = writeln!(d.md, "\n## Pending\n");
+        for p in d.pending.clone() {
+            let _ = writeln!(d.md, "- {p}");
+        }
+    }
+    pb.finish_with_message("done");
+    let markdown = opts.out.join("accuracy.md");
+    std::fs::write(&markdown, &d.md)
+        .map_err(|e| format!("cannot write {}: {e}", markdown.display()))?;
+    Ok(Summary {
+        markdown,
+        figures: d.figures,
+        numbers: d.numbers,
+        pending: d.pending,
+        hard_cases: cases,
+    })
+}
+
+/// `Path` helper for callers that print where the report went.
+pub fn describe(s: &Summary) -> String {
+    format!(
+        "wrote {} and {} figures{}",
+        s.markdown.display(),
+        s.figures.len(),
+        if s.pending.is_empty() {
+            String::new()
+        } else {
+            format!("; pending: {}", s.pending.join("; "))
+        }
+    )
+}
+
+#[allow(dead_code)]
+fn _assert_path(_: &Path) {}

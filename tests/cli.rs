@@ -1,0 +1,160 @@
+//! The real binary: exit codes, stdout carrying only `print` output,
+//! diagnostics on stderr, `run`/`check`/`eval`, and every example script.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn mx(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mx"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("runs mx")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn eval_prints_the_value_and_errors_exit_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = mx(&["eval", "1 + 2 * 3"], dir.path());
+    assert!(o.status.success());
+    assert_eq!(text(&o.stdout), "7\n");
+    let o = mx(&["eval", "[0.1, 1e-12, {a: 1}]"], dir.path());
+    assert_eq!(text(&o.stdout), "[0.1, 1e-12, {a: 1}]\n");
+    let o = mx(&["eval", "let walk = 1\nwakl"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        o.stdout.is_empty(),
+        "stdout must stay clean: {}",
+        text(&o.stdout)
+    );
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("unknown name `wakl`") && err.contains("did you mean `walk`?"),
+        "{err}"
+    );
+}
+
+#[test]
+fn run_writes_only_print_output_to_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("a.mx"), "print(\"a\", 0.1)\nlet m = mu({x: interval(1, 0, 1)})\nsave(m, \"o/m.csv\", rate: 2)\neprint(\"progress\")\nprint(m)\n").unwrap();
+    let o = mx(&["run", "a.mx"], dir.path());
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(
+        text(&o.stdout),
+        "a 0.1\nMu [0, 1] (1 DOF: x; 1 interval, 0 gaps, 0 conflicts)\n"
+    );
+    assert_eq!(text(&o.stderr), "progress\n");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("o/m.csv")).unwrap(),
+        "t,x\n0,1\n0.5,1\n1,1\n"
+    );
+}
+
+#[test]
+fn runtime_error_exits_1_with_file_and_span() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("bad.mx"),
+        "print(1)\nlet walk = mu({x: interval(1, 0, 2.4)})\nclip(2.0, 3.5, walk)\n",
+    )
+    .unwrap();
+    let o = mx(&["run", "bad.mx"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(text(&o.stdout), "1\n");
+    let err = text(&o.stderr);
+    assert!(err.contains("bad.mx:3:1"), "{err}");
+    assert!(
+        err.contains("clip [2.0, 3.5] lies outside walk's span [0, 2.4]"),
+        "{err}"
+    );
+}
+
+#[test]
+fn check_parses_and_resolves_without_running() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("ok.mx"), "print(\"ran\")\n1 / 0\n").unwrap();
+    let o = mx(&["check", "ok.mx"], dir.path());
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.stdout.is_empty(), "check must not run the script");
+    std::fs::write(dir.path().join("bad.mx"), "fn f(t) = t + k\n").unwrap();
+    let o = mx(&["check", "bad.mx"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("unknown name `k`"));
+    let o = mx(&["run", "missing.mx"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("cannot read missing.mx"));
+}
+
+#[test]
+fn the_tour_runs_and_its_outputs_are_right() {
+    let dir = tempfile::tempdir().unwrap();
+    let tour = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/tour.mx");
+    let o = mx(&["run", tour.to_str().unwrap()], dir.path());
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    for expected in [
+        "numbers: 7 0.1 1e-12 0.25 1.5707963267948966",
+        "recursion: 3628800",
+        "walk - wave: Mu [0, 2.4]",
+        "gaps: [{dof: \"Hips.Zrotation\", start: 0.8, stop: 1.8}]",
+        "walk + wave conflicts: [{dof: \"Hips.Zrotation\", start: 0.8, stop: 1.8}]",
+        "mixed: Mu [0, 2.4] (3 DOFs: Hips.Xposition, Hips.Yposition, Hips.Zrotation; 5 intervals, 0 gaps, 0 conflicts) conflicts: 0",
+        "clip: [0, 1] clip_in_place: [0.5, 1.5]",
+        "sample at 0.25 s: {\"Hips.Xposition\": 0.3, \"Hips.Yposition\": 0.9, \"Hips.Zrotation\": 0.1}",
+        "json round trip exact: true",
+    ] {
+        assert!(out.contains(expected), "missing {expected:?} in\n{out}");
+    }
+    let csv = std::fs::read_to_string(dir.path().join("out/tour.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,Hips.Xposition,Hips.Yposition,Hips.Zrotation")
+    );
+    assert_eq!(csv.lines().count(), 1 + 25, "rows at k/10 over [0, 2.4]");
+    assert!(dir.path().join("out/tour.json").exists());
+}
+
+#[test]
+fn every_example_script_runs() {
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&examples).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("mx") {
+            continue;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let o = mx(&["run", path.to_str().unwrap()], dir.path());
+        assert!(
+            o.status.success(),
+            "{} failed:\n{}",
+            path.display(),
+            text(&o.stderr)
+        );
+        assert!(!o.stdout.is_empty(), "{} printed nothing", path.display());
+        n += 1;
+    }
+    assert!(n >= 1);
+}
+
+#[test]
+fn step_budget_flag_stops_runaway_scripts() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = mx(
+        &[
+            "--steps",
+            "10000",
+            "eval",
+            "fold(range(100000), 0, fn(a, x) = a + x)",
+        ],
+        dir.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o.stderr).contains("budget of 10000 steps"));
+}

@@ -1,0 +1,68 @@
+//! Drives the real binary's REPL through a pseudo-terminal: typing, tab
+//! completion, multi-line input, an error, Ctrl-C cancelling a long
+//! evaluation, and :quit.
+
+use std::process::Command;
+use std::time::Duration;
+
+use expectrl::{ControlCode, Eof, Session};
+
+#[test]
+fn repl_in_a_terminal() {
+    let data = tempfile::tempdir().unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mx"));
+    cmd.env("XDG_DATA_HOME", data.path())
+        .env("HOME", data.path())
+        .env("NO_COLOR", "1")
+        .env("TERM", "xterm");
+    let mut p = Session::spawn(cmd).expect("spawn mx in a pty");
+    p.set_expect_timeout(Some(Duration::from_secs(20)));
+    p.expect("mx> ").unwrap();
+
+    p.send_line("let abcdef = 41").unwrap();
+    p.expect("mx> ").unwrap();
+    // Tab completes a name defined in this session.
+    p.send("abcd").unwrap();
+    p.send("\t").unwrap();
+    p.send_line(" + 1").unwrap();
+    p.expect("42").unwrap();
+
+    // Multi-line: the list stays open across lines.
+    p.send_line("[1,").unwrap();
+    p.send_line("2]").unwrap();
+    p.expect("[1, 2]").unwrap();
+
+    // An error is reported and the REPL goes on.
+    p.send_line("wakl + 1").unwrap();
+    p.expect("unknown name `wakl`").unwrap();
+
+    // :help from the doc strings.
+    p.send_line(":help sin").unwrap();
+    p.expect("Sine (radians).").unwrap();
+
+    // Ctrl-C cancels a long evaluation and returns to the prompt.
+    p.send_line("map(range(2000), fn(i) = fold(range(100000), 0, fn(a, x) = a + x))")
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(700));
+    p.send(ControlCode::EndOfText).unwrap();
+    match p.expect("cancelled") {
+        Ok(_) => {}
+        Err(e) => {
+            let mut buf = vec![0u8; 4096];
+            let n = std::io::Read::read(&mut p, &mut buf).unwrap_or(0);
+            panic!(
+                "no `cancelled`: {e}; output: {:?}",
+                String::from_utf8_lossy(&buf[..n])
+            );
+        }
+    }
+    p.send_line("abcdef * 2").unwrap();
+    p.expect("82").unwrap();
+
+    p.send_line(":quit").unwrap();
+    p.expect(Eof).unwrap();
+    assert!(
+        data.path().join("mx/history.txt").exists(),
+        "history is saved in the data dir"
+    );
+}
