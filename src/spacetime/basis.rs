@@ -56,11 +56,12 @@ impl ClampedCubic {
         let mut nz = [[0.0; 6]; 3];
         let first = self.basis.eval_nonzero(t, 2, &mut nz);
         let mut out = [vec![0.0; m], vec![0.0; m], vec![0.0; m]];
+        #[allow(clippy::needless_range_loop)] // i indexes nz's rows and maps to j
         for i in 0..=DEGREE {
             let j = self.basis.index(first, i);
             if j < m {
-                for d in 0..3 {
-                    out[d][j] = nz[d][i];
+                for (o, row) in out.iter_mut().zip(&nz) {
+                    o[j] = row[i];
                 }
             }
         }

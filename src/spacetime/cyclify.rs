@@ -78,7 +78,12 @@ fn sample_period(m: &Mu) -> Option<f64> {
 }
 
 /// `cyclify(m, t_start, t_end)`: one C² cycle of `m` on [t₁, t₂] ≈ [t_start, t_end].
-pub fn cyclify(m: &Mu, t_start: f64, t_end: f64, opts: &CyclifyOptions) -> Result<(Mu, CyclifyReport), SpError> {
+pub fn cyclify(
+    m: &Mu,
+    t_start: f64,
+    t_end: f64,
+    opts: &CyclifyOptions,
+) -> Result<(Mu, CyclifyReport), SpError> {
     if !(t_start.is_finite() && t_end.is_finite()) || t_end <= t_start {
         return Err(invalid(format!(
             "cyclify({t_start}, {t_end}): the cycle must have t_start < t_end (mark the approximate start and end of one cycle)"
@@ -89,13 +94,19 @@ pub fn cyclify(m: &Mu, t_start: f64, t_end: f64, opts: &CyclifyOptions) -> Resul
     }
     for d in &opts.drift {
         if m.get(d).is_none() {
-            return Err(invalid(format!("cyclify: drift DOF '{d}' is not in the motion")));
+            return Err(invalid(format!(
+                "cyclify: drift DOF '{d}' is not in the motion"
+            )));
         }
     }
     if !(opts.knot_spacing.is_finite() && opts.knot_spacing > 0.0) {
-        return Err(invalid("cyclify: knot spacing must be a positive number of seconds"));
+        return Err(invalid(
+            "cyclify: knot spacing must be a positive number of seconds",
+        ));
     }
-    let (s0, s1) = m.span().ok_or_else(|| invalid("cyclify of an empty motion"))?;
+    let (s0, s1) = m
+        .span()
+        .ok_or_else(|| invalid("cyclify of an empty motion"))?;
     let period = t_end - t_start;
     let half = period / 10.0;
     let win = |c: f64| ((c - half).max(s0), (c + half).min(s1));
@@ -151,20 +162,31 @@ pub fn cyclify(m: &Mu, t_start: f64, t_end: f64, opts: &CyclifyOptions) -> Resul
         }
     }
     if !best.0.is_finite() {
-        return Err(invalid("cyclify: no pair of times found in the search windows"));
+        return Err(invalid(
+            "cyclify: no pair of times found in the search windows",
+        ));
     }
     let (t1, t2) = (gs[best.1], gf[best.2]);
     let marks = dist(
-        &names.iter().map(|n| state(m, n, t_start)).collect::<Result<Vec<_>, _>>()?,
-        &names.iter().map(|n| state(m, n, t_end)).collect::<Result<Vec<_>, _>>()?,
+        &names
+            .iter()
+            .map(|n| state(m, n, t_start))
+            .collect::<Result<Vec<_>, _>>()?,
+        &names
+            .iter()
+            .map(|n| state(m, n, t_end))
+            .collect::<Result<Vec<_>, _>>()?,
     );
 
     // the fit: clamped uniform cubic on [t1, t2] with the cyclic constraints
     let p = t2 - t1;
     let n_coef = ((p / opts.knot_spacing).round() as usize + 3).max(7);
-    let basis = BSplineBasis::clamped_uniform(3, n_coef, t1, t2).map_err(|e| invalid(format!("cyclify basis: {e}")))?;
+    let basis = BSplineBasis::clamped_uniform(3, n_coef, t1, t2)
+        .map_err(|e| invalid(format!("cyclify basis: {e}")))?;
     let n_samples = (4 * n_coef).max(((p / step).round() as usize) + 1);
-    let ts: Vec<f64> = (0..n_samples).map(|k| t1 + p * k as f64 / (n_samples - 1) as f64).collect();
+    let ts: Vec<f64> = (0..n_samples)
+        .map(|k| t1 + p * k as f64 / (n_samples - 1) as f64)
+        .collect();
     let mut a = DMatrix::<f64>::zeros(n_samples, n_coef);
     let mut nz = [[0.0; 6]; 3];
     for (r, &t) in ts.iter().enumerate() {
@@ -188,7 +210,8 @@ pub fn cyclify(m: &Mu, t_start: f64, t_end: f64, opts: &CyclifyOptions) -> Resul
     let mut kkt = DMatrix::<f64>::zeros(n_coef + 3, n_coef + 3);
     kkt.view_mut((0, 0), (n_coef, n_coef)).copy_from(&ata);
     kkt.view_mut((n_coef, 0), (3, n_coef)).copy_from(&c);
-    kkt.view_mut((0, n_coef), (n_coef, 3)).copy_from(&c.transpose());
+    kkt.view_mut((0, n_coef), (n_coef, 3))
+        .copy_from(&c.transpose());
     let lu = kkt.lu();
 
     let mut out = Mu::new();
@@ -200,11 +223,20 @@ pub fn cyclify(m: &Mu, t_start: f64, t_end: f64, opts: &CyclifyOptions) -> Resul
         let delta = q2 - q1;
         let mut y = DVector::<f64>::zeros(n_samples);
         for (r, &t) in ts.iter().enumerate() {
-            let q = m.sample_value(name, t).map_err(motion_err)?.ok_or_else(|| {
-                invalid(format!("cyclify: DOF '{name}' is undefined at t = {t:.4} inside the cycle"))
-            })?;
+            let q = m
+                .sample_value(name, t)
+                .map_err(motion_err)?
+                .ok_or_else(|| {
+                    invalid(format!(
+                        "cyclify: DOF '{name}' is undefined at t = {t:.4} inside the cycle"
+                    ))
+                })?;
             // spread the jump linearly unless the DOF drifts
-            y[r] = if drift[i] { q } else { q - delta * (t - t1) / p };
+            y[r] = if drift[i] {
+                q
+            } else {
+                q - delta * (t - t1) / p
+            };
         }
         let advance = if drift[i] { delta } else { 0.0 };
         if drift[i] {
@@ -215,14 +247,19 @@ pub fn cyclify(m: &Mu, t_start: f64, t_end: f64, opts: &CyclifyOptions) -> Resul
         let mut rhs = DVector::<f64>::zeros(n_coef + 3);
         rhs.rows_mut(0, n_coef).copy_from(&(a.transpose() * &y));
         rhs[n_coef] = advance;
-        let sol = lu
-            .solve(&rhs)
-            .ok_or_else(|| SpError::Evaluation("cyclify: the constrained fit is singular (cycle too short?)".into()))?;
+        let sol = lu.solve(&rhs).ok_or_else(|| {
+            SpError::Evaluation(
+                "cyclify: the constrained fit is singular (cycle too short?)".into(),
+            )
+        })?;
         let coeffs: Vec<f64> = sol.rows(0, n_coef).iter().copied().collect();
         if coeffs.iter().any(|v| !v.is_finite()) {
-            return Err(SpError::Evaluation(format!("cyclify: the fit of '{name}' is not finite")));
+            return Err(SpError::Evaluation(format!(
+                "cyclify: the fit of '{name}' is not finite"
+            )));
         }
-        let curve = BSplineCurve::new(basis.clone(), coeffs).map_err(|e| SpError::Evaluation(e.to_string()))?;
+        let curve = BSplineCurve::new(basis.clone(), coeffs)
+            .map_err(|e| SpError::Evaluation(e.to_string()))?;
         let iv = Interval::curve(Curve::Spline(curve), t1, t2).map_err(motion_err)?;
         out.insert(name.clone(), Dof::from(iv));
     }
@@ -259,7 +296,9 @@ pub fn loop_motion(m: &Mu, n: usize) -> Result<Mu, SpError> {
             )));
         };
         let [f] = iv.funcs.as_slice() else {
-            return Err(invalid(format!("loop: DOF '{name}' is multiply defined (a conflict)")));
+            return Err(invalid(format!(
+                "loop: DOF '{name}' is multiply defined (a conflict)"
+            )));
         };
         let p = iv.stop - iv.start;
         let start = f.eval(iv.start).map_err(motion_err)?;
@@ -275,12 +314,18 @@ pub fn loop_motion(m: &Mu, n: usize) -> Result<Mu, SpError> {
         let mut d = Dof::empty();
         for k in 0..n {
             let shifted = f.affine(k as f64 * p, 1.0);
-            let g = Func { offset: shifted.offset + k as f64 * advance, ..shifted };
-            let piece = Interval::new(g, iv.start + k as f64 * p, iv.stop + k as f64 * p).map_err(motion_err)?;
+            let g = Func {
+                offset: shifted.offset + k as f64 * advance,
+                ..shifted
+            };
+            let piece = Interval::new(g, iv.start + k as f64 * p, iv.stop + k as f64 * p)
+                .map_err(motion_err)?;
             d = d.plus(&Dof::from(piece));
         }
         if d.intervals.len() != n && p > time_tol(p) {
-            return Err(SpError::Evaluation(format!("loop: DOF '{name}' did not repeat cleanly")));
+            return Err(SpError::Evaluation(format!(
+                "loop: DOF '{name}' did not repeat cleanly"
+            )));
         }
         out.insert(name.clone(), d);
     }

@@ -404,9 +404,9 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                 })
                 .collect();
             let mut g = vec![];
-            for a in 0..3 {
-                for b in 0..3 {
-                    g.push(d[a].transpose() * &wd[b]);
+            for da in &d {
+                for wdb in &wd {
+                    g.push(da.transpose() * wdb);
                 }
             }
             for k in k0..k1 {

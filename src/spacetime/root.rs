@@ -270,7 +270,7 @@ mod detect_tests {
                     &format!("t{i}"),
                     Arc::new(Prismatic::new(ax).unwrap()),
                     Se3::identity(),
-                    z.clone(),
+                    z,
                 )
                 .unwrap(),
             );
@@ -283,7 +283,7 @@ mod detect_tests {
                 "rz",
                 Arc::new(Revolute::new(Vector3::z()).unwrap()),
                 Se3::identity(),
-                pelvis.clone(),
+                pelvis,
             )
             .unwrap();
         m.add_link(
