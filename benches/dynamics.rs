@@ -13,14 +13,12 @@
 
 use mx::cancel::CancelToken;
 use mx::dynamics::{
-    ExternalForce, Integrator, LimitPenalty, Scene, SceneWorkspace, Spring, State, Workspace,
-    forward_dynamics, inverse_dynamics, mass_matrix, rnea_derivatives, simulate,
-    torque_sq_gradient,
+    ExternalForce, Integrator, LimitPenalty, Scene, SceneWorkspace, Spring, State, simulate,
 };
 use mx::lie::Se3;
 use mx::model::joints::Revolute;
 use mx::model::{Inertia, Model};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -36,21 +34,7 @@ impl Rng {
     }
 }
 
-/// Median µs per call of `f(i)` over `n` states, timing each call.
-fn median_us(n: usize, mut f: impl FnMut(usize)) -> f64 {
-    for i in 0..n.min(200) {
-        f(i); // warm up
-    }
-    let mut t: Vec<f64> = (0..n)
-        .map(|i| {
-            let s = Instant::now();
-            f(i);
-            s.elapsed().as_secs_f64() * 1e6
-        })
-        .collect();
-    t.sort_by(|a, b| a.total_cmp(b));
-    t[n / 2]
-}
+use mx::report::perf::median_us;
 
 fn shared() -> PathBuf {
     std::env::var_os("MX_SHARED")
@@ -58,27 +42,8 @@ fn shared() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"))
 }
 
-/// Pinocchio's medians (rnea, aba, crba, rnea_derivatives) for a URDF, if its timer is built.
-fn pinocchio(urdf: &Path) -> Option<[f64; 4]> {
-    let exe = std::env::var_os("PINOCCHIO_BENCH")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/tmp/pinocchio-bench/bench"));
-    let out = std::process::Command::new(exe).arg(urdf).output().ok()?;
-    let text = String::from_utf8_lossy(&out.stdout);
-    let get = |name: &str| -> Option<f64> {
-        text.lines()
-            .find(|l| l.split_whitespace().next() == Some(name))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|x| x.parse().ok())
-    };
-    Some([
-        get("rnea")?,
-        get("aba")?,
-        get("crba")?,
-        get("rnea_derivatives")?,
-    ])
-}
-
+/// Times our algorithms and Pinocchio's with the report's measurement
+/// (`mx::report::perf`), so the bench and `docs/accuracy.md` cannot differ.
 fn per_call(name: &str, urdf: &Path) {
     let model = match Model::from_urdf_file(urdf) {
         Ok(m) => m,
@@ -87,53 +52,19 @@ fn per_call(name: &str, urdf: &Path) {
             return;
         }
     };
-    let n = model.nq();
-    let g = model.default_gravity;
-    let mut rng = Rng(0x1234_5678);
     const N: usize = 2000;
-    let states: Vec<[Vec<f64>; 3]> = (0..N)
-        .map(|_| {
-            [
-                (0..n).map(|_| rng.f(-1.0, 1.0)).collect(),
-                (0..n).map(|_| rng.f(-2.0, 2.0)).collect(),
-                (0..n).map(|_| rng.f(-5.0, 5.0)).collect(),
-            ]
-        })
-        .collect();
-    let mut ws = Workspace::new(&model);
-    let mut out = vec![0.0; n];
-    let (mut gq, mut gv, mut ga) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let w = vec![1.0; n];
-    let mut mm = DMatrix::zeros(n, n);
-    let mut dq = DMatrix::zeros(n, n);
-    let mut dv = DMatrix::zeros(n, n);
-    let rnea = median_us(N, |i| {
-        let [q, v, a] = &states[i];
-        inverse_dynamics(&model, &mut ws, q, v, a, &g, &mut out).unwrap();
-        black_box(&out);
-    });
-    let aba = median_us(N, |i| {
-        let [q, v, a] = &states[i];
-        forward_dynamics(&model, &mut ws, q, v, a, &g, &mut out).unwrap();
-        black_box(&out);
-    });
-    let crba = median_us(N, |i| {
-        mass_matrix(&model, &mut ws, &states[i][0], &mut mm).unwrap();
-        black_box(&mm);
-    });
-    let der = median_us(N, |i| {
-        let [q, v, a] = &states[i];
-        rnea_derivatives(&model, &mut ws, q, v, a, &g, &mut dq, &mut dv).unwrap();
-        black_box(&dq);
-    });
-    let adj = median_us(N, |i| {
-        let [q, v, a] = &states[i];
-        let j = torque_sq_gradient(&model, &mut ws, q, v, a, &g, &w, &mut gq, &mut gv, &mut ga)
-            .unwrap();
-        black_box(j);
-    });
-    let pin = pinocchio(urdf);
-    println!("\n{name} (nq = {n}), median µs per call over {N} states");
+    let [rnea, aba, crba, der, adj] = match mx::report::perf::per_call(&model, N) {
+        Ok(t) => t,
+        Err(e) => {
+            println!("{name}: {e}");
+            return;
+        }
+    };
+    let pin = mx::report::perf::pinocchio(urdf);
+    println!(
+        "\n{name} (nq = {}), median µs per call over {N} states",
+        model.nq()
+    );
     println!(
         "{:<22}{:>10}{:>14}{:>10}",
         "algorithm", "mx", "pinocchio", "ratio"
@@ -278,67 +209,9 @@ fn effects() {
     }
 }
 
-fn jf(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array()
-        .map(|a| a.iter().filter_map(|x| x.as_f64()).collect())
-        .unwrap_or_default()
-}
-
 /// The OpenSim knee pendulum (run `shank_foot_femur_flexed_50deg`): scene, initial state, reference q.
 fn knee_pendulum() -> Option<(Scene, State, Vec<f64>)> {
-    let dir = shared().join("data/opensim");
-    let read = |f: &str| -> Option<serde_json::Value> {
-        serde_json::from_str(&std::fs::read_to_string(dir.join(f)).ok()?).ok()
-    };
-    let samples = read("knee_r_gait2392_samples.json")?;
-    let pend = read("knee_r_gait2392_pendulum.json")?;
-    let run = pend["runs"]
-        .as_array()?
-        .iter()
-        .find(|r| r["name"] == "shank_foot_femur_flexed_50deg")?;
-    let joint =
-        Arc::new(mx::model::joints::FunctionJoint::from_opensim_samples_json(&samples).ok()?);
-    let mut inertia = Inertia::zero();
-    for b in run["setup"]["bodies"].as_array()? {
-        let i = jf(&b["inertia_about_com_in_body"]
-            .as_array()?
-            .iter()
-            .flat_map(|r| r.as_array().cloned().unwrap_or_default())
-            .collect());
-        let t = jf(&b["T_tibia_body"]
-            .as_array()?
-            .iter()
-            .flat_map(|r| r.as_array().cloned().unwrap_or_default())
-            .collect());
-        let local = Inertia::from_com(
-            b["mass"].as_f64()?,
-            Vector3::from_vec(jf(&b["com_in_body"])),
-            Matrix3::from_row_slice(&i),
-        )
-        .ok()?;
-        inertia += local.transformed(&Se3::from_matrix(&nalgebra::Matrix4::from_row_slice(&t)));
-    }
-    let flex = run["femur_flexion_rad"].as_f64()?;
-    let mut m = Model::new("knee");
-    m.add_link(
-        "tibia_r",
-        None,
-        "knee_r",
-        joint,
-        Se3::from_rotation(
-            nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), flex).into_inner(),
-        ),
-        inertia,
-    )
-    .ok()?;
-    let scene = Scene::new(Arc::new(m))
-        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
-        .ok()?;
-    let init = State {
-        q: vec![run["q0"].as_f64()?],
-        v: vec![run["u0"].as_f64()?],
-    };
-    Some((scene, init, jf(&run["q_accuracy_1e-12"])))
+    mx::report::integrators::knee_pendulum(&shared()).ok()
 }
 
 fn work_precision() {
