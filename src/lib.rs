@@ -2,7 +2,7 @@
 //! engine with spline joints.
 //!
 //! Layers, each using only the ones listed before it (see ARCHITECTURE.md):
-//! `lie` → `spline` → `model` → `dynamics` → `motion` → `spacetime` → `io` → `lang`.
+//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `spacetime` → `io` → `report` → `lang`.
 //! Everything up to `io` is a library that knows nothing of the language.
 
 pub mod cancel;
