@@ -93,7 +93,11 @@ fn check_parses_and_resolves_without_running() {
 #[test]
 fn the_tour_runs_and_its_outputs_are_right() {
     let dir = tempfile::tempdir().unwrap();
-    let tour = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/tour.mx");
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    // The tour reads examples/data relative to where it runs (the repository root
+    // in the README); outputs go to out/ of the temporary folder.
+    std::os::unix::fs::symlink(&examples, dir.path().join("examples")).unwrap();
+    let tour = examples.join("tour.mx");
     let o = mx(&["run", tour.to_str().unwrap()], dir.path());
     assert!(o.status.success(), "{}", text(&o.stderr));
     let out = text(&o.stdout);
@@ -107,6 +111,10 @@ fn the_tour_runs_and_its_outputs_are_right() {
         "clip: [0, 1] clip_in_place: [0.5, 1.5]",
         "sample at 0.25 s: {\"Hips.Xposition\": 0.3, \"Hips.Yposition\": 0.9, \"Hips.Zrotation\": 0.1}",
         "json round trip exact: true",
+        "waving walk: Mu [0, 2] (60 DOFs",
+        "18 gaps, 0 conflicts) gaps: 18 conflicts: 0",
+        "body: Body body_of (65 links, 60 coordinates, 70.0 kg)",
+        "torque to hold the T-pose, first six: 0 686.4655 0",
     ] {
         assert!(out.contains(expected), "missing {expected:?} in\n{out}");
     }
@@ -118,6 +126,10 @@ fn the_tour_runs_and_its_outputs_are_right() {
     );
     assert_eq!(csv.lines().count(), 1 + 25, "rows at k/10 over [0, 2.4]");
     assert!(dir.path().join("out/tour.json").exists());
+    for picture in ["out/tour_forearm.svg", "out/tour_walk.html"] {
+        let len = std::fs::metadata(dir.path().join(picture)).map(|m| m.len()).unwrap_or(0);
+        assert!(len > 1000, "{picture} missing or empty");
+    }
 }
 
 #[test]
