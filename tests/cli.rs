@@ -127,7 +127,9 @@ fn the_tour_runs_and_its_outputs_are_right() {
     assert_eq!(csv.lines().count(), 1 + 25, "rows at k/10 over [0, 2.4]");
     assert!(dir.path().join("out/tour.json").exists());
     for picture in ["out/tour_forearm.svg", "out/tour_walk.html"] {
-        let len = std::fs::metadata(dir.path().join(picture)).map(|m| m.len()).unwrap_or(0);
+        let len = std::fs::metadata(dir.path().join(picture))
+            .map(|m| m.len())
+            .unwrap_or(0);
         assert!(len > 1000, "{picture} missing or empty");
     }
 }

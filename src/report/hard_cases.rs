@@ -568,7 +568,7 @@ pub fn malformed_bvh() -> HardCase {
     for t in &bad {
         if let Err(e) = crate::mocap::bvh::parse(t) {
             rejected += 1;
-            if msgs.len() < 1 {
+            if msgs.is_empty() {
                 msgs.push(first_line(&e.to_string()));
             }
         }

@@ -23,7 +23,11 @@ pub struct Body {
 impl Body {
     /// A body with no motion-capture origin (URDF, code, a scene's body).
     pub fn from_model(model: Arc<Model>) -> Self {
-        Body { model, skeleton: None, human: None }
+        Body {
+            model,
+            skeleton: None,
+            human: None,
+        }
     }
 }
 
@@ -46,13 +50,21 @@ impl HostObject for Body {
     fn field(&self, name: &str) -> Option<Value> {
         match name {
             "coordinates" => Some(Value::list(
-                self.model.coordinate_names().iter().map(Value::str).collect(),
+                self.model
+                    .coordinate_names()
+                    .iter()
+                    .map(Value::str)
+                    .collect(),
             )),
             "nq" => Some(Value::Number(self.model.nq() as f64)),
             "name" => Some(Value::str(&self.model.name)),
             "mass" => Some(Value::Number(self.model.total_mass())),
             "links" => Some(Value::list(
-                self.model.links().iter().map(|l| Value::str(&l.name)).collect(),
+                self.model
+                    .links()
+                    .iter()
+                    .map(|l| Value::str(&l.name))
+                    .collect(),
             )),
             _ => None,
         }

@@ -9,12 +9,12 @@ use std::sync::Arc;
 use indexmap::IndexMap;
 use nalgebra::{DMatrix, Vector3};
 
+use super::body::Body;
 use super::{ArgValue, Args, Registry};
 use crate::dynamics::{
     DynamicsError, ExternalForce, Integrator, LimitPenalty, Scene, Spring, State, Workspace,
     forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
-use super::body::Body;
 use crate::lang::builtins::motion::Motion;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
