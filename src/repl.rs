@@ -19,7 +19,7 @@ use rustyline::{Config, Context, Editor, Helper};
 use mx::lang::ErrorKind;
 use mx::lang::parser::is_incomplete;
 
-const COMMANDS: &[&str] = &[":help", ":type", ":load", ":time", ":quit"];
+const COMMANDS: &[&str] = &[":help", ":type", ":load", ":time", ":plot", ":quit"];
 
 struct MxHelper {
     names: Arc<Mutex<Vec<String>>>,
@@ -201,6 +201,7 @@ fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
             }
             eprintln!("time: {:.3} ms", dt.as_secs_f64() * 1e3);
         }
+        ":plot" | ":p" => plot(mx, rest, n),
         c if c.starts_with(':') => {
             eprintln!("unknown command `{c}`; commands: {}", COMMANDS.join(", "));
         }
@@ -212,10 +213,49 @@ fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
     true
 }
 
+/// `:plot EXPR`: a quick text plot of a motion's first DOF curves, in the
+/// terminal. Samples the curves only; runs no dynamics.
+fn plot(mx: &mut mx::Interpreter, expr: &str, n: usize) {
+    use mx::lang::builtins::motion::Motion;
+    const MAX_CURVES: usize = 6;
+    let v = match mx.eval_named(&format!("<repl:{n}>"), expr) {
+        Ok(v) => v,
+        Err(d) => return report(d),
+    };
+    let mu = match v.as_object::<Motion>() {
+        Some(Motion::Mu(m)) => m.clone(),
+        Some(other) => {
+            let mut m = mx::motion::Mu::new();
+            if let Some(d) = other.as_dof() {
+                m.insert("value", d);
+            }
+            m
+        }
+        None => {
+            eprintln!(
+                ":plot needs a motion (an Mu, Dof or Interval), not a {}",
+                v.type_name()
+            );
+            return;
+        }
+    };
+    let names: Vec<&str> = mu.names().take(MAX_CURVES).collect();
+    if mu.len() > MAX_CURVES {
+        eprintln!(
+            "plotting the first {MAX_CURVES} of {} DOFs; use .only(...) to choose",
+            mu.len()
+        );
+    }
+    match mx::io::plot::series_of(&mu, &names, 60.0) {
+        Ok(series) => println!("{}", mx::io::plot::terminal(&series, 72, 16)),
+        Err(e) => eprintln!("cannot plot: {e}"),
+    }
+}
+
 fn help(mx: &mx::Interpreter, topic: &str) {
     let reg = mx.registry();
     if topic.is_empty() {
-        println!("Commands: :help [name], :type EXPR, :load FILE, :time EXPR, :quit");
+        println!("Commands: :help [name], :type EXPR, :load FILE, :time EXPR, :plot EXPR, :quit");
         println!("Built-ins (:help NAME for details, :help formats for files):");
         let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.to_string()).collect();
         sigs.sort();

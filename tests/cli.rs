@@ -174,3 +174,34 @@ fn step_budget_flag_stops_runaway_scripts() {
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o.stderr).contains("budget of 10000 steps"));
 }
+
+#[test]
+fn repl_plot_draws_a_motion_in_the_terminal_and_refuses_other_values() {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mx"))
+        .current_dir(dir.path())
+        .env("HOME", dir.path())
+        .env("XDG_DATA_HOME", dir.path())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b":plot mu({x: interval(fn(t) = sin(3*t), 0s, 2s), y: interval(0.5, 0s, 1s)})\n:plot 3\n:quit\n")
+        .unwrap();
+    let o = child.wait_with_output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        out.contains("a = x") && out.contains("b = y"),
+        "no legend in\n{out}\n{err}"
+    );
+    assert!(out.contains("2.000 s"), "no time axis in\n{out}");
+    assert!(err.contains(":plot needs a motion"), "{err}");
+}
