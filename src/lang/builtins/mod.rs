@@ -4,7 +4,8 @@
 //! `motion.rs`, later `joints.rs`, `dynamics.rs`, `mocap.rs`, `spacetime.rs`)
 //! with one line per function:
 //!
-//! ```ignore
+//! ```
+//! let mut reg = mx::lang::Registry::new();
 //! reg.add("sin(x)", "Sine of x (radians).", |a, _| Ok(a.number("x")?.sin().into()));
 //! ```
 //!
