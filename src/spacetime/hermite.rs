@@ -3,32 +3,24 @@
 //! which also matches accelerations, starts a C² solve.
 
 use super::transition::EndState;
+use crate::motion::HermiteCurve;
 
 /// Cubic Hermite curve on [t0, t1] through `a.q`, `b.q` with slopes `a.v`, `b.v`:
 /// returns [q, q̇, q̈] at t. A zero-length span returns the start state.
 pub fn cubic(t0: f64, t1: f64, a: &EndState, b: &EndState, t: f64) -> [f64; 3] {
-    let h = t1 - t0;
-    if h <= 0.0 {
+    if t1 - t0 <= 0.0 {
         return [a.q, a.v, 0.0];
     }
-    let s = ((t - t0) / h).clamp(0.0, 1.0);
-    let (s2, s3) = (s * s, s * s * s);
-    let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
-    let h10 = s3 - 2.0 * s2 + s;
-    let h01 = -2.0 * s3 + 3.0 * s2;
-    let h11 = s3 - s2;
-    let d00 = 6.0 * s2 - 6.0 * s;
-    let d10 = 3.0 * s2 - 4.0 * s + 1.0;
-    let d01 = -6.0 * s2 + 6.0 * s;
-    let d11 = 3.0 * s2 - 2.0 * s;
-    let e00 = 12.0 * s - 6.0;
-    let e10 = 6.0 * s - 4.0;
-    let e01 = -12.0 * s + 6.0;
-    let e11 = 6.0 * s - 2.0;
-    let q = h00 * a.q + h10 * h * a.v + h01 * b.q + h11 * h * b.v;
-    let v = (d00 * a.q + d01 * b.q) / h + d10 * a.v + d11 * b.v;
-    let acc = (e00 * a.q + e01 * b.q) / (h * h) + (e10 * a.v + e11 * b.v) / h;
-    [q, v, acc]
+    // The same curve `fill(m, "hermite")` writes into a motion: one formula for both.
+    let curve = HermiteCurve {
+        t0,
+        t1,
+        q0: a.q,
+        v0: a.v,
+        q1: b.q,
+        v1: b.v,
+    };
+    curve.eval(t.clamp(t0, t1))
 }
 
 /// Quintic Hermite curve on [t0, t1] matching q, q̇, q̈ at both ends: [q, q̇, q̈] at t.
