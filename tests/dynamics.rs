@@ -8,11 +8,8 @@ use mx::dynamics::{
     DynamicsError, Workspace, forward_dynamics, inverse_dynamics, kinetic_energy, mass_matrix,
     nonlinear_effects, potential_energy, rnea_derivatives, torque_sq_gradient,
 };
-use mx::lie::Se3;
-use mx::model::joints::Revolute;
-use mx::model::{Inertia, Model};
+use mx::model::Model;
 use nalgebra::{DMatrix, DVector, Vector3};
-use std::sync::Arc;
 use support::{Rng, random_tree};
 
 fn maxabs(x: &[f64]) -> f64 {
@@ -198,33 +195,9 @@ fn adjoint_gradient_matches_finite_differences_and_the_jacobians() {
     }
 }
 
+/// The hard-case registry's chain, so the report's table and this test build the same model.
 fn chain(n: usize, masses: &[f64]) -> Model {
-    let mut m = Model::new("chain");
-    for i in 0..n {
-        let axis = if i % 2 == 0 {
-            Vector3::z()
-        } else {
-            Vector3::y()
-        };
-        let mass = masses[i % masses.len()];
-        let inertia = Inertia::from_com(
-            mass,
-            Vector3::new(0.05, 0.0, 0.0),
-            nalgebra::Matrix3::from_diagonal(&Vector3::new(1e-4, 4e-4, 4e-4)) * mass,
-        )
-        .unwrap();
-        let off = Se3::from_translation(Vector3::new(if i == 0 { 0.0 } else { 0.1 }, 0.0, 0.0));
-        m.add_link(
-            &format!("l{i}"),
-            if i == 0 { None } else { Some(i - 1) },
-            &format!("j{i}"),
-            Arc::new(Revolute::new(axis).unwrap()),
-            off,
-            inertia,
-        )
-        .unwrap();
-    }
-    m
+    mx::report::hard_cases::chain(n, masses).expect("chain builds")
 }
 
 fn aba_vs_m(m: &Model, rng: &mut Rng) -> f64 {

@@ -222,6 +222,9 @@ pub fn vanishing_jacobian() -> HardCase {
 /// Revolute chain, alternating axes, link masses cycling through `masses`
 /// (the chain of `tests/dynamics.rs`).
 pub fn chain(n: usize, masses: &[f64]) -> Result<Model, String> {
+    if masses.is_empty() {
+        return Err("chain needs at least one link mass".into());
+    }
     let mut m = Model::new("chain");
     for i in 0..n {
         let axis = if i % 2 == 0 {
