@@ -24,8 +24,8 @@ use super::segments::{self, Segment, Side};
 use crate::lie::Se3;
 use crate::model::joints::{Fixed, Prismatic, Revolute};
 use crate::model::{Inertia, Model};
+use indexmap::IndexMap;
 use nalgebra::{Matrix3, Vector3};
-use std::collections::HashMap;
 use std::sync::Arc;
 
 /// y-up standard gravity, the convention of mocap skeletons.
@@ -117,7 +117,9 @@ pub fn body_of(
             )
         })
         .collect();
-    let mut groups: HashMap<(Segment, Side), Vec<usize>> = HashMap::new();
+    // Insertion order (the skeleton's joint order), so sums over groups are the same
+    // in every run: a HashMap's random order changed masses in the last bits.
+    let mut groups: IndexMap<(Segment, Side), Vec<usize>> = IndexMap::new();
     for (i, sg) in seg.iter().enumerate() {
         if let Some(s) = *sg {
             let side = match s {
