@@ -26,6 +26,6 @@ pub mod groups;
 pub use groups::{group_overlapping, solve_all};
 pub mod precond;
 pub mod sp;
-pub use sp::{SpOptions, SpReport, fill_hermite, sp, torque_energy};
+pub use sp::{SpOptions, SpReport, Support, fill_hermite, sp, torque_energy};
 pub mod cyclify;
 pub use cyclify::{CyclifyOptions, CyclifyReport, cyclify, loop_motion};

@@ -24,6 +24,27 @@ pub struct SpOptions {
     pub solve: SolveOptions,
     /// Gravity; `None`: the body's default.
     pub gravity: Option<Vector3<f64>>,
+    /// Which limbs are held in place by IK over each gap (Rose §3.2.2).
+    pub support: Support,
+}
+
+/// Support limbs of `SP(…, support: …)`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Support {
+    /// Detect them: a joint frame whose world position stays inside a cube of
+    /// this edge (m) over the end of the motion before a gap and the start of
+    /// the motion after it.
+    Auto { box_size: f64 },
+    /// `support: ["LeftFoot", …]`: these frames, named as the body names them.
+    Named(Vec<String>),
+    /// `support: []`: no IK.
+    Off,
+}
+
+impl Default for Support {
+    fn default() -> Self {
+        Support::Auto { box_size: 0.02 }
+    }
 }
 
 /// How the root was moved over one gap.
