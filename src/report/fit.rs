@@ -4,8 +4,6 @@
 
 use super::plot::{Figure, Series};
 use super::timed;
-use crate::lie::Se3;
-use crate::lie::{Twist, exp_se3};
 use crate::model::joints::{
     FitOptions, JointSamples, fit_spline_joint, hessian_energy, joint_error,
 };
@@ -36,45 +34,10 @@ pub struct Outcome {
     pub figures: Vec<Figure>,
 }
 
-/// xorshift + Box–Muller: fixed-seed Gaussian noise, no dependency.
-struct Noise(u64);
-impl Noise {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-    fn gauss(&mut self) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-}
-
-/// The clean samples with 1 mm (per axis) and 0.5° (per axis) Gaussian noise.
-pub fn noisy(clean: &JointSamples, seed: u64) -> Result<JointSamples, String> {
-    let mut rng = Noise(seed);
-    let d = 0.5f64.to_radians();
-    let t: Vec<Se3> = clean
-        .transforms
-        .iter()
-        .map(|g| {
-            let w = Twist::new(
-                rng.gauss() * d,
-                rng.gauss() * d,
-                rng.gauss() * d,
-                0.0,
-                0.0,
-                0.0,
-            );
-            let dp = nalgebra::Vector3::new(rng.gauss(), rng.gauss(), rng.gauss()) * 1e-3;
-            let mut n = g.compose(&exp_se3(&w));
-            n.p += dp;
-            n
-        })
-        .collect();
-    JointSamples::new(clean.q.clone(), t).map_err(|e| e.to_string())
-}
+/// Noise of the smoothing study: 1 mm and 0.5° per axis (σ).
+pub const NOISE_M: f64 = 1e-3;
+pub const NOISE_DEG: f64 = 0.5;
+pub const NOISE_SEED: u64 = 2024;
 
 pub const DEFAULT_FRAMES: usize = 8;
 
@@ -107,7 +70,7 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
         tick();
     }
     let noisy_frames = 16;
-    let dirty = noisy(&clean, 2024)?;
+    let dirty = clean.with_noise(NOISE_M, NOISE_DEG.to_radians(), NOISE_SEED);
     let weights: &[f64] = if smoke {
         &[0.0, 1e-3]
     } else {

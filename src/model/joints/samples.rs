@@ -162,3 +162,57 @@ pub fn joint_error(
         rms_deg: (sum_deg / n).sqrt(),
     })
 }
+
+impl JointSamples {
+    /// The same samples with Gaussian noise of standard deviation `sigma_m`
+    /// (metres, per translation axis) and `sigma_rad` (radians, per rotation
+    /// axis, applied in the child frame), from a fixed seed: the noisy data of
+    /// the smoothing study (paper §6.3), identical in the tests and the report.
+    pub fn with_noise(&self, sigma_m: f64, sigma_rad: f64, seed: u64) -> Self {
+        let mut rng = Gaussian::new(seed);
+        let transforms = self
+            .transforms
+            .iter()
+            .map(|g| {
+                let (wx, wy, wz) = (rng.next(), rng.next(), rng.next());
+                let w = crate::lie::Twist::new(
+                    wx * sigma_rad,
+                    wy * sigma_rad,
+                    wz * sigma_rad,
+                    0.0,
+                    0.0,
+                    0.0,
+                );
+                let (px, py, pz) = (rng.next(), rng.next(), rng.next());
+                let mut n = g.compose(&crate::lie::exp_se3(&w));
+                n.p += nalgebra::Vector3::new(px, py, pz) * sigma_m;
+                n
+            })
+            .collect();
+        JointSamples {
+            q: self.q.clone(),
+            transforms,
+        }
+    }
+}
+
+/// Standard normal numbers from a seed: xorshift64 and Box–Muller (no
+/// dependency, same sequence on every platform).
+struct Gaussian(u64);
+
+impl Gaussian {
+    fn new(seed: u64) -> Self {
+        // xorshift has a fixed point at 0
+        Gaussian(seed.max(1))
+    }
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    fn next(&mut self) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
