@@ -6,6 +6,7 @@
 //!
 //! Uses every library module but `lang` (the report is about the engine).
 
+mod doc;
 pub mod fit;
 pub mod hard_cases;
 pub mod integrators;
@@ -15,10 +16,10 @@ pub mod perf;
 pub mod plot;
 pub mod spacetime;
 
+use doc::Doc;
 use indicatif::{ProgressBar, ProgressStyle};
-use plot::Figure;
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// Runs `f` and returns its value with the wall time in seconds.
@@ -72,49 +73,6 @@ pub struct Summary {
     pub hard_cases: Vec<hard_cases::HardCase>,
 }
 
-fn g(x: f64) -> String {
-    if x == 0.0 {
-        "0".into()
-    } else if (1e-3..1e4).contains(&x.abs()) {
-        format!("{x:.4}")
-    } else {
-        format!("{x:.2e}")
-    }
-}
-
-struct Doc {
-    md: String,
-    numbers: Vec<f64>,
-    figures: Vec<PathBuf>,
-    pending: Vec<String>,
-    out: PathBuf,
-}
-
-impl Doc {
-    /// A number into the text, remembered for the finiteness check.
-    fn n(&mut self, x: f64) -> String {
-        self.numbers.push(x);
-        g(x)
-    }
-    fn figure(&mut self, f: &Figure) {
-        self.numbers.extend(f.values());
-        match plot::draw(f, &self.out) {
-            Ok(()) => {
-                self.figures.push(self.out.join(&f.file));
-                let _ = writeln!(self.md, "\n![{}]({})\n", f.title, f.file);
-            }
-            Err(e) => {
-                self.pending.push(format!("figure {}: {e}", f.file));
-                let _ = writeln!(self.md, "\n*Figure {} could not be drawn: {e}*\n", f.file);
-            }
-        }
-    }
-    fn pending(&mut self, section: &str, why: &str) {
-        self.pending.push(format!("{section}: {why}"));
-        let _ = writeln!(self.md, "\n**Pending** — {section} did not run: {why}\n");
-    }
-}
-
 /// Regenerates the report. Errors only for the output folder itself; a
 /// section that cannot run is listed as pending in the report and the summary.
 pub fn generate(opts: &Options) -> Result<Summary, String> {
@@ -141,13 +99,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
         ProgressBar::hidden()
     };
     let smoke = opts.smoke;
-    let mut d = Doc {
-        md: String::new(),
-        numbers: Vec::new(),
-        figures: Vec::new(),
-        pending: Vec::new(),
-        out: opts.out.clone(),
-    };
+    let mut d = Doc::new(opts.out.clone());
     let machine = machine::describe();
     let _ = writeln!(
         d.md,
@@ -206,10 +158,18 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                 for f in &o.figures {
                     d.figure(f);
                 }
-                let _ = writeln!(
-                    d.md,
-                    "| coefficients/DOF | samples | grad tol | unknowns | iterations | energy (fine quadrature) | gap to best | end jump | Hermite energy | ms |\n|---|---|---|---|---|---|---|---|---|---|"
-                );
+                d.header(&[
+                    "coefficients/DOF",
+                    "samples",
+                    "grad tol",
+                    "unknowns",
+                    "iterations",
+                    "energy (fine quadrature)",
+                    "gap to best",
+                    "end jump",
+                    "Hermite energy",
+                    "ms",
+                ]);
                 for r in &o.rows {
                     let cells = [
                         r.coefficients.to_string(),
@@ -223,7 +183,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                         d.n(r.hermite_energy),
                         d.n(r.ms),
                     ];
-                    let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                    d.row(&cells);
                 }
             }
             Err(e) => d.pending("spacetime work–precision", &e),
@@ -254,10 +214,14 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
             for f in &o.figures {
                 d.figure(f);
             }
-            let _ = writeln!(
-                d.md,
-                "| integrator | setting | max abs Δq (rad) | ms | energy drift | ms (drift run) |\n|---|---|---|---|---|---|"
-            );
+            d.header(&[
+                "integrator",
+                "setting",
+                "max abs Δq (rad)",
+                "ms",
+                "energy drift",
+                "ms (drift run)",
+            ]);
             for r in &o.rows {
                 let err = if r.error.is_finite() {
                     d.n(r.error)
@@ -277,7 +241,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                     dr,
                     d.n(r.drift_ms),
                 ];
-                let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                d.row(&cells);
             }
         }
         Err(e) => d.pending("integrator work–precision", &e),
@@ -301,10 +265,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                 for f in &o.figures[..1] {
                     d.figure(f);
                 }
-                let _ = writeln!(
-                    d.md,
-                    "| frames | max mm | rms mm | max ° | rms ° | fit ms |\n|---|---|---|---|---|---|"
-                );
+                d.header(&["frames", "max mm", "rms mm", "max °", "rms °", "fit ms"]);
                 for r in &o.frames {
                     let cells = [
                         r.frames.to_string(),
@@ -314,7 +275,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                         d.n(r.rms_deg),
                         d.n(r.ms),
                     ];
-                    let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                    d.row(&cells);
                 }
                 let _ = writeln!(
                     d.md,
@@ -327,10 +288,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                 for f in &o.figures[1..] {
                     d.figure(f);
                 }
-                let _ = writeln!(
-                    d.md,
-                    "| w | ∫‖∇S‖² dq | max mm | rms mm | max ° | fit ms |\n|---|---|---|---|---|---|"
-                );
+                d.header(&["w", "∫‖∇S‖² dq", "max mm", "rms mm", "max °", "fit ms"]);
                 for r in &o.smoothing {
                     let cells = [
                         format!("{:.0e}", r.weight),
@@ -340,7 +298,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                         d.n(r.max_deg),
                         d.n(r.ms),
                     ];
-                    let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                    d.row(&cells);
                 }
             }
             Err(e) => d.pending("spline-joint fitting", &e),
@@ -375,10 +333,14 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
             for f in &o.figures {
                 d.figure(f);
             }
-            let _ = writeln!(
-                d.md,
-                "| method | per second | coefficients / samples | max ° | rms ° | ms |\n|---|---|---|---|---|---|"
-            );
+            d.header(&[
+                "method",
+                "per second",
+                "coefficients / samples",
+                "max °",
+                "rms °",
+                "ms",
+            ]);
             for r in &o.rows {
                 let cells = [
                     r.method.to_string(),
@@ -388,7 +350,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                     d.n(r.rms_deg),
                     d.n(r.ms),
                 ];
-                let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                d.row(&cells);
             }
             let _ = writeln!(
                 d.md,
@@ -408,14 +370,21 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
         d.md,
         "Every numerically delicate case of the suite, from `mx::report::hard_cases::all()` — the registry \
          `tests/hard_cases.rs` asserts, so this table and the tests cannot disagree. A case expecting a clear \
-         error scores 0 when the error arrives with the expected words.\n\n\
-         | case | module | what the engine returns | worst error | bound | passed |\n|---|---|---|---|---|---|"
+         error scores 0 when the error arrives with the expected words.\n"
     );
+    d.header(&[
+        "case",
+        "module",
+        "what the engine returns",
+        "worst error",
+        "bound",
+        "passed",
+    ]);
     for c in &cases {
         let cells = [
             c.name.to_string(),
             c.area.to_string(),
-            c.returned.replace('|', "\\|"),
+            c.returned.clone(),
             d.n(c.worst_error),
             d.n(c.bound),
             if c.passed {
@@ -424,7 +393,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                 "**NO**".into()
             },
         ];
-        let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+        d.row(&cells);
     }
 
     // ---- performance
@@ -460,10 +429,8 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                         } else {
                             None
                         };
-                        let _ = writeln!(
-                            d.md,
-                            "**{name}** (nq = {nq})\n\n| algorithm | mx µs | Pinocchio µs | ratio |\n|---|---|---|---|"
-                        );
+                        let _ = writeln!(d.md, "**{name}** (nq = {nq})\n");
+                        d.header(&["algorithm", "mx µs", "Pinocchio µs", "ratio"]);
                         for (i, alg) in ["rnea", "aba", "crba", "rnea_derivatives"]
                             .iter()
                             .enumerate()
@@ -473,7 +440,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                                 None => ("not run".into(), "—".into()),
                             };
                             let cells = [alg.to_string(), d.n(t[i]), p, ratio];
-                            let _ = writeln!(d.md, "| {} |", cells.join(" | "));
+                            d.row(&cells);
                         }
                         let adj = d.n(t[4]);
                         let rel = d.n(t[4] / t[0]);
@@ -515,7 +482,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
     }
     pb.finish_with_message("done");
     let markdown = opts.out.join("accuracy.md");
-    std::fs::write(&markdown, &d.md)
+    crate::io::atomic::write_atomic(&markdown, d.md.as_bytes())
         .map_err(|e| format!("cannot write {}: {e}", markdown.display()))?;
     Ok(Summary {
         markdown,
@@ -539,6 +506,3 @@ pub fn describe(s: &Summary) -> String {
         }
     )
 }
-
-#[allow(dead_code)]
-fn _assert_path(_: &Path) {}
