@@ -3,6 +3,7 @@
 //! without gravity passes a zero vector, and so on.
 
 use crate::dynamics::aba::aba_core;
+use crate::dynamics::driven::{Driven, DrivenBuffers, driven_accelerations};
 use crate::dynamics::workspace::Workspace;
 use crate::dynamics::{DynamicsError, kinetic_energy, potential_energy};
 use crate::lie::{Se3, Twist, Wrench};
@@ -52,6 +53,8 @@ pub struct Scene {
     pub springs: Vec<Spring>,
     pub forces: Vec<ExternalForce>,
     pub limits: Option<LimitPenalty>,
+    /// Coordinates moved at a constant rate whatever the forces (see `driven.rs`).
+    pub driven: Vec<Driven>,
     limit_values: Vec<(f64, f64)>,
 }
 
@@ -63,6 +66,7 @@ pub struct SceneWorkspace {
     fext: Vec<Wrench>,
     poses: Vec<Se3>,
     twists: Vec<Twist>,
+    driven: Option<DrivenBuffers>,
 }
 
 impl SceneWorkspace {
@@ -74,6 +78,8 @@ impl SceneWorkspace {
             fext: vec![Wrench::zeros(); n],
             poses: vec![Se3::identity(); n],
             twists: vec![Twist::zeros(); n],
+            driven: (!scene.driven.is_empty())
+                .then(|| DrivenBuffers::new(&scene.model, &scene.driven)),
         }
     }
 }
@@ -103,6 +109,7 @@ impl Scene {
             springs: vec![],
             forces: vec![],
             limits: None,
+            driven: vec![],
             limit_values,
         }
     }
@@ -189,6 +196,64 @@ impl Scene {
         }
         self.limits = Some(p);
         Ok(self)
+    }
+
+    /// Drives a coordinate at a constant `rate` (its velocity, set in the
+    /// initial state by [`Scene::drive_state`]): it moves whatever the forces.
+    pub fn with_driven(mut self, coordinate: usize, rate: f64) -> Result<Self, DynamicsError> {
+        let n = self.model.nq();
+        if coordinate >= n {
+            return Err(DynamicsError::Input(format!(
+                "driven coordinate index {coordinate} out of range (the model has {n})"
+            )));
+        }
+        if !rate.is_finite() {
+            return Err(DynamicsError::Input("a driven rate must be finite".into()));
+        }
+        if self.driven.iter().any(|d| d.coordinate == coordinate) {
+            return Err(DynamicsError::Input(format!(
+                "coordinate `{}` is driven twice",
+                self.model.coordinate_names()[coordinate]
+            )));
+        }
+        if self.driven.len() + 1 >= n {
+            return Err(DynamicsError::Input(
+                "every coordinate would be driven: leave at least one free".into(),
+            ));
+        }
+        self.driven.push(Driven { coordinate, rate });
+        Ok(self)
+    }
+
+    /// Sets the velocities of the driven coordinates to their rates.
+    pub fn drive_state(&self, v: &mut [f64]) {
+        for d in &self.driven {
+            if let Some(x) = v.get_mut(d.coordinate) {
+                *x = d.rate;
+            }
+        }
+    }
+
+    /// The final solve: O(n) articulated-body forward dynamics, or with driven
+    /// coordinates the constrained solve of `driven.rs`.
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &self,
+        sw_ws: &mut Workspace,
+        driven: &mut Option<DrivenBuffers>,
+        q: &[f64],
+        v: &[f64],
+        tau: &[f64],
+        g: &Vector3<f64>,
+        fext: Option<&[Wrench]>,
+        qdd: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let m = &*self.model;
+        if self.driven.is_empty() {
+            return aba_core(m, sw_ws, q, v, tau, g, fext, qdd);
+        }
+        let buf = driven.get_or_insert_with(|| DrivenBuffers::new(m, &self.driven));
+        driven_accelerations(m, sw_ws, buf, q, v, tau, g, fext, qdd)
     }
 
     pub fn nq(&self) -> usize {
@@ -289,7 +354,7 @@ impl Scene {
         let g = self.gravity_or_zero();
         let tau = std::mem::take(&mut sw.tau);
         let r = if self.springs.is_empty() && self.forces.is_empty() {
-            aba_core(m, &mut sw.ws, q, v, &tau, &g, None, qdd)
+            self.solve(&mut sw.ws, &mut sw.driven, q, v, &tau, &g, None, qdd)
         } else {
             sw.fext.iter_mut().for_each(|f| *f = Wrench::zeros());
             self.point_kinematics(sw, q, v);
@@ -316,7 +381,7 @@ impl Scene {
                 Self::add_force(sw, f.link, &f.point, &f.force);
             }
             let fext = std::mem::take(&mut sw.fext);
-            let r = aba_core(m, &mut sw.ws, q, v, &tau, &g, Some(&fext), qdd);
+            let r = self.solve(&mut sw.ws, &mut sw.driven, q, v, &tau, &g, Some(&fext), qdd);
             sw.fext = fext;
             r
         };

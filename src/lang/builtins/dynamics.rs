@@ -374,7 +374,35 @@ fn build_scene(a: &mut Args) -> MxResult<Value> {
             s = s.with_limits(p).map_err(|e| err(e, a))?;
         }
     }
+    if let Some(dr) = a.opt_named("driven") {
+        s = with_driven(a, s, &dr, &m)?;
+    }
     Ok(Value::object(SceneValue { scene: s }))
+}
+
+/// `driven: {coordinate: rate, …}`: coordinates moved at a constant rate.
+fn with_driven(a: &Args, mut s: Scene, dr: &ArgValue, m: &Model) -> MxResult<Scene> {
+    let Value::Record(r) = &dr.value else {
+        return Err(a.type_error("driven", "a record {coordinate: rate, …}", dr));
+    };
+    for (k, v) in r.iter() {
+        let Some(i) = m.coordinate_index(k) else {
+            return Err(MxError::value(format!(
+                "`{}`: the body has no coordinate `{k}`",
+                a.name()
+            ))
+            .at(dr.span)
+            .help(format!("coordinates: {}", m.coordinate_names().join(", "))));
+        };
+        let Some(rate) = v.as_number() else {
+            return Err(MxError::type_error(format!(
+                "`driven`: the rate of `{k}` must be a number"
+            ))
+            .at(dr.span));
+        };
+        s = s.with_driven(i, rate).map_err(|e| dyn_error(e, a))?;
+    }
+    Ok(s)
 }
 
 /// Initial coordinates from `init: {name: value, …}` or `init: {q: {…}, v: {…}}`.
@@ -475,7 +503,9 @@ fn run_simulation(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
         None => Integrator::Rk4,
     };
     let init = a.opt_named("init");
-    let st = initial_state(a, init, &scene.model)?;
+    let mut st = initial_state(a, init, &scene.model)?;
+    // Driven coordinates start (and stay) at their rates.
+    scene.drive_state(&mut st.v);
     let want_v = match a.opt_named("velocities") {
         Some(v) => matches!(v.value, Value::Bool(true)),
         None => false,
@@ -595,9 +625,10 @@ pub fn register(reg: &mut Registry) {
         },
     );
     reg.add(
-        "scene(body, gravity: [x, y, z], damping: d, springs: [...], forces: [...], limits: true)",
+        "scene(body, gravity: [x, y, z], damping: d, springs: [...], forces: [...], limits: true, driven: {coordinate: rate})",
         "A body with the effects it declares; only those are computed. springs: records \
-         {a: link, pa: [..], b: link|\"world\", pb: [..], k:, c:, rest:}; forces: {link:, at: [..], force: [..]}.",
+         {a: link, pa: [..], b: link|\"world\", pb: [..], k:, c:, rest:}; forces: {link:, at: [..], force: [..]}; \
+         driven: coordinates moved at a constant rate whatever the forces (a motor; the clock of a deforming_surface).",
         |a, _| build_scene(a),
     );
 }

@@ -102,7 +102,7 @@ fn numbers(x: &[f64]) -> Value {
 }
 
 /// A 4×4 homogeneous matrix as a list of rows.
-fn matrix_value(t: &Se3) -> Value {
+pub(crate) fn matrix_value(t: &Se3) -> Value {
     let m = t.to_matrix();
     Value::list(
         (0..4)
@@ -148,7 +148,7 @@ fn vec3_or(a: &mut Args, name: &str, default: Vector3<f64>) -> MxResult<Vector3<
 }
 
 /// A rigid transform from a 4×4 list of rows (rotation block must be orthonormal).
-fn transform_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Se3> {
+pub(crate) fn transform_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Se3> {
     let rows = arg.value.as_list().filter(|r| r.len() == 4 || r.len() == 3);
     let Some(rows) = rows else {
         return Err(a.type_error(name, "a 4×4 matrix (a list of 4 rows of 4 numbers)", arg));

@@ -24,8 +24,11 @@ pub mod body;
 pub mod core;
 pub mod dynamics;
 pub mod joints;
+pub mod links;
+pub mod mechanics;
 pub mod mocap;
 pub mod motion;
+pub mod spline_joints;
 
 use std::fmt;
 use std::marker::PhantomData;
@@ -89,6 +92,9 @@ impl Registry {
         core::register(&mut r);
         motion::register(&mut r);
         joints::register(&mut r);
+        spline_joints::register(&mut r);
+        links::register(&mut r);
+        mechanics::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
         r

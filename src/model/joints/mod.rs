@@ -20,7 +20,9 @@ pub mod root6;
 pub mod samples;
 pub mod scalar_function;
 pub mod spherical;
+pub mod spline_loop;
 pub mod spline_ndof;
+pub mod spline_surface;
 pub mod universal;
 
 pub use curve::SplineCurveJoint;
@@ -38,5 +40,7 @@ pub use root6::Root6;
 pub use samples::{JointError, JointSamples, joint_error};
 pub use scalar_function::ScalarFunction;
 pub use spherical::{EulerOrder, Spherical};
+pub use spline_loop::SplineLoopJoint;
 pub use spline_ndof::SplineJoint;
+pub use spline_surface::{FrameGrid, SplineSurfaceJoint};
 pub use universal::Universal;
