@@ -21,11 +21,14 @@
 //! one line too.
 
 pub mod body;
+pub mod busy;
 pub mod core;
 pub mod dynamics;
 pub mod joints;
 pub mod mocap;
 pub mod motion;
+pub mod sp_report;
+pub mod spacetime;
 
 use std::fmt;
 use std::marker::PhantomData;
@@ -91,6 +94,7 @@ impl Registry {
         joints::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
+        spacetime::register(&mut r);
         r
     }
 
