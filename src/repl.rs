@@ -1,6 +1,6 @@
 //! The interactive REPL (rustyline): persistent history in the user's data
 //! folder, multi-line input while brackets are open, tab completion of names
-//! in scope and built-ins, `:help`, `:type`, `:load`, `:time`, `:quit`.
+//! in scope and built-ins, `:help`, `:type`, `:info`, `:load`, `:time`, `:quit`.
 //! Ctrl-C during an evaluation cancels it (through the interpreter's
 //! cancellation token) and returns to the prompt; at the prompt it clears the line.
 
@@ -19,7 +19,9 @@ use rustyline::{Config, Context, Editor, Helper};
 use mx::lang::ErrorKind;
 use mx::lang::parser::is_incomplete;
 
-const COMMANDS: &[&str] = &[":help", ":type", ":load", ":time", ":plot", ":quit"];
+const COMMANDS: &[&str] = &[
+    ":help", ":type", ":info", ":load", ":time", ":plot", ":quit",
+];
 
 struct MxHelper {
     names: Arc<Mutex<Vec<String>>>,
@@ -202,6 +204,7 @@ fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
             eprintln!("time: {:.3} ms", dt.as_secs_f64() * 1e3);
         }
         ":plot" | ":p" => plot(mx, rest, n),
+        ":info" | ":i" => info(mx, rest, n),
         c if c.starts_with(':') => {
             eprintln!("unknown command `{c}`; commands: {}", COMMANDS.join(", "));
         }
@@ -211,6 +214,19 @@ fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
         },
     }
     true
+}
+
+/// `:info EXPR`: what is known about a value beyond its summary: for a
+/// motion SP returned, SP's report (gap groups, energies, why each solve stopped).
+fn info(mx: &mut mx::Interpreter, expr: &str, n: usize) {
+    let v = match mx.eval_named(&format!("<repl:{n}>"), expr) {
+        Ok(v) => v,
+        Err(d) => return report(d),
+    };
+    println!("{}: {}", v.type_name(), v.repr());
+    if let Some(r) = mx::lang::builtins::sp_report::report_of(&v) {
+        print!("SP report:\n{r}");
+    }
 }
 
 /// `:plot EXPR`: a quick text plot of a motion's first DOF curves, in the
@@ -255,7 +271,9 @@ fn plot(mx: &mut mx::Interpreter, expr: &str, n: usize) {
 fn help(mx: &mx::Interpreter, topic: &str) {
     let reg = mx.registry();
     if topic.is_empty() {
-        println!("Commands: :help [name], :type EXPR, :load FILE, :time EXPR, :plot EXPR, :quit");
+        println!(
+            "Commands: :help [name], :type EXPR, :info EXPR, :load FILE, :time EXPR, :plot EXPR, :quit"
+        );
         println!("Built-ins (:help NAME for details, :help formats for files):");
         let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.to_string()).collect();
         sigs.sort();

@@ -8,7 +8,13 @@ use std::path::PathBuf;
 #[test]
 fn committed_example_clips_match_the_generator() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/data");
-    for (name, clip) in [("walk.bvh", synth::walk()), ("wave.bvh", synth::wave())] {
+    for (name, clip) in [
+        ("walk.bvh", synth::walk()),
+        ("wave.bvh", synth::wave()),
+        ("run.bvh", synth::run()),
+        ("kick.bvh", synth::kick()),
+        ("arm_raise.bvh", synth::arm_raise()),
+    ] {
         let path = dir.join(name);
         let on_disk = std::fs::read_to_string(&path).unwrap_or_else(|e| {
             panic!(

@@ -1,5 +1,5 @@
-//! Small procedural clips the project makes itself (a walk cycle and an arm
-//! wave on one 19-joint skeleton), so examples run on a fresh clone without
+//! Small procedural clips the project makes itself (a walk cycle, an arm
+//! wave, a run, a kick and an arm raise on one 19-joint skeleton), so examples run on a fresh clone without
 //! third-party motion capture. `examples/make_data.rs` writes them to
 //! `examples/data/`; a test checks the committed files equal what this makes.
 //!
@@ -189,6 +189,80 @@ pub fn wave() -> BvhFile {
             ("RightForeArm", Zrotation, -40.0 * lift + 25.0 * lift * wag),
             ("Chest", Zrotation, 3.0 * lift),
             ("Head", Yrotation, -10.0 * lift),
+        ]
+    })
+}
+
+/// Smooth 0→1 step over x ∈ [0, 1] (zero slope at both ends).
+fn smoothstep(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
+/// One second of a run (1.4 strides per second, 3 m/s along +z): larger hip
+/// and knee swings than the walk, a deeper bob, elbows bent. 31 frames, 1 s.
+pub fn run() -> BvhFile {
+    use Channel::*;
+    clip(31, |t| {
+        let ph = 2.0 * PI * 1.4 * t;
+        let hip = |p: f64| -40.0 * p.sin() + 10.0;
+        let knee = |p: f64| 15.0 + 85.0 * (0.5 + 0.5 * (p - 1.2).sin()).powi(2);
+        let ankle = |p: f64| 15.0 * (p + 0.5).sin();
+        vec![
+            ("Hips", Zposition, 300.0 * t),
+            ("Hips", Yposition, HIP_HEIGHT - 6.0 + 3.0 * (2.0 * ph).cos()),
+            ("Hips", Xrotation, -8.0), // leaning forward
+            ("Hips", Yrotation, 8.0 * ph.sin()),
+            ("Chest", Yrotation, -12.0 * ph.sin()),
+            ("LeftUpLeg", Xrotation, hip(ph)),
+            ("RightUpLeg", Xrotation, hip(ph + PI)),
+            ("LeftLeg", Xrotation, knee(ph)),
+            ("RightLeg", Xrotation, knee(ph + PI)),
+            ("LeftFoot", Xrotation, ankle(ph)),
+            ("RightFoot", Xrotation, ankle(ph + PI)),
+            ("LeftArm", Xrotation, -35.0 * (ph + PI).sin()),
+            ("RightArm", Xrotation, -35.0 * ph.sin()),
+            ("LeftForeArm", Yrotation, -80.0),
+            ("RightForeArm", Yrotation, 80.0),
+        ]
+    })
+}
+
+/// Standing, the right leg kicks forward: the hip flexes to 75° with the knee
+/// bent, the knee snaps straight at the top, and the leg comes back down.
+/// 46 frames, 1.5 s.
+pub fn kick() -> BvhFile {
+    use Channel::*;
+    clip(46, |t| {
+        // 0–0.3 s still, kick up by 0.75 s, down by 1.2 s, then still
+        let up = smoothstep((t - 0.3) / 0.45) * (1.0 - smoothstep((t - 0.75) / 0.45));
+        let snap = smoothstep((t - 0.5) / 0.25) * (1.0 - smoothstep((t - 0.75) / 0.3));
+        vec![
+            ("Hips", Yposition, HIP_HEIGHT - 1.0),
+            ("Hips", Xrotation, 10.0 * up), // leaning back
+            ("RightUpLeg", Xrotation, -75.0 * up),
+            ("RightLeg", Xrotation, 70.0 * up * (1.0 - snap)),
+            ("RightFoot", Xrotation, -20.0 * up),
+            ("LeftLeg", Xrotation, 10.0 * up),
+            ("LeftArm", Zrotation, -80.0 + 35.0 * up),
+            ("RightArm", Zrotation, 80.0 - 35.0 * up),
+        ]
+    })
+}
+
+/// Rose's Fig. 10 setting: the right upper arm held out sideways
+/// (horizontal) with the forearm pointing straight up for 0.5 s, then the
+/// forearm swings down to horizontal over 0.5 s and stays; upper arm and
+/// wrist keep the same angles at the start and the end. 46 frames, 1.5 s.
+pub fn arm_raise() -> BvhFile {
+    use Channel::*;
+    clip(46, |t| {
+        let s = smoothstep((t - 0.5) / 0.5);
+        vec![
+            ("Hips", Yposition, HIP_HEIGHT - 1.0),
+            ("RightArm", Zrotation, 0.0),
+            ("RightForeArm", Zrotation, -90.0 * (1.0 - s)),
+            ("RightHand", Zrotation, 0.0),
         ]
     })
 }

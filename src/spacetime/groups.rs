@@ -4,6 +4,7 @@
 
 use super::error::SpError;
 use super::objective::{GapDof, Inputs, Objective, TransitionSettings};
+use super::progress::ProgressEvent;
 use super::solve::{GroupSolution, SolveOptions, solve_group};
 use super::torque::TorqueModel;
 use rayon::prelude::*;
@@ -35,11 +36,14 @@ pub fn solve_all<M: TorqueModel>(
     opts: &SolveOptions,
 ) -> Result<Vec<GroupSolution>, SpError> {
     let groups = group_overlapping(gaps);
+    opts.progress.report(ProgressEvent::Groups(groups.len()));
     groups
         .into_par_iter()
         .map(|dofs| {
             let obj = Objective::new(model, dofs, settings, weights.to_vec(), inputs)?;
-            solve_group(&obj, opts)
+            let solution = solve_group(&obj, opts);
+            opts.progress.report(ProgressEvent::GroupDone);
+            solution
         })
         .collect()
 }

@@ -25,6 +25,8 @@ pub use root::{RootCoords, RootTransition};
 pub mod groups;
 pub use groups::{group_overlapping, solve_all};
 pub mod precond;
+pub mod progress;
+pub use progress::{Progress, ProgressEvent};
 pub mod sp;
 pub use sp::{SpOptions, SpReport, Support, fill_hermite, sp, torque_energy};
 pub mod cyclify;

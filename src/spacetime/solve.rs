@@ -26,6 +26,8 @@ pub struct SolveOptions {
     /// Use dense BFGS up to this many unknowns, L-BFGS above.
     pub bfgs_max_vars: usize,
     pub cancel: CancelToken,
+    /// Told of every objective evaluation (a progress bar's heartbeat).
+    pub progress: super::progress::Progress,
 }
 
 impl Default for SolveOptions {
@@ -36,6 +38,7 @@ impl Default for SolveOptions {
             cost_rtol: 1e-12,
             bfgs_max_vars: 40,
             cancel: CancelToken::new(),
+            progress: Default::default(),
         }
     }
 }
@@ -90,6 +93,7 @@ struct Problem<'o, 'a, M: TorqueModel> {
     best: RefCell<Option<Best>>,
     evals: RefCell<u64>,
     cancel: CancelToken,
+    progress: super::progress::Progress,
 }
 
 impl<M: TorqueModel> Problem<'_, '_, M> {
@@ -125,6 +129,8 @@ impl<M: TorqueModel> Problem<'_, '_, M> {
             .eval(&mut self.scratch.borrow_mut(), x, Some(&mut g))
             .map_err(|e| argmin::core::Error::msg(e.to_string()))?;
         *self.evals.borrow_mut() += 1;
+        self.progress
+            .report(super::progress::ProgressEvent::Evaluation);
         let mut best = self.best.borrow_mut();
         if best.as_ref().is_none_or(|b| e < b.e) {
             *best = Some(Best {
@@ -189,6 +195,7 @@ pub fn solve_group<M: TorqueModel>(
         best: RefCell::new(None),
         evals: RefCell::new(0),
         cancel: opts.cancel.clone(),
+        progress: opts.progress.clone(),
     };
     let y0 = problem.to_y(&x0);
     let (e0, g0x) = problem

@@ -139,7 +139,7 @@ fn list_n(a: &Args, arg: &ArgValue, name: &str, m: &Model) -> MxResult<Vec<f64>>
         .collect()
 }
 
-fn vec3(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vector3<f64>> {
+pub(crate) fn vec3(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vector3<f64>> {
     let bad = || {
         MxError::type_error(format!(
             "`{}`: `{name}` must be a list of 3 finite numbers",

@@ -21,6 +21,7 @@
 //! one line too.
 
 pub mod body;
+pub mod busy;
 pub mod core;
 pub mod dynamics;
 pub mod joints;
@@ -28,6 +29,8 @@ pub mod links;
 pub mod mechanics;
 pub mod mocap;
 pub mod motion;
+pub mod sp_report;
+pub mod spacetime;
 pub mod spline_joints;
 
 use std::fmt;
@@ -97,6 +100,7 @@ impl Registry {
         mechanics::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
+        spacetime::register(&mut r);
         r
     }
 

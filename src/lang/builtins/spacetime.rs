@@ -1,0 +1,404 @@
+//! Spacetime built-ins (Rose et al. 1996): `SP`, `sp_report`, `fill`,
+//! `torque_energy`, `cyclify`, `loop`. The work is done by `crate::spacetime`;
+//! this file checks options (errors point at the argument), converts values
+//! and errors, shows a progress bar for long solves and passes the
+//! interpreter's cancellation token to the solver (Ctrl-C in the REPL).
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::body::Body;
+use super::busy::Busy;
+use super::dynamics::vec3;
+use super::motion::Motion;
+use super::sp_report::{SpReportValue, remember, report_of};
+use super::{ArgValue, Args, Registry};
+use crate::lang::ast::Span;
+use crate::lang::diagnostics::{ErrorKind, MxError, MxResult, did_you_mean};
+use crate::lang::eval::Evaluator;
+use crate::lang::value::{Value, format_number};
+use crate::model::Model;
+use crate::motion::Mu;
+use crate::spacetime::{
+    Continuity, CyclifyOptions, Progress, ProgressEvent, SpError, SpOptions, Support, cyclify,
+    fill_hermite, loop_motion, sp, torque_energy,
+};
+
+/// Methods `fill(m, method)` knows.
+const FILL_METHODS: [&str; 1] = ["hermite"];
+
+fn sp_error(e: SpError, a: &Args, span: Span) -> MxError {
+    let (kind, help) = match &e {
+        SpError::Cancelled => (ErrorKind::Cancelled, "cancelled by the user (Ctrl-C)"),
+        SpError::Conflict(_) => (
+            ErrorKind::Motion,
+            "`conflicts(m)` lists where the motion is multiply defined",
+        ),
+        SpError::Invalid(_) => (ErrorKind::Value, ""),
+        SpError::Evaluation(_) => (ErrorKind::Host, ""),
+    };
+    let err = MxError::new(kind, e.to_string()).at(span);
+    if help.is_empty() {
+        err.help(format!("usage: {}", a.signature()))
+    } else {
+        err.help(help)
+    }
+}
+
+fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
+    let arg = a.arg(name)?;
+    match arg.value.as_object::<Motion>() {
+        Some(Motion::Mu(m)) => Ok((m.clone(), arg)),
+        _ => Err(a.type_error(name, "a motion unit (Mu), e.g. load(\"walk.bvh\")", &arg)),
+    }
+}
+
+fn body_arg(a: &mut Args) -> MxResult<Arc<Model>> {
+    let arg = a.arg("body")?;
+    match arg.value.as_object::<Body>() {
+        Some(b) => Ok(b.model.clone()),
+        None => Err(a.type_error(
+            "body",
+            "a body whose coordinates are the motion's DOFs, e.g. body_of(clip)",
+            &arg,
+        )),
+    }
+}
+
+fn bad_option(a: &Args, arg: &ArgValue, msg: String, help: &str) -> MxError {
+    MxError::value(format!("`{}`: {msg}", a.name()))
+        .at(arg.span)
+        .label("this option")
+        .help(help.to_string())
+}
+
+/// A whole number in `min..=max` given as the named option `name`.
+fn whole(a: &mut Args, name: &str, min: usize, max: usize, help: &str) -> MxResult<Option<usize>> {
+    let Some(arg) = a.opt_named(name) else {
+        return Ok(None);
+    };
+    match arg.value {
+        Value::Number(x) if x.fract() == 0.0 && x >= min as f64 && x <= max as f64 => {
+            Ok(Some(x as usize))
+        }
+        Value::Number(x) => Err(bad_option(
+            a,
+            &arg,
+            format!(
+                "`{name}: {}` must be a whole number from {min} to {max}",
+                format_number(x)
+            ),
+            help,
+        )),
+        _ => Err(a.type_error(name, "a whole number", &arg)),
+    }
+}
+
+fn continuity(a: &mut Args) -> MxResult<Continuity> {
+    let Some(arg) = a.opt_named("continuity") else {
+        return Ok(Continuity::C1);
+    };
+    match arg.value {
+        Value::Number(x) if x == 1.0 || x == 2.0 => {
+            Ok(Continuity::from_order(x as i64)
+                .map_err(|e| bad_option(a, &arg, e.to_string(), ""))?)
+        }
+        _ => Err(bad_option(
+            a,
+            &arg,
+            format!("`continuity:` must be 1 or 2, found {}", arg.value.repr()),
+            "1: position and velocity continuous at the gap ends (Rose's transitions); 2: acceleration too",
+        )),
+    }
+}
+
+/// `support: ["LeftFoot", …]` (frames the body names), `[]` (none) or `"auto"`.
+fn support(a: &mut Args, model: &Model) -> MxResult<Support> {
+    let Some(arg) = a.opt_named("support") else {
+        return Ok(Support::default());
+    };
+    let links: Vec<&str> = model.links().iter().map(|l| l.name.as_str()).collect();
+    // body_of bodies have a massless link per channel (`Joint.channel`): suggest joints only
+    let joints: Vec<&str> = links.iter().copied().filter(|n| !n.contains('.')).collect();
+    let shown = if joints.is_empty() { &links } else { &joints };
+    match &arg.value {
+        Value::Str(s) if &**s == "auto" => Ok(Support::default()),
+        Value::List(items) if items.is_empty() => Ok(Support::Off),
+        Value::List(items) => {
+            let mut names = vec![];
+            for v in items.iter() {
+                let Some(n) = v.as_str() else {
+                    return Err(a.type_error("support", "a list of frame names (strings)", &arg));
+                };
+                if model.link_index(n).is_none() {
+                    let guess = did_you_mean(n, shown.iter().copied())
+                        .map(|g| format!("did you mean `{g}`? "))
+                        .unwrap_or_default();
+                    return Err(bad_option(
+                        a,
+                        &arg,
+                        format!("the body has no frame named `{n}` to hold as a support limb"),
+                        &format!("{guess}frames: {}", shown.join(", ")),
+                    ));
+                }
+                names.push(n.to_string());
+            }
+            Ok(Support::Named(names))
+        }
+        _ => Err(a.type_error(
+            "support",
+            "a list of frame names like [\"LeftFoot\"], [] for none, or \"auto\"",
+            &arg,
+        )),
+    }
+}
+
+fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions> {
+    let mut o = SpOptions::default();
+    let continuity = continuity(a)?;
+    // Fewer free coefficients than are fixed at one end leave the optimiser
+    // almost nothing between the end conditions (none at all at 0).
+    let min = continuity.fixed_per_end();
+    if let Some(n) = whole(
+        a,
+        "coefficients",
+        min,
+        200,
+        &format!(
+            "free B-spline coefficients per DOF and gap: at least {min} with continuity: {} (default 8; Rose uses 5–10)",
+            continuity.order()
+        ),
+    )? {
+        o.settings.coefficients = n;
+    }
+    if let Some(n) = whole(
+        a,
+        "samples",
+        1,
+        100_000,
+        "Gauss points of the torque integral per gap (default 20)",
+    )? {
+        o.settings.samples = n;
+    }
+    o.settings.continuity = continuity;
+    if let Some(n) = whole(
+        a,
+        "iterations",
+        0,
+        1_000_000,
+        "solver iterations per gap group (default 300)",
+    )? {
+        o.solve.max_iters = n as u64;
+    }
+    if let Some(arg) = a.opt_named("tolerance") {
+        match arg.value {
+            Value::Number(x) if x > 0.0 && x < 1.0 => o.solve.grad_rtol = x,
+            _ => {
+                return Err(bad_option(
+                    a,
+                    &arg,
+                    format!(
+                        "`tolerance:` must be a number in (0, 1), found {}",
+                        arg.value.repr()
+                    ),
+                    "the solver stops when the gradient falls below this fraction of its start (default 1e-6)",
+                ));
+            }
+        }
+    }
+    if let Some(g) = a.opt_named("gravity") {
+        o.gravity = Some(vec3(a, &g, "gravity")?);
+    }
+    o.support = support(a, model)?;
+    o.solve.cancel = ev.ctx.cancel.clone();
+    Ok(o)
+}
+
+fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
+    let (m, marg) = mu_arg(a, "m")?;
+    let model = body_arg(a)?;
+    let mut opts = sp_options(a, ev, &model)?;
+    let busy = Busy::start(
+        "SP",
+        "{spinner} {prefix} [{elapsed}] {bar:30} {pos}/{len} gap groups, {msg} (Ctrl-C cancels)",
+    );
+    let bar = busy.bar().clone();
+    let evals = Arc::new(AtomicU64::new(0));
+    opts.solve.progress = Progress::new(move |e| match e {
+        ProgressEvent::Groups(n) => bar.set_length(n as u64),
+        ProgressEvent::GroupDone => bar.inc(1),
+        ProgressEvent::Evaluation => {
+            let k = evals.fetch_add(1, Ordering::Relaxed) + 1;
+            if k % 16 == 0 {
+                bar.set_message(format!("{k} objective evaluations"));
+            }
+        }
+    });
+    let result = sp(&m, &model, &opts);
+    drop(busy);
+    // A cancelled solve returns no motion at all, never a partly solved one.
+    ev.check_cancel(a.call_span())?;
+    let (filled, report) = result.map_err(|e| {
+        let span = if matches!(e, SpError::Conflict(_)) {
+            marg.span
+        } else {
+            a.call_span()
+        };
+        sp_error(e, a, span)
+    })?;
+    let v = Value::object(Motion::Mu(filled));
+    remember(&v, report);
+    Ok(v)
+}
+
+fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
+    let (m, _) = mu_arg(a, "m")?;
+    let ts = a.finite("t_start")?;
+    let te = a.finite("t_end")?;
+    let mut opts = CyclifyOptions {
+        // BVH clips are y up: a walk advances in the floor plane x–z.
+        drift: m
+            .names()
+            .filter(|n| n.ends_with("Xposition") || n.ends_with("Zposition"))
+            .map(str::to_string)
+            .collect(),
+        ..Default::default()
+    };
+    if let Some(arg) = a.opt_named("drift") {
+        let Some(list) = arg.value.as_list() else {
+            return Err(a.type_error("drift", "a list of DOF names", &arg));
+        };
+        let mut names = vec![];
+        for v in list {
+            match v.as_str() {
+                Some(n) if m.get(n).is_some() => names.push(n.to_string()),
+                Some(n) => {
+                    return Err(bad_option(
+                        a,
+                        &arg,
+                        format!("`drift:` names `{n}`, which is not a DOF of the motion"),
+                        "`dofs(m)` lists the DOF names",
+                    ));
+                }
+                None => return Err(a.type_error("drift", "a list of DOF names", &arg)),
+            }
+        }
+        opts.drift = names;
+    }
+    if let Some(arg) = a.opt_named("knot_spacing") {
+        match arg.value {
+            Value::Number(x) if x.is_finite() && x > 0.0 => opts.knot_spacing = x,
+            _ => {
+                return Err(bad_option(
+                    a,
+                    &arg,
+                    "`knot_spacing:` must be a positive number of seconds".into(),
+                    "detail finer than this is smoothed (default 1/30 s)",
+                ));
+            }
+        }
+    }
+    ev.check_cancel(a.call_span())?;
+    let busy = Busy::start("cyclify", "{spinner} {prefix} [{elapsed}]");
+    let r = cyclify(&m, ts, te, &opts);
+    drop(busy);
+    let (out, _) = r.map_err(|e| sp_error(e, a, a.call_span()))?;
+    Ok(Value::object(Motion::Mu(out)))
+}
+
+pub fn register(reg: &mut Registry) {
+    reg.add(
+        "SP(m, body: b, coefficients: 8, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-6)",
+        "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
+         B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
+         the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
+         coefficients: free B-spline coefficients per DOF (at least 2, or 3 with continuity: 2); samples: Gauss points \
+         of the torque integral; support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
+         iterations/tolerance: solver limits. Gaps at the start or end stay undefined; a conflict is an error. \
+         sp_report(result) tells what was done. Ctrl-C cancels.",
+        run_sp,
+    );
+    reg.add(
+        "sp_report(m)",
+        "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \
+         initial_energy (Hermite start), energy, grad_norm, stop = why the solver stopped, seconds), `root` (t0, t1, \
+         shift applied to the motion after each gap), `hermite` (root DOFs filled by Hermite curves), `undefined` \
+         (DOFs left undefined at the start/end: dof, start, stop), `text`. print shows it as text. Only the motion SP \
+         returned has a report (an operation on it makes a new motion).",
+        |a, _| {
+            let arg = a.arg("m")?;
+            match report_of(&arg.value) {
+                Some(r) => Ok(Value::object(SpReportValue(r))),
+                None => Err(MxError::value(format!(
+                    "`sp_report`: {} was not returned by SP, so it has no report",
+                    match &arg.name {
+                        Some(n) => format!("`{n}`"),
+                        None => "this value".into(),
+                    }
+                ))
+                .at(arg.span)
+                .label("not a motion SP returned")
+                .help("call sp_report on SP's result itself: `let m = SP(x, body: b); print(sp_report(m))`")),
+            }
+        },
+    );
+    reg.add(
+        "fill(m, method)",
+        "m with every interior gap of every DOF filled; method \"hermite\": the cubic Hermite curve between the same \
+         end values and velocities (the baseline SP improves on). Gaps at the start/end stay undefined; a conflict is an error.",
+        |a, _| {
+            let (m, marg) = mu_arg(a, "m")?;
+            let arg = a.arg("method")?;
+            let Some(method) = arg.value.as_str() else {
+                return Err(a.type_error("method", "a method name like \"hermite\"", &arg));
+            };
+            if !FILL_METHODS.contains(&method) {
+                return Err(bad_option(
+                    a,
+                    &arg,
+                    format!("unknown fill method `{method}`"),
+                    &format!(
+                        "known methods: {}",
+                        FILL_METHODS.map(|m| format!("\"{m}\"")).join(", ")
+                    ),
+                ));
+            }
+            let out = fill_hermite(&m).map_err(|e| sp_error(e, a, marg.span))?;
+            Ok(Value::object(Motion::Mu(out)))
+        },
+    );
+    reg.add(
+        "torque_energy(m, body, gravity: [x, y, z])",
+        "∫ Σ τ² dt over m's span: the joint torques of `body` moving as m (root coordinates excluded, as in SP's \
+         objective). m must be defined everywhere (fill gaps first) and free of conflicts.",
+        |a, _| {
+            let (m, marg) = mu_arg(a, "m")?;
+            let model = body_arg(a)?;
+            let g = match a.opt_named("gravity") {
+                Some(g) => Some(vec3(a, &g, "gravity")?),
+                None => None,
+            };
+            let e = torque_energy(&m, &model, g).map_err(|e| sp_error(e, a, marg.span))?;
+            Ok(Value::Number(e))
+        },
+    );
+    reg.add(
+        "cyclify(m, t_start, t_end, drift: [...], knot_spacing: 1/30)",
+        "One cycle of m near [t_start, t_end] made to loop with C² continuity (Rose §3.3): the best-matching pair of \
+         times near the marks is found, the remaining jump spread over the cycle, and a cubic B-spline fitted with \
+         cyclic constraints. `drift` DOFs keep their advance per cycle (default: every *Xposition and *Zposition DOF, \
+         the floor plane of a y-up clip). Use loop(c, n) to repeat it.",
+        run_cyclify,
+    );
+    reg.add(
+        "loop(m, n)",
+        "A cyclified motion (cyclify(m, ts, te)) played n times back to back; drifting DOFs continue from where the \
+         previous cycle ended.",
+        |a, _| {
+            let (m, marg) = mu_arg(a, "m")?;
+            let n = a.count("n")?;
+            let out = loop_motion(&m, n).map_err(|e| sp_error(e, a, marg.span))?;
+            Ok(Value::object(Motion::Mu(out)))
+        },
+    );
+}
