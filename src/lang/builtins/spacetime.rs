@@ -37,7 +37,11 @@ fn sp_error(e: SpError, a: &Args, span: Span) -> MxError {
         SpError::Invalid(_) => (ErrorKind::Value, ""),
         SpError::Evaluation(_) => (ErrorKind::Host, ""),
     };
-    let err = MxError::new(kind, e.to_string()).at(span);
+    let label = match e {
+        SpError::Conflict(_) | SpError::Evaluation(_) => "this motion",
+        _ => "in this call",
+    };
+    let err = MxError::new(kind, e.to_string()).at(span).label(label);
     if help.is_empty() {
         err.help(format!("usage: {}", a.signature()))
     } else {
@@ -229,7 +233,7 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
         ProgressEvent::GroupDone => bar.inc(1),
         ProgressEvent::Evaluation => {
             let k = evals.fetch_add(1, Ordering::Relaxed) + 1;
-            if k % 16 == 0 {
+            if k.is_multiple_of(16) {
                 bar.set_message(format!("{k} objective evaluations"));
             }
         }
