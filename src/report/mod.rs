@@ -8,6 +8,7 @@
 
 pub mod fit;
 pub mod hard_cases;
+pub mod hard_mechanisms;
 pub mod integrators;
 pub mod machine;
 pub mod mocap;
