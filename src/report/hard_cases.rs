@@ -39,7 +39,7 @@ pub struct HardCase {
     pub passed: bool,
 }
 
-fn case(
+pub(crate) fn case(
     name: &'static str,
     area: &'static str,
     returned: String,
@@ -102,6 +102,8 @@ pub fn all() -> Vec<HardCase> {
         massless_tip(),
         long_chain(),
         euler_100ms(),
+        super::hard_mechanisms::beads_euler_100ms(),
+        super::hard_mechanisms::spline_surface_range_end(),
         zero_length_gap(),
         five_second_gap(),
         identical_end_states(),

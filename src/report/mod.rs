@@ -9,6 +9,7 @@
 mod doc;
 pub mod fit;
 pub mod hard_cases;
+pub mod hard_mechanisms;
 pub mod integrators;
 pub mod machine;
 pub mod mocap;

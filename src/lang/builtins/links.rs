@@ -91,7 +91,7 @@ fn offset(a: &mut Args) -> MxResult<Se3> {
     };
     if let Some(arg) = a.opt_named("rpy") {
         let r = vec3_arg(a, "rpy", &arg)?;
-        t.r = t.r * Rotation3::from_euler_angles(r.x, r.y, r.z).into_inner();
+        t.r *= Rotation3::from_euler_angles(r.x, r.y, r.z).into_inner();
     }
     Ok(t)
 }

@@ -62,6 +62,8 @@ fn is_matrix(v: &Value) -> bool {
 }
 
 /// Flattens a nested list of 4×4 matrices of `depth` levels into row-major frames.
+// Recursive: the walk's state (dims found so far, level, output) travels as arguments.
+#[allow(clippy::too_many_arguments)]
 fn grid_of(
     a: &Args,
     name: &str,

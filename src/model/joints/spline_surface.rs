@@ -107,7 +107,7 @@ impl SplineSurfaceJoint {
             // already visited, so the splines do not jump by 2π.
             let neighbour = (0..n)
                 .rev()
-                .find(|&d| (flat / strides[d]) % grid.dims[d] > 0)
+                .find(|&d| !(flat / strides[d]).is_multiple_of(grid.dims[d]))
                 .map(|d| flat - strides[d]);
             let (alpha, gamma) = match neighbour {
                 Some(p) => (
@@ -116,8 +116,8 @@ impl SplineSurfaceJoint {
                 ),
                 None => (alpha, gamma),
             };
-            for c in 0..3 {
-                coeffs[c][flat] = f.p[c];
+            for (c, coeff) in coeffs.iter_mut().enumerate().take(3) {
+                coeff[flat] = f.p[c];
             }
             coeffs[3][flat] = alpha;
             coeffs[4][flat] = beta;
