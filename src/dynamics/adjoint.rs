@@ -15,7 +15,7 @@
 //! ```
 
 use crate::dynamics::DynamicsError;
-use crate::dynamics::derivatives::sdot_v_dq;
+use crate::dynamics::derivatives::{limit_of, sdot_v_dq};
 use crate::dynamics::rnea::{check_inputs, check_out, rnea_core};
 use crate::dynamics::workspace::Workspace;
 use crate::lie::{Twist, ad, ad_dual};
@@ -108,13 +108,9 @@ pub fn torque_sq_gradient(
                 gv[c] += gvk;
             }
             for k in 0..l.dof {
-                let lim = l
-                    .limits
-                    .get(k)
-                    .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper));
                 let d = sdot_v_dq(
                     l.joint.as_ref(),
-                    lim,
+                    limit_of(l, k),
                     &q[r.clone()],
                     &v[r.clone()],
                     k,

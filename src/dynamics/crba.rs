@@ -26,10 +26,11 @@ pub fn mass_matrix(
         )));
     }
     // Entries between coordinates of different branches are never written below.
-    m.fill(0.0);
+    let out = m.as_mut_slice();
+    out.fill(0.0);
     // Everything in the world frame (as Pinocchio does): composite inertias then
     // add up without transforms, and each entry above the diagonal block is a
-    // plain dot product `S_aᵀ (I^c_i S_i)` instead of a transform per ancestor.
+    // plain dot product `J_aᵀ (I^c_i J_i)` instead of a transform per ancestor.
     for (i, l) in model.links().iter().enumerate() {
         l.joint.kinematics(
             &q[l.q_index..l.q_index + l.dof],
@@ -43,7 +44,7 @@ pub fn mass_matrix(
         };
         ws.world[i] = world;
         for j in 0..l.dof {
-            ws.u[i][j] = world.ad_twist(&ws.kin[i].s[j]);
+            ws.jw[l.q_index + j] = world.ad_twist(&ws.kin[i].s[j]);
         }
         ws.ic[i] = l.inertia.transformed(&world);
     }
@@ -52,17 +53,17 @@ pub fn mass_matrix(
         let ic = ws.ic[i];
         for j in 0..l.dof {
             let col = l.q_index + j;
-            let f = ic.mul_twist(&ws.u[i][j]);
+            let f = ic.mul_twist(&ws.jw[col]);
             for k in 0..l.dof {
-                m[(l.q_index + k, col)] = ws.u[i][k].dot(&f);
+                out[col * n + l.q_index + k] = ws.jw[l.q_index + k].dot(&f);
             }
             let mut c = i;
             while let Some(p) = model.link(c).parent {
                 let lp = model.link(p);
-                for k in 0..lp.dof {
-                    let x = ws.u[p][k].dot(&f);
-                    m[(lp.q_index + k, col)] = x;
-                    m[(col, lp.q_index + k)] = x;
+                for row in lp.q_index..lp.q_index + lp.dof {
+                    let x = ws.jw[row].dot(&f);
+                    out[col * n + row] = x;
+                    out[row * n + col] = x;
                 }
                 c = p;
             }

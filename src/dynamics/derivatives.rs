@@ -1,24 +1,37 @@
 //! Analytic derivatives of inverse dynamics: `∂τ/∂q` and `∂τ/∂q̇`
 //! (`∂τ/∂q̈ = M`, see [`mass_matrix`](super::mass_matrix)).
 //!
-//! Forward-mode differentiation of the RNEA, one coordinate at a time: a
-//! coordinate of link j changes `V, V̇, F` only in j's subtree, and `F` along
-//! the path from j to the root, so a column costs O(subtree + depth).
-//! Differentiating `X_j = offset · G(q)`: `∂(Ad_{X⁻¹} W)/∂q_k = −ad_{s_k} Ad_{X⁻¹} W`
-//! and `∂(Ad*_{X⁻¹} F)/∂q_k = Ad*_{X⁻¹}(∂F − ad*_{s_k} F)`.
+//! The algorithm of Carpentier & Mansard (RSS 2018), as Pinocchio runs it:
+//! one forward and one backward pass in the world frame, where a coordinate
+//! `q_k` moves everything carried by its joint rigidly (`∂x/∂q_k = J_k × x`)
+//! and only an "intrinsic" part of each quantity is left to propagate:
 //!
-//! For joints whose Jacobian depends on q, `∂(Ṡ q̇)/∂q` needs the third
-//! derivative of the joint map, which the `Joint` trait does not give: that one
-//! term is a central difference of the joint's Hessian (step 1e-5, error ~1e-10
-//! relative). Every other term, and everything for revolute/prismatic joints, is exact.
+//! ```text
+//! forward (per column k, λ = parent):  dV/dq_k = v_λ × J_k + h_k
+//!     dA/dq_k = a_λ × J_k + v_λ × dV/dq_k + ha_k + v_k × h_k + ∂(Ṡq̇)/∂q_k
+//!     dA/dq̇_k = v_λ × J_k + v_k × J_k + hv_k
+//! backward (composites Y, Ẏ = variation, F):
+//!     τ_j ⪯ k: J_jᵀ (Y_k dA_k + Ẏ_k dV_k + J_k ×* F_k),   τ_j ≻ k: (Y_j J_j)ᵀ dA_k + (Ẏ_jᵀ J_j)ᵀ dV_k
+//! ```
+//! `J_k = Ad_{T_k} s_k` are world joint columns; `h, ha, hv` (world images of
+//! `∇S·q̇`, `∇S·q̈` and `(∇S + ∇Sᵀ)·q̇`) are zero unless the joint's Jacobian
+//! depends on q. A link's entries are written while walking its ancestors, so
+//! any parents-first link order works (subtrees need not be contiguous).
+//!
+//! For those q-dependent joints, `∂(Ṡ q̇)/∂q` needs the third derivative of the
+//! joint map, which the `Joint` trait does not give: that one term is a
+//! difference of the joint's Hessian (step 1e-5, error ~1e-10 relative). Every
+//! other term, and everything for joints with a constant Jacobian, is exact.
+
+#![allow(clippy::needless_range_loop)] // index loops over coupled arrays read clearer here
 
 use crate::dynamics::DynamicsError;
-use crate::dynamics::rnea::{check_inputs, rnea_core};
-use crate::dynamics::workspace::{Workspace, sdot_v};
-use crate::lie::{Twist, ad, ad_dual};
-use crate::model::Model;
-use crate::model::joint::{Derivatives, Joint, JointKinematics};
-use nalgebra::{DMatrix, Vector3};
+use crate::dynamics::rnea::check_inputs;
+use crate::dynamics::workspace::{Workspace, base_acceleration, sdot_v, world_velocity_pass};
+use crate::lie::{Twist, Wrench, ad, ad_dual, skew};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
+use crate::model::{Inertia, Model};
+use nalgebra::{DMatrix, Matrix3, Vector3};
 
 /// `∂(Ṡ(q) q̇)/∂q_k` of one joint by a difference of its Hessian: central, or
 /// one-sided (second order) where the central stencil would straddle an end of
@@ -62,6 +75,68 @@ pub(crate) fn sdot_v_dq(
     }
 }
 
+/// The limits of coordinate k of a link, as a pair.
+pub(crate) fn limit_of(l: &crate::model::tree::Link, k: usize) -> (f64, f64) {
+    l.limits
+        .get(k)
+        .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper))
+}
+
+/// The variation `Ẏ x = Y (x × v) + x ×* (Y v) + v ×* (Y x)` of a world inertia
+/// moving with twist v: the derivative of `Y a + v ×* Y v` when x perturbs v and
+/// the body is carried along. Worked out by blocks it is
+/// `[[A, 0], [−2[p], 0]]` with `(k; p) = Y v`, so it adds up over a subtree
+/// as one 3×3 matrix and one vector.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Variation {
+    a: Matrix3<f64>,
+    p: Vector3<f64>,
+}
+
+impl Variation {
+    pub(crate) fn zero() -> Self {
+        Variation {
+            a: Matrix3::zeros(),
+            p: Vector3::zeros(),
+        }
+    }
+
+    /// Of inertia `y` moving with twist `v`, whose momentum is `yv = y v`.
+    fn new(y: &Inertia, v: &Twist, yv: &Wrench) -> Self {
+        let w = skew(&Vector3::new(v[0], v[1], v[2]));
+        let vl = Vector3::new(v[3], v[4], v[5]);
+        // [h][vl] + [vl][h] = h vlᵀ + vl hᵀ − 2 (h·vl) 1
+        let hv = y.h * vl.transpose();
+        let sym = hv + hv.transpose() - Matrix3::from_diagonal_element(2.0 * y.h.dot(&vl));
+        let k = skew(&Vector3::new(yv[0], yv[1], yv[2]));
+        Variation {
+            a: w * y.i_o - y.i_o * w - sym - k,
+            p: Vector3::new(yv[3], yv[4], yv[5]),
+        }
+    }
+
+    #[inline]
+    fn apply(&self, x: &Twist) -> Wrench {
+        let w = Vector3::new(x[0], x[1], x[2]);
+        let m = self.a * w;
+        let n = w.cross(&self.p) * 2.0;
+        Wrench::new(m.x, m.y, m.z, n.x, n.y, n.z)
+    }
+
+    /// `Ẏᵀ j` (its linear half is zero, so only the angular half is returned).
+    #[inline]
+    fn transpose_apply(&self, j: &Twist) -> Vector3<f64> {
+        let jw = Vector3::new(j[0], j[1], j[2]);
+        let jl = Vector3::new(j[3], j[4], j[5]);
+        self.a.tr_mul(&jw) + self.p.cross(&jl) * 2.0
+    }
+
+    fn add(&mut self, o: &Variation) {
+        self.a += o.a;
+        self.p += o.p;
+    }
+}
+
 /// Fills `dtau_dq` and `dtau_dv` (nq × nq; `[i][j] = ∂τ_i/∂x_j`) at `(q, q̇, q̈)`.
 #[allow(clippy::too_many_arguments)]
 pub fn rnea_derivatives(
@@ -85,159 +160,151 @@ pub fn rnea_derivatives(
             )));
         }
     }
-    let mut tau = std::mem::take(&mut ws.tau);
-    rnea_core(model, ws, q, v, a, gravity, None, &mut tau);
-    ws.tau = tau;
-    // Entries outside a column's subtree and ancestors stay zero.
-    dtau_dq.fill(0.0);
-    dtau_dv.fill(0.0);
-    for x in ws.mark.iter_mut() {
-        *x = 0;
-    }
-    for j in 0..model.num_links() {
-        let l = model.link(j);
-        for k in 0..l.dof {
-            let col = l.q_index + k;
-            // ∂/∂q_k
-            let (dv, da) = seed_q(model, ws, j, k, q, v, a);
-            sweep(model, ws, j, dv, da, Some(k), dtau_dq, col);
-            // ∂/∂q̇_k
-            let (dv, da) = seed_v(model, ws, j, k, v);
-            sweep(model, ws, j, dv, da, None, dtau_dv, col);
-        }
-    }
+    forward_pass(model, ws, q, v, a, gravity);
+    // Entries between coordinates on different branches are never written below.
+    let (dq, dv) = (dtau_dq.as_mut_slice(), dtau_dv.as_mut_slice());
+    dq.fill(0.0);
+    dv.fill(0.0);
+    backward_pass(model, ws, n, dq, dv);
     Ok(())
 }
 
-/// Derivative of `V_j`, `V̇_j` with respect to coordinate k of link j.
-fn seed_q(
+/// World poses, twists, accelerations, inertias, forces and variations per
+/// link, and the columns `J, dV/dq, dA/dq, dA/dq̇` per coordinate.
+fn forward_pass(
     model: &Model,
     ws: &mut Workspace,
-    j: usize,
-    k: usize,
     q: &[f64],
     v: &[f64],
     a: &[f64],
-) -> (Twist, Twist) {
-    let l = model.link(j);
-    let r = l.q_index..l.q_index + l.dof;
-    let kin = &ws.kin[j];
-    let sk = kin.s[k];
-    let mut dsv = Twist::zeros();
-    let mut dsa = Twist::zeros();
-    if !l.constant_jacobian {
-        for m in 0..l.dof {
-            dsv += kin.ds[m][k] * v[l.q_index + m];
-            dsa += kin.ds[m][k] * a[l.q_index + m];
-        }
-    }
-    let dv = -ad(&sk, &ws.wv[j]) + dsv;
-    let mut da = -ad(&sk, &ws.wa[j]) + dsa + ad(&dv, &ws.sv[j]) + ad(&ws.v[j], &dsv);
-    if !l.constant_jacobian {
-        let lim = l
-            .limits
-            .get(k)
-            .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper));
-        da += sdot_v_dq(
-            l.joint.as_ref(),
-            lim,
-            &q[r.clone()],
-            &v[r],
-            k,
-            &mut ws.scratch,
-        );
-    }
-    (dv, da)
-}
-
-/// Derivative of `V_j`, `V̇_j` with respect to velocity k of link j.
-fn seed_v(model: &Model, ws: &Workspace, j: usize, k: usize, v: &[f64]) -> (Twist, Twist) {
-    let l = model.link(j);
-    let kin = &ws.kin[j];
-    let sk = kin.s[k];
-    let mut da = ad(&sk, &ws.sv[j]) + ad(&ws.v[j], &sk);
-    if !l.constant_jacobian {
-        for m in 0..l.dof {
-            da += (kin.ds[m][k] + kin.ds[k][m]) * v[l.q_index + m];
-        }
-    }
-    (sk, da)
-}
-
-/// Propagates a seed at link j through its subtree and up to the root, writing
-/// column `col` of `out`. `qk = Some(k)` adds the terms of a configuration
-/// derivative (moving X_j and S_j).
-#[allow(clippy::too_many_arguments)]
-fn sweep(
-    model: &Model,
-    ws: &mut Workspace,
-    j: usize,
-    dv: Twist,
-    da: Twist,
-    qk: Option<usize>,
-    out: &mut DMatrix<f64>,
-    col: usize,
+    gravity: &Vector3<f64>,
 ) {
-    let nl = model.num_links();
-    // A link carries the stamp j + 1 exactly when it is in j's subtree: only
-    // sweeps of j write that stamp, and they write it on that subtree. So the
-    // marks need no reset between columns.
-    let stamp = j + 1;
-    ws.mark[j] = stamp;
-    ws.dv[j] = dv;
-    ws.da[j] = da;
-    for i in j..nl {
-        let l = model.link(i);
-        if i != j {
-            match l.parent {
-                Some(p) if ws.mark[p] == stamp => {
-                    ws.mark[i] = stamp;
-                    ws.dv[i] = ws.xt[i].inv_ad_twist(&ws.dv[p]);
-                    ws.da[i] = ws.xt[i].inv_ad_twist(&ws.da[p]) + ad(&ws.dv[i], &ws.sv[i]);
+    world_velocity_pass(model, ws, q, v);
+    let a0 = base_acceleration(gravity);
+    for (i, l) in model.links().iter().enumerate() {
+        let qi = l.q_index;
+        let r = qi..qi + l.dof;
+        let (vp, ap) = match l.parent {
+            Some(p) => (ws.ov[p], ws.oa[p]),
+            None => (Twist::zeros(), a0),
+        };
+        let t = ws.world[i];
+        let ov = ws.ov[i];
+        let kin = &ws.kin[i];
+        let mut oa = ap + ws.c[i];
+        for m in 0..l.dof {
+            oa += ws.jw[qi + m] * a[qi + m];
+        }
+        for m in 0..l.dof {
+            let c = qi + m;
+            let jm = ws.jw[c];
+            let mut dvdq = ad(&vp, &jm);
+            let mut dadq = ad(&ap, &jm);
+            let mut dadv = dvdq + ad(&ov, &jm);
+            if !l.constant_jacobian {
+                let mut hv = Twist::zeros();
+                let mut ha = Twist::zeros();
+                let mut hvv = Twist::zeros();
+                for n in 0..l.dof {
+                    hv += kin.ds[n][m] * v[qi + n];
+                    ha += kin.ds[n][m] * a[qi + n];
+                    hvv += (kin.ds[n][m] + kin.ds[m][n]) * v[qi + n];
                 }
-                _ => continue,
+                let third = sdot_v_dq(
+                    l.joint.as_ref(),
+                    limit_of(l, m),
+                    &q[r.clone()],
+                    &v[r.clone()],
+                    m,
+                    &mut ws.scratch,
+                );
+                let h = t.ad_twist(&hv);
+                dvdq += h;
+                dadq += t.ad_twist(&(ha + third)) + ad(&ov, &h);
+                dadv += t.ad_twist(&hvv);
+            }
+            dadq += ad(&vp, &dvdq);
+            ws.dvdq[c] = dvdq;
+            ws.dadq[c] = dadq;
+            ws.dadv[c] = dadv;
+        }
+        let y = l.inertia.transformed(&t);
+        let yv = y.mul_twist(&ov);
+        ws.of[i] = y.mul_twist(&oa) - ad_dual(&ov, &yv);
+        ws.doy[i] = Variation::new(&y, &ov, &yv);
+        ws.ic[i] = y;
+        ws.oa[i] = oa;
+    }
+}
+
+/// Leaves to root: subtree composites, then each link's own block and the
+/// entries it shares with every ancestor (`out[col * n + row]`, column-major).
+fn backward_pass(model: &Model, ws: &mut Workspace, n: usize, dq: &mut [f64], dv: &mut [f64]) {
+    for j in (0..model.num_links()).rev() {
+        let l = model.link(j);
+        let qj = l.q_index;
+        let y = ws.ic[j];
+        let d = ws.doy[j];
+        let f = ws.of[j];
+        // Per own column: ∂F/∂q (intrinsic), ∂F/∂q̇, Y J and Ẏᵀ J.
+        let mut gq = [Wrench::zeros(); MAX_JOINT_DOF];
+        let mut gv = [Wrench::zeros(); MAX_JOINT_DOF];
+        let mut yj = [Wrench::zeros(); MAX_JOINT_DOF];
+        let mut dyj = [Vector3::zeros(); MAX_JOINT_DOF];
+        for m in 0..l.dof {
+            let c = qj + m;
+            let jm = ws.jw[c];
+            gq[m] = y.mul_twist(&ws.dadq[c]) + d.apply(&ws.dvdq[c]);
+            gv[m] = y.mul_twist(&ws.dadv[c]) + d.apply(&jm);
+            yj[m] = y.mul_twist(&jm);
+            dyj[m] = d.transpose_apply(&jm);
+        }
+        // The joint's own block (∂s/∂q meets the subtree force when S moves with q).
+        let f_local = if l.constant_jacobian {
+            Wrench::zeros()
+        } else {
+            ws.world[j].inv_ad_wrench(&f)
+        };
+        for m in 0..l.dof {
+            for k in 0..l.dof {
+                let row = qj + k;
+                let jk = &ws.jw[row];
+                let mut x = jk.dot(&gq[m]);
+                if !l.constant_jacobian {
+                    x += ws.kin[j].ds[k][m].dot(&f_local);
+                }
+                dq[(qj + m) * n + row] = x;
+                dv[(qj + m) * n + row] = jk.dot(&gv[m]);
             }
         }
-        let g = &l.inertia;
-        ws.df[i] = g.mul_twist(&ws.da[i])
-            - ad_dual(&ws.dv[i], &g.mul_twist(&ws.v[i]))
-            - ad_dual(&ws.v[i], &g.mul_twist(&ws.dv[i]));
-    }
-    for i in (j + 1..nl).rev() {
-        if ws.mark[i] != stamp {
-            continue;
-        }
-        let l = model.link(i);
+        // Ancestors see the subtree force turned by J too.
         for m in 0..l.dof {
-            out[(l.q_index + m, col)] = ws.kin[i].s[m].dot(&ws.df[i]);
+            gq[m] -= ad_dual(&ws.jw[qj + m], &f);
+        }
+        let mut c = j;
+        while let Some(p) = model.link(c).parent {
+            let lp = model.link(p);
+            for pm in lp.q_index..lp.q_index + lp.dof {
+                let jp = &ws.jw[pm];
+                let (dvq, daq, dav) = (&ws.dvdq[pm], &ws.dadq[pm], &ws.dadv[pm]);
+                let jp_w = Vector3::new(jp[0], jp[1], jp[2]);
+                let dvq_w = Vector3::new(dvq[0], dvq[1], dvq[2]);
+                for m in 0..l.dof {
+                    let col = qj + m;
+                    // row j, column of the ancestor: τ_j ≻ k
+                    dq[pm * n + col] = yj[m].dot(daq) + dyj[m].dot(&dvq_w);
+                    dv[pm * n + col] = yj[m].dot(dav) + dyj[m].dot(&jp_w);
+                    // row of the ancestor, column j: τ_j ⪯ k
+                    dq[col * n + pm] = jp.dot(&gq[m]);
+                    dv[col * n + pm] = jp.dot(&gv[m]);
+                }
+            }
+            c = p;
         }
         if let Some(p) = l.parent {
-            let up = ws.xt[i].ad_wrench(&ws.df[i]);
-            ws.df[p] += up;
+            ws.ic[p] += y;
+            ws.doy[p].add(&d);
+            ws.of[p] += f;
         }
-    }
-    let l = model.link(j);
-    for m in 0..l.dof {
-        let mut x = ws.kin[j].s[m].dot(&ws.df[j]);
-        if let Some(k) = qk
-            && !l.constant_jacobian
-        {
-            x += ws.kin[j].ds[m][k].dot(&ws.f[j]);
-        }
-        out[(l.q_index + m, col)] = x;
-    }
-    // Up the path to the root.
-    let mut df = ws.df[j];
-    if let Some(k) = qk {
-        df -= ad_dual(&ws.kin[j].s[k], &ws.f[j]);
-    }
-    let mut c = j;
-    while let Some(p) = model.link(c).parent {
-        df = ws.xt[c].ad_wrench(&df);
-        let lp = model.link(p);
-        for m in 0..lp.dof {
-            out[(lp.q_index + m, col)] = ws.kin[p].s[m].dot(&df);
-        }
-        c = p;
     }
 }

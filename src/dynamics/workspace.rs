@@ -2,6 +2,7 @@
 //! (kinematic) sweep they share.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::derivatives::Variation;
 use crate::lie::{Se3, Twist, Wrench, ad};
 use crate::model::joint::{Derivatives, JointKinematics, MAX_JOINT_DOF};
 use crate::model::{Inertia, Model};
@@ -28,21 +29,33 @@ pub struct Workspace {
     /// `Ad_{X_i⁻¹} V_parent` and `Ad_{X_i⁻¹} V̇_parent`.
     pub(crate) wv: Vec<Twist>,
     pub(crate) wa: Vec<Twist>,
-    /// Velocity-product acceleration `ad(V_i, S q̇) + Ṡ q̇`.
+    /// Velocity-product acceleration `ad(V_i, S q̇) + Ṡ q̇` (body frame after
+    /// [`velocity_pass`], world frame after [`world_velocity_pass`]).
     pub(crate) c: Vec<Twist>,
     // ABA
     pub(crate) ia: Vec<Matrix6<f64>>,
+    /// Offset of each link's origin from its parent's, world axes.
+    pub(crate) shift: Vec<Vector3<f64>>,
     pub(crate) pa: Vec<Wrench>,
     pub(crate) u: Vec<[Twist; MAX_JOINT_DOF]>,
     pub(crate) dinv: Vec<Matrix6<f64>>,
     pub(crate) uu: Vec<[f64; MAX_JOINT_DOF]>,
     // CRBA
     pub(crate) ic: Vec<Inertia>,
-    // derivatives and adjoint
+    // adjoint: V̄, Λ, F̄ per link
     pub(crate) dv: Vec<Twist>,
     pub(crate) da: Vec<Twist>,
     pub(crate) df: Vec<Wrench>,
-    pub(crate) mark: Vec<usize>,
+    // derivatives (world frame): per link twist, acceleration, force, inertia variation
+    pub(crate) ov: Vec<Twist>,
+    pub(crate) oa: Vec<Twist>,
+    pub(crate) of: Vec<Wrench>,
+    pub(crate) doy: Vec<Variation>,
+    // per coordinate: world joint column J and the seeds dV/dq, dA/dq, dA/dq̇
+    pub(crate) jw: Vec<Twist>,
+    pub(crate) dvdq: Vec<Twist>,
+    pub(crate) dadq: Vec<Twist>,
+    pub(crate) dadv: Vec<Twist>,
     pub(crate) tau: Vec<f64>,
     pub(crate) scratch: JointKinematics,
     /// World poses (energies).
@@ -65,6 +78,7 @@ impl Workspace {
             wa: vec![Twist::zeros(); n],
             c: vec![Twist::zeros(); n],
             ia: vec![Matrix6::zeros(); n],
+            shift: vec![Vector3::zeros(); n],
             pa: vec![Wrench::zeros(); n],
             u: vec![[Twist::zeros(); MAX_JOINT_DOF]; n],
             dinv: vec![Matrix6::zeros(); n],
@@ -73,7 +87,14 @@ impl Workspace {
             dv: vec![Twist::zeros(); n],
             da: vec![Twist::zeros(); n],
             df: vec![Wrench::zeros(); n],
-            mark: vec![0; n],
+            ov: vec![Twist::zeros(); n],
+            oa: vec![Twist::zeros(); n],
+            of: vec![Wrench::zeros(); n],
+            doy: vec![Variation::zero(); n],
+            jw: vec![Twist::zeros(); model.nq()],
+            dvdq: vec![Twist::zeros(); model.nq()],
+            dadq: vec![Twist::zeros(); model.nq()],
+            dadv: vec![Twist::zeros(); model.nq()],
             tau: vec![0.0; model.nq()],
             scratch: JointKinematics::default(),
             world: vec![Se3::identity(); n],
@@ -155,6 +176,43 @@ pub(crate) fn velocity_pass(
         ws.wv[i] = wv;
         ws.sv[i] = sv;
         ws.v[i] = vi;
+        ws.c[i] = c;
+    }
+}
+
+/// The world-frame forward sweep of the derivatives: world
+/// poses `T_i`, joint columns `J = Ad_T S` (`jw`, per coordinate), twists `ov`
+/// and velocity-product accelerations `c = v_λ × J q̇ + Ad_T (Ṡ q̇)`. The Hessian
+/// is evaluated only for joints whose Jacobian depends on q.
+pub(crate) fn world_velocity_pass(model: &Model, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+    for (i, l) in model.links().iter().enumerate() {
+        let qi = l.q_index;
+        let r = qi..qi + l.dof;
+        let want = if l.constant_jacobian {
+            Derivatives::Jacobian
+        } else {
+            Derivatives::Hessian
+        };
+        l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
+        let local = l.offset.compose(&ws.kin[i].transform);
+        let (t, vp) = match l.parent {
+            Some(p) => (ws.world[p].compose(&local), ws.ov[p]),
+            None => (local, Twist::zeros()),
+        };
+        let kin = &ws.kin[i];
+        let mut vj = Twist::zeros();
+        for m in 0..l.dof {
+            let jm = t.ad_twist(&kin.s[m]);
+            ws.jw[qi + m] = jm;
+            vj += jm * v[qi + m];
+        }
+        // v_i × J q̇ = v_λ × J q̇: the J q̇ × J q̇ part vanishes.
+        let mut c = ad(&vp, &vj);
+        if !l.constant_jacobian {
+            c += t.ad_twist(&sdot_v(kin, &v[r]));
+        }
+        ws.world[i] = t;
+        ws.ov[i] = vp + vj;
         ws.c[i] = c;
     }
 }

@@ -83,12 +83,18 @@ impl Inertia {
     /// `t` places `child` (`x_parent = t x_child`).
     pub fn transformed(&self, t: &Se3) -> Inertia {
         let rh = t.r * self.h;
-        let p = skew(&t.p);
-        let rh_x = skew(&rh);
+        let p = &t.p;
+        // The parallel-axis part −[rh][p] − [p][rh] − m[p]² written out with
+        // [a][b] = b aᵀ − (a·b) 1: it is 2(p·w) 1 − p wᵀ − w pᵀ, w = rh + m p / 2
+        // (the dynamics transforms every link's inertia on every call).
+        let w = rh + p * (0.5 * self.mass);
+        let pw = p * w.transpose();
+        let i_o = t.r * self.i_o * t.r.transpose() - pw - pw.transpose()
+            + Matrix3::from_diagonal_element(2.0 * p.dot(&w));
         Inertia {
             mass: self.mass,
-            h: rh + t.p * self.mass,
-            i_o: t.r * self.i_o * t.r.transpose() - rh_x * p - p * rh_x - p * p * self.mass,
+            h: rh + p * self.mass,
+            i_o,
         }
     }
 

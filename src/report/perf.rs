@@ -1,6 +1,6 @@
 //! Per-call dynamics timings on a URDF, side by side with Pinocchio's C++
 //! timer when it is built (`/work/shared/tools/pinocchio/build.sh
-//! /tmp/pinocchio-bench`, or `$PINOCCHIO_BENCH`), run in the same session on
+//! /tmp/pinocchio-bench`, or `$MX_PINOCCHIO_BENCH`), run in the same session on
 //! the same file. The measurement is the one of `benches/dynamics.rs`.
 
 use crate::dynamics::{
@@ -29,9 +29,11 @@ pub fn median_us(n: usize, mut f: impl FnMut(usize)) -> f64 {
     t[n / 2]
 }
 
-/// Path of Pinocchio's timer.
+/// Path of Pinocchio's timer: `$MX_PINOCCHIO_BENCH`, else `$PINOCCHIO_BENCH`,
+/// else where `build.sh` puts it by default.
 pub fn pinocchio_exe() -> PathBuf {
-    std::env::var_os("PINOCCHIO_BENCH")
+    std::env::var_os("MX_PINOCCHIO_BENCH")
+        .or_else(|| std::env::var_os("PINOCCHIO_BENCH"))
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("/tmp/pinocchio-bench/bench"))
 }
