@@ -1,16 +1,16 @@
 //! human(clip): 44 DOFs (6 root + 38 joint), limb lengths from the clip;
-//! fit(clip, model): per-frame least squares on joint positions, with the
-//! fit error measured and bounded.
+//! fit(clip, model): per-frame least squares on joint positions and segment
+//! orientations, with both errors measured and bounded on every shared clip.
 
 mod common;
 
 use mx::mocap::bvh::{self, Units};
-use mx::mocap::human::{fit, human};
+use mx::mocap::human::{FitOptions, FitReport, fit, human};
 use mx::mocap::{Missing, positions};
 use std::path::Path;
 use std::time::Instant;
 
-fn fit_file(path: &Path, frames: Option<usize>) -> (f64, f64, usize) {
+fn fit_file(path: &Path, frames: Option<usize>, options: FitOptions) -> FitReport {
     let mut f = bvh::read_file(path).unwrap();
     if let Some(n) = frames {
         let nch = f.skeleton.channel_count();
@@ -28,7 +28,7 @@ fn fit_file(path: &Path, frames: Option<usize>) -> (f64, f64, usize) {
         .count();
     assert_eq!(root, 6);
     let t = Instant::now();
-    let (mu, rep) = fit(&f, s, &h, None).unwrap();
+    let (mu, rep) = fit(&f, s, &h, options, None).unwrap();
     let secs = t.elapsed().as_secs_f64();
     assert_eq!(mu.len(), 44);
     // The fitted motion drives the model: its pelvis follows the clip's hips.
@@ -39,36 +39,41 @@ fn fit_file(path: &Path, frames: Option<usize>) -> (f64, f64, usize) {
     let last = p.points.len() - 1;
     assert!((p.points[last][pelvis] - want[hips]).norm() < 0.05);
     eprintln!(
-        "{}: {} frames, {} landmarks, RMS {:.4} m, max {:.4} m, {:.2} s",
+        "{:<45} {:>5} frames, w {:.2} m/rad: {rep}, {:.2} s",
         path.file_name().unwrap().to_string_lossy(),
         f.frame_count(),
-        rep.landmarks,
-        rep.rms,
-        rep.max,
+        rep.angle_weight,
         secs
     );
-    (rep.rms, rep.max, f.frame_count())
+    rep
 }
 
 #[test]
 fn fits_the_example_walk_closely() {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/walk.bvh");
-    let (rms, max, _) = fit_file(&p, None);
-    assert!(rms < 0.03 && max < 0.08, "rms {rms} max {max}");
+    let r = fit_file(&p, None, FitOptions::default());
+    assert!(r.rms < 0.03 && r.max < 0.08, "{r}");
+    assert!(r.angle_rms < 10f64.to_radians(), "{r}");
 }
 
+/// Every clip in `$MX_SHARED/data/mocap` (the folder is the input), fitted
+/// whole, on positions only and on positions and orientations. Matching
+/// orientations must cut their error sharply and cost little in positions.
 #[test]
-fn fits_shared_bandai_and_cmu_clips() {
-    let Some(d) = common::shared_dir() else {
-        return;
-    };
-    for (name, bound) in [
-        ("bandai1_walk_normal_001.bvh", 0.05),
-        ("cmu_131_01_start_walk_stop.bvh", 0.05),
-        ("bandai2_wave-right-hand_normal_001.bvh", 0.05),
-    ] {
-        let (rms, max, _) = fit_file(&d.join("data/mocap").join(name), Some(120));
-        assert!(rms < bound, "{name}: rms {rms} m (max {max})");
+fn fits_every_shared_clip_on_positions_and_angles() {
+    for p in common::shared_files("mocap", ".bvh") {
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        let before = fit_file(&p, None, FitOptions { angle_weight: 0.0 });
+        let after = fit_file(&p, None, FitOptions::default());
+        assert!(after.rms < 0.035 && after.max < 0.20, "{name}: {after}");
+        assert!(after.angle_rms < 25f64.to_radians(), "{name}: {after}");
+        assert!(
+            after.angle_rms < 0.6 * before.angle_rms,
+            "{name}: orientations {:.1}° → {:.1}°",
+            before.angle_rms.to_degrees(),
+            after.angle_rms.to_degrees()
+        );
+        assert!(after.rms < before.rms + 0.01, "{name}: {before} → {after}");
     }
 }
 

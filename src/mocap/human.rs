@@ -1,6 +1,6 @@
 //! The paper's anatomical model (Rose 1996 §2): 6 root DOFs and 38 joint
 //! DOFs, 44 in all, with limb lengths from a clip, and `fit`, which converts
-//! a clip to it by per-frame least squares on joint positions.
+//! a clip to it by per-frame least squares on joint positions and angles.
 //!
 //! DOFs (y up, facing +z, left = +x, T-pose at q = 0):
 //! - root: `root.Xposition/Yposition/Zposition`, `root.Yrotation/Xrotation/Zrotation` (6)
@@ -13,22 +13,21 @@
 //! skeleton (found by the de Leva name mapping of [`super::segments`]);
 //! masses and inertias from de Leva, total `mass`.
 //!
-//! `fit` minimises Σ‖p_k(q) − p̂_k‖² over the landmarks each frame
-//! (Levenberg–Marquardt, forward-difference Jacobian, warm-started from the
-//! previous frame, a small damping towards it keeps redundant DOFs steady)
-//! and reports the RMS and maximum landmark distance. Joint angles are not
-//! matched directly (the two skeletons' frames differ); positions are.
+//! [`fit`] (in `human/fit.rs`) converts a clip to this model by per-frame
+//! least squares on joint positions and segment orientations.
 
 use super::MocapError;
 use super::body_of::segment_inertia;
-use super::bvh::{self, BvhFile, Skeleton};
+use super::bvh::Skeleton;
 use super::segments::{self, Segment, Side};
 use crate::lie::Se3;
 use crate::model::joints::{Fixed, Prismatic, Revolute};
 use crate::model::{Inertia, Model};
-use crate::motion::{Curve, Dof, Interval, Mu};
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::Vector3;
 use std::sync::Arc;
+
+mod fit;
+pub use fit::{FitOptions, FitReport, fit};
 
 /// Landmark joints of a clip's skeleton (indices into its joints).
 #[derive(Clone, Debug)]
@@ -400,169 +399,4 @@ pub fn human(sk: &Skeleton, metres_per_unit: f64, mass: f64) -> Result<Human, Mo
     }
     debug_assert_eq!(m.nq(), 44);
     Ok(Human { model: m, targets })
-}
-
-/// How well a fit matches the clip.
-#[derive(Clone, Debug)]
-pub struct FitReport {
-    /// RMS landmark distance over all frames and landmarks (m).
-    pub rms: f64,
-    /// Largest landmark distance (m).
-    pub max: f64,
-    /// RMS per frame (m).
-    pub per_frame: Vec<f64>,
-    pub landmarks: usize,
-}
-
-/// Converts a clip to the human model: per-frame least squares on landmark
-/// positions. Returns the motion (the model's coordinates, sampled at the
-/// clip's frames) and the fit error.
-pub fn fit(
-    file: &BvhFile,
-    metres_per_unit: f64,
-    h: &Human,
-    cancel: Option<&crate::cancel::CancelToken>,
-) -> Result<(Mu, FitReport), MocapError> {
-    let frames = file.frame_count();
-    if frames == 0 {
-        return Err(MocapError::invalid("the clip has no frames to fit"));
-    }
-    let model = &h.model;
-    let nq = model.nq();
-    let nt = h.targets.len();
-    let mut q = DVector::<f64>::zeros(nq);
-    let mut poses = Vec::with_capacity(model.num_links());
-    let mut out = vec![vec![0.0; frames]; nq];
-    let mut per_frame = Vec::with_capacity(frames);
-    let mut max: f64 = 0.0;
-    let mut sumsq = 0.0;
-    let residual = |q: &DVector<f64>,
-                    want: &[Vector3<f64>],
-                    poses: &mut Vec<Se3>|
-     -> Result<DVector<f64>, MocapError> {
-        model.forward_kinematics(q.as_slice(), poses)?;
-        let mut r = DVector::zeros(3 * nt);
-        for (k, (link, _)) in h.targets.iter().enumerate() {
-            let e = poses[*link].p - want[k];
-            r.fixed_rows_mut::<3>(3 * k).copy_from(&e);
-        }
-        Ok(r)
-    };
-    for f in 0..frames {
-        if let Some(c) = cancel {
-            c.check()
-                .map_err(|_| MocapError::invalid("fit cancelled"))?;
-        }
-        let world = bvh::fk::world_transforms(file, f, metres_per_unit);
-        let want: Vec<Vector3<f64>> =
-            h.targets
-                .iter()
-                .map(|(_, t)| match t {
-                    Target::Joint(j) => world[*j].p,
-                    Target::EndSite(j) => world[*j]
-                        .act_point(&(file.skeleton.joints[*j].end_sites[0] * metres_per_unit)),
-                })
-                .collect();
-        let prev = q.clone();
-        if f == 0 {
-            // Start at the pelvis, facing along the hips' perpendicular.
-            q.fill(0.0);
-            q[0] = want[0].x;
-            q[1] = want[0].y;
-            q[2] = want[0].z;
-            let (hl, hr) = (
-                h.targets
-                    .iter()
-                    .position(|(l, _)| model.link(*l).name == "thigh_L"),
-                h.targets
-                    .iter()
-                    .position(|(l, _)| model.link(*l).name == "thigh_R"),
-            );
-            if let (Some(a), Some(b)) = (hl, hr) {
-                let v = want[a] - want[b];
-                q[3] = (-v.z).atan2(v.x);
-            }
-        }
-        let iters = if f == 0 { 200 } else { 30 };
-        let mut lambda = 1e-3;
-        let mut r = residual(&q, &want, &mut poses)?;
-        let mut cost = r.norm_squared();
-        let damp = if f == 0 { 0.0 } else { 1e-6 };
-        for _ in 0..iters {
-            let mut jac = DMatrix::<f64>::zeros(3 * nt, nq);
-            let step = 1e-6;
-            for c in 0..nq {
-                let mut qc = q.clone();
-                qc[c] += step;
-                let rc = residual(&qc, &want, &mut poses)?;
-                jac.set_column(c, &((rc - &r) / step));
-            }
-            let jt = jac.transpose();
-            let mut a = &jt * &jac;
-            let g = &jt * &r + (&q - &prev) * damp;
-            for i in 0..nq {
-                a[(i, i)] += lambda * (1.0 + a[(i, i)]) + damp;
-            }
-            let Some(chol) = a.cholesky() else {
-                lambda *= 10.0;
-                continue;
-            };
-            let dq = chol.solve(&(-g));
-            let qn = &q + &dq;
-            let rn = residual(&qn, &want, &mut poses)?;
-            let cn = rn.norm_squared() + damp * (&qn - &prev).norm_squared();
-            if cn < cost + damp * (&q - &prev).norm_squared() {
-                q = qn;
-                r = rn;
-                cost = r.norm_squared();
-                lambda = (lambda * 0.3).max(1e-9);
-                if dq.norm() < 1e-9 {
-                    break;
-                }
-            } else {
-                lambda *= 10.0;
-                if lambda > 1e8 {
-                    break;
-                }
-            }
-        }
-        let frame_max = (0..nt)
-            .map(|k| r.fixed_rows::<3>(3 * k).norm())
-            .fold(0.0, f64::max);
-        max = max.max(frame_max);
-        sumsq += r.norm_squared();
-        per_frame.push((r.norm_squared() / nt as f64).sqrt());
-        for (col, v) in out.iter_mut().zip(q.iter()) {
-            col[f] = *v;
-        }
-    }
-    let dt = file.frame_time;
-    let stop = if frames > 1 {
-        (frames - 1) as f64 * dt
-    } else {
-        dt
-    };
-    let mut mu = Mu::new();
-    for (c, name) in model.coordinate_names().iter().enumerate() {
-        let vals = std::mem::take(&mut out[c]);
-        let curve = if frames > 1 {
-            Curve::samples(0.0, dt, vals)?
-        } else {
-            Curve::constant(vals[0])?
-        };
-        mu.insert(
-            name.clone(),
-            Dof::new(vec![Interval::curve(curve, 0.0, stop)?])?,
-        );
-    }
-    let rms = (sumsq / (frames * nt) as f64).sqrt();
-    Ok((
-        mu,
-        FitReport {
-            rms,
-            max,
-            per_frame,
-            landmarks: nt,
-        },
-    ))
 }

@@ -1,7 +1,23 @@
 //! Body segment parameters of de Leva (1996), *Adjustments to
 //! Zatsiorsky–Seluyanov's segment inertia parameters*, J. Biomech. 29(9),
-//! Table 4 (male): mass as a fraction of body mass, centre of mass as a
-//! fraction of segment length, radii of gyration as fractions of length.
+//! 1223–1230, Table 4 (male): mass as a fraction of body mass, centre of mass
+//! as a fraction of segment length, radii of gyration as fractions of length.
+//!
+//! Table 4 gives each segment with several pairs of end points; we take the
+//! pair our skeletons' bones run between (joint centres where there is one):
+//! head + neck from C7 (cervicale) to the vertex, upper trunk from the
+//! xiphoid to C7, shank from the knee to the ankle joint centre (its lower
+//! rows); middle and lower trunk, arm, forearm and thigh as in its upper rows;
+//! the hand from the wrist to the 3rd metacarpal and the foot from heel to toe
+//! tip (the only foot row: our foot bone starts at the ankle instead).
+//!
+//! Checked value by value (2026-11) against `deleva.m` by R. Gurchiek (2018,
+//! github.com/gurchiek, a MATLAB transcription of all of Table 4, male and
+//! female, both halves) and the de Leva tables of the biorbd model builder.
+//! The first version had the head's (vertex–gonion) and upper trunk's
+//! (suprasternale–xiphoid) and shank's (knee–lateral malleolus) rows, which
+//! do not match the bones they were applied to; those three are now the
+//! rows for C7-based head and upper trunk and the ankle-centre shank.
 //!
 //! Centre-of-mass fractions are restated from the *proximal* end of the bone
 //! as our skeletons draw it (the parent-side joint): for the head and trunk
@@ -21,9 +37,9 @@
 /// A de Leva segment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Segment {
-    /// Head and neck (vertex to C7).
+    /// Head and neck (C7 to vertex).
     Head,
-    /// Upper trunk (C7 to xiphoid), with the clavicles/shoulder girdle.
+    /// Upper trunk (xiphoid to C7), with the clavicles/shoulder girdle.
     UpperTrunk,
     /// Middle trunk (xiphoid to omphalion).
     MiddleTrunk,
@@ -61,8 +77,9 @@ pub struct Params {
     pub r_trans: f64,
 }
 
-/// Table 4 of de Leva (1996), male. Masses sum to 1 over head, three trunk
-/// pieces and both sides of six limb segments.
+/// Table 4 of de Leva (1996), male, in the order mass %, CoM % (from the
+/// proximal joint), radii % sagittal, transverse, longitudinal. Masses sum
+/// to 1 over head, three trunk pieces and both sides of six limb segments.
 pub fn params(s: Segment) -> Params {
     let p = |mass: f64, com: f64, r_sag: f64, r_tr: f64, r_long: f64| Params {
         mass: mass / 100.0,
@@ -71,15 +88,18 @@ pub fn params(s: Segment) -> Params {
         r_trans: (r_sag + r_tr) / 200.0,
     };
     match s {
-        Segment::Head => p(6.94, 100.0 - 59.76, 36.2, 37.6, 31.2),
-        Segment::UpperTrunk => p(15.96, 100.0 - 29.99, 71.6, 45.4, 65.9),
+        // VERT–CERV row (the VERT–MIDG row has CoM 59.76 and radii 36.2 37.6 31.2).
+        Segment::Head => p(6.94, 100.0 - 50.02, 30.3, 31.5, 26.1),
+        // CERV–XIPH row (the SUPR–XIPH row has CoM 29.99 and radii 71.6 45.4 65.9).
+        Segment::UpperTrunk => p(15.96, 100.0 - 50.66, 50.5, 32.0, 46.5),
         Segment::MiddleTrunk => p(16.33, 100.0 - 45.02, 48.2, 38.3, 46.8),
         Segment::LowerTrunk => p(11.17, 100.0 - 61.15, 61.5, 55.1, 58.7),
         Segment::UpperArm => p(2.71, 57.72, 28.5, 26.9, 15.8),
         Segment::Forearm => p(1.62, 45.74, 27.6, 26.5, 12.1),
         Segment::Hand => p(0.61, 79.00, 62.8, 51.3, 40.1),
         Segment::Thigh => p(14.16, 40.95, 32.9, 32.9, 14.9),
-        Segment::Shank => p(4.33, 44.59, 25.5, 24.9, 10.3),
+        // KJC–AJC row (the KJC–LMAL row has CoM 44.59 and radii 25.5 24.9 10.3).
+        Segment::Shank => p(4.33, 43.95, 25.1, 24.6, 10.2),
         Segment::Foot => p(1.37, 44.15, 25.7, 24.5, 12.4),
     }
 }

@@ -165,8 +165,8 @@ pub fn register(reg: &mut Registry) {
         },
     );
     reg.add(
-        "fit(clip, model)",
-        "Convert a clip to the human model by per-frame least squares on joint positions; prints the fit error (RMS and max, metres) and returns the model's motion.",
+        "fit(clip, model, angle_weight: 0.1)",
+        "Convert a clip to the human model by per-frame least squares on joint positions and segment orientations (angle_weight: metres one radian counts as; 0 = positions only); prints the errors (positions RMS/max in cm, orientations RMS/max in degrees) and returns the model's motion.",
         |a, ev| {
             let carg = a.arg("clip")?;
             let m = mu_of(a, "clip", &carg)?;
@@ -179,11 +179,9 @@ pub fn register(reg: &mut Registry) {
             let k = registry::find_for(&m).ok_or_else(|| no_skeleton(carg.span))?;
             let dt = to_motion::sample_period(&m).unwrap_or(k.frame_time);
             let (file, _) = to_motion::to_bvh(&m, &k.skeleton, k.metres_per_unit, dt).map_err(|e| mocap_error(e, span))?;
-            let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, Some(&ev.ctx.cancel)).map_err(|e| mocap_error(e, span))?;
-            ev.write_line(
-                &format!("fit: {} frames, {} landmarks, RMS error {:.4} m, max {:.4} m", file.frame_count(), rep.landmarks, rep.rms, rep.max),
-                span,
-            )?;
+            let options = mocap::human::FitOptions { angle_weight: a.number_or("angle_weight", mocap::human::FitOptions::default().angle_weight)? };
+            let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, options, Some(&ev.ctx.cancel)).map_err(|e| mocap_error(e, span))?;
+            ev.write_line(&format!("fit: {} frames, {rep}", file.frame_count()), span)?;
             Ok(Value::object(Motion::Mu(mu)))
         },
     );

@@ -145,13 +145,12 @@ pub fn parse(text: &str) -> Result<BvhFile, BvhError> {
         }
         words(no, line, &mut toks);
     }
-    let last_line = text.lines().count().max(1);
     let Some(motion_line) = motion_line else {
         if toks.is_empty() {
             return Err(BvhError::at(1, "empty file: expected `HIERARCHY`"));
         }
         return Err(BvhError::at(
-            last_line,
+            text.lines().count().max(1),
             "no `MOTION` section: the file is truncated or not BVH",
         ));
     };
@@ -192,7 +191,8 @@ pub fn parse(text: &str) -> Result<BvhFile, BvhError> {
     let mut rows = 0usize;
     let mut last_data_line = data_start;
     for (no, line) in lines {
-        if line.trim().is_empty() {
+        // Frame rows are ASCII: the ASCII splitter skips Unicode tables.
+        if line.trim_ascii().is_empty() {
             continue;
         }
         if rows == frames {
@@ -204,7 +204,7 @@ pub fn parse(text: &str) -> Result<BvhFile, BvhError> {
             ));
         }
         let before = values.len();
-        for w in line.split_whitespace() {
+        for w in line.split_ascii_whitespace() {
             if values.len() - before == nch {
                 return Err(BvhError::at(
                     no,

@@ -8,10 +8,16 @@
 /// samples whose wrap count changed (the number of jumps removed).
 /// Non-finite values are left alone and do not move the reference.
 pub fn unwrap_degrees(a: &mut [f64]) -> usize {
+    unwrap_degrees_in(a.iter_mut())
+}
+
+/// [`unwrap_degrees`] over any sequence of values, e.g. one channel's column
+/// of a frame table in place (no copy out and back).
+pub fn unwrap_degrees_in<'a>(a: impl Iterator<Item = &'a mut f64>) -> usize {
     let mut jumps = 0;
     let mut prev_raw: Option<f64> = None;
     let mut shift = 0.0;
-    for v in a.iter_mut() {
+    for v in a {
         if !v.is_finite() {
             continue;
         }
