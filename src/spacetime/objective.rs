@@ -37,7 +37,7 @@ pub struct TransitionSettings {
 
 impl Default for TransitionSettings {
     fn default() -> Self {
-        // Chosen from the benchmark (benches/spacetime.rs): within 1% of the best energy of the table.
+        // benches/spacetime.rs prints how far these land from the best energy of its table.
         TransitionSettings {
             coefficients: 8,
             samples: 20,
@@ -87,10 +87,13 @@ pub fn composite_nodes(
     Ok((nodes, weights))
 }
 
-/// The gap coordinate's curve at one node: q = offset + rows·x (per derivative order).
+/// The gap coordinate's curve at one node: q = offset + rows·x[lo..lo + len]
+/// (per derivative order). A cubic B-spline has at most 4 basis functions
+/// non-zero at a time, so only that window of the free coefficients is stored.
 #[derive(Clone, Debug)]
 struct NodeRows {
     offset: [f64; 3],
+    lo: usize,
     rows: [Vec<f64>; 3],
 }
 
@@ -218,12 +221,15 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                     for (o, row) in offset.iter_mut().zip(&b) {
                         *o = row.iter().zip(&fixed).map(|(x, y)| x * y).sum();
                     }
+                    let free = |j: usize| b.iter().any(|row| row[k0 + j] != 0.0);
+                    let lo = (0..n_free).find(|&j| free(j)).unwrap_or(0);
+                    let hi = (0..n_free).rev().find(|&j| free(j)).map_or(lo, |j| j + 1);
                     let rows = [
-                        b[0][k0..k0 + n_free].to_vec(),
-                        b[1][k0..k0 + n_free].to_vec(),
-                        b[2][k0..k0 + n_free].to_vec(),
+                        b[0][k0 + lo..k0 + hi].to_vec(),
+                        b[1][k0 + lo..k0 + hi].to_vec(),
+                        b[2][k0 + lo..k0 + hi].to_vec(),
                     ];
-                    Some(NodeRows { offset, rows })
+                    Some(NodeRows { offset, lo, rows })
                 })
                 .collect();
             active.push(per_node);
@@ -297,7 +303,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         s.a.copy_from_slice(ba);
         for (d, (dof, act)) in self.dofs.iter().zip(&self.active).enumerate() {
             if let Some(r) = &act[k] {
-                let xd = &x[d * self.n_free..(d + 1) * self.n_free];
+                let xd = &x[d * self.n_free + r.lo..];
                 let dot = |row: &[f64]| row.iter().zip(xd).map(|(a, b)| a * b).sum::<f64>();
                 s.q[dof.coord] = r.offset[0] + dot(&r.rows[0]);
                 s.v[dof.coord] = r.offset[1] + dot(&r.rows[1]);
@@ -337,8 +343,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                     if let Some(r) = &act[k] {
                         let c = dof.coord;
                         let (a0, a1, a2) = (wk * s.gq[c], wk * s.gv[c], wk * s.ga[c]);
-                        let gd = &mut g[d * self.n_free..(d + 1) * self.n_free];
-                        for (j, gj) in gd.iter_mut().enumerate() {
+                        let gd = &mut g[d * self.n_free + r.lo..];
+                        for (j, gj) in gd.iter_mut().take(r.rows[0].len()).enumerate() {
                             *gj += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
                         }
                     }
@@ -355,13 +361,17 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     }
 
     /// The change of variables the solver works in (see [`Precond`]): the
-    /// Gauss–Newton Hessian of e at the start, with the torque Jacobians
-    /// ∂τ/∂(q, q̇, q̈) of the gap coordinates taken at the middle node of each
-    /// third of the span (the body moves over the gap; three linearisations
-    /// follow it well enough for scaling) and the basis rows exact per node:
-    /// H/2 = Σ_k w_k J_kᵀ W J_k, J_k[:, (d, j)] = Σ_α D_α[:, d] r_{α,d,k}[j].
-    /// Assembled as Σ_αβ G_αβ[d, e] · Σ_k w_k r_{α,d,k} r_{β,e,k}ᵀ with
-    /// G_αβ = D_αᵀ W D_β, so it costs O(nd²·nf²) per node, not O(nq·(nd·nf)²).
+    /// Gauss–Newton Hessian of e at the start, H/2 = Σ_k w_k J_kᵀ W J_k with
+    /// J_k[:, (d, j)] = Σ_α D_α[:, d] r_{α,d,k}[j], the torque Jacobians
+    /// D_α = ∂τ/∂(q, q̇, q̈) of the gap coordinates taken at every node (they
+    /// follow the pose and q̈ along the gap; one shared D per third of the gap,
+    /// as before, misses that). Note that no positive model is the whole
+    /// story: ∫Στ² is not convex (τ·∂²τ terms: a limb held against gravity
+    /// has torque² falling either way), and on the Fig. 8 case the curvature
+    /// along some coefficients is −20 to −40 times this model's at the start.
+    /// Assembled as Σ_αβ G_αβ[d, e] · r_{α,d,k} r_{β,e,k}ᵀ with
+    /// G_αβ = D_αᵀ W D_β, so it costs O(nd²·4²) per node besides the
+    /// Jacobians, not O(nq·(nd·nf)²).
     pub fn preconditioner(&self, s: &mut Scratch<M::Workspace>) -> Result<Precond, SpError> {
         let x0 = self.hermite_start();
         self.gauss_newton_at(s, &x0)
@@ -383,12 +393,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         let nn = self.nodes.len();
         let mut h = DMatrix::<f64>::zeros(nv, nv);
         let w = nalgebra::DVector::from_iterator(self.weights.len(), self.weights.iter().copied());
-        for part in 0..3 {
-            let (k0, k1) = (part * nn / 3, (part + 1) * nn / 3);
-            if k0 >= k1 {
-                continue;
-            }
-            self.load_node((k0 + k1) / 2, x0, s);
+        for k in 0..nn {
+            self.load_node(k, x0, s);
             let d = self
                 .model
                 .torque_jacobians(&mut s.ws, &s.q, &s.v, &s.a, &coords)?;
@@ -409,7 +415,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                     g.push(da.transpose() * wdb);
                 }
             }
-            for k in k0..k1 {
+            {
                 let wk = self.qweights[k];
                 for (di, ad) in self.active.iter().enumerate() {
                     let Some(rd) = &ad[k] else { continue };
@@ -421,13 +427,10 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                                 if c == 0.0 {
                                     continue;
                                 }
-                                for j in 0..nf {
-                                    let cj = c * rd.rows[a][j];
-                                    if cj == 0.0 {
-                                        continue;
-                                    }
-                                    for l in 0..nf {
-                                        h[(di * nf + j, ei * nf + l)] += cj * re.rows[b][l];
+                                for (j, rj) in rd.rows[a].iter().enumerate() {
+                                    let cj = c * rj;
+                                    for (l, rl) in re.rows[b].iter().enumerate() {
+                                        h[(di * nf + rd.lo + j, ei * nf + re.lo + l)] += cj * rl;
                                     }
                                 }
                             }
