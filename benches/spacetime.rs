@@ -1,25 +1,25 @@
 //! Spacetime transitions: what accuracy costs in time.
 //!
-//! 1. A 44-DOF transition of the Fig. 8 kind — the human of
-//!    `$MX_SHARED/data/reference/human44.urdf` walking (a calm synthetic
-//!    walk-like motion: root forward at 1.2 m/s, joints swinging at ~1 Hz),
-//!    a 0.6 s gap on all DOFs but the root — solved for coefficients per DOF
-//!    (3, 5, 8, 12, 20) × quadrature samples (10, 20, 40, 80): final energy
-//!    (re-measured with a fine 200-point rule, so rows compare the true
-//!    integral, not each rule's own estimate), gap to the best energy of the
-//!    table, iterations, wall time (best of 3).
+//! 1. The Fig. 8 case (`mx::spacetime::fig8`): a 0.6 s gap on all 38 joint
+//!    DOFs of a 44-DOF human (the root is an input), on two bodies and motions —
+//!    `$MX_SHARED/data/reference/human44.urdf` driven by a calm synthetic
+//!    walk-like motion (root forward at 1.2 m/s, joints swinging at ~1 Hz),
+//!    and the project's own `human(walk)` with the procedural walk fitted to it.
+//!    For coefficients per DOF (3, 5, 8, 12, 20) × quadrature samples
+//!    (10, 20, 40, 80): final energy (re-measured with a fine 200-point rule,
+//!    so rows compare the true integral, not each rule's own estimate), gap to
+//!    the best energy of the table, iterations, wall time (best of 3, set-up
+//!    of the objective included), the default marked.
 //! 2. divan: one objective-and-gradient evaluation against one inverse-dynamics
-//!    pass over the same quadrature nodes.
+//!    pass over the same quadrature nodes, and the preconditioner.
 //!
 //! Run: `cargo bench --bench spacetime`.
 
 use mx::dynamics::{Workspace, inverse_dynamics};
 use mx::model::Model;
-use mx::spacetime::objective::Inputs;
-use mx::spacetime::{
-    BodyDynamics, Continuity, EndState, GapDof, Objective, SolveOptions, SpError,
-    TransitionSettings, solve_group,
-};
+use mx::motion::{Curve, Dof, Interval, Mu};
+use mx::spacetime::fig8::{self, Case};
+use mx::spacetime::{SolveOptions, TransitionSettings, solve_group};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use std::time::Instant;
@@ -60,84 +60,77 @@ fn value(c: usize, t: f64) -> [f64; 3] {
     }
 }
 
-fn inputs(t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) -> Result<(), SpError> {
-    for i in 0..q.len() {
-        let s = value(i, t);
-        q[i] = s[0];
-        v[i] = s[1];
-        a[i] = s[2];
-    }
-    Ok(())
-}
-
 const T0: f64 = 1.0;
 const T1: f64 = 1.6;
+const RATE: f64 = 240.0;
 
-fn gaps() -> Vec<GapDof> {
-    (6..44)
-        .map(|c| {
-            let (s, e) = (value(c, T0), value(c, T1));
-            GapDof {
-                coord: c,
-                t0: T0,
-                t1: T1,
-                start: EndState {
-                    q: s[0],
-                    v: s[1],
-                    a: s[2],
-                },
-                end: EndState {
-                    q: e[0],
-                    v: e[1],
-                    a: e[2],
-                },
-            }
-        })
-        .collect()
+/// The synthetic walk as a motion: every coordinate sampled at 240 Hz on [0, 2.6] s.
+fn calm_walk(model: &Model) -> Mu {
+    let mut m = Mu::new();
+    let n = (2.6 * RATE) as usize;
+    for (c, name) in model.coordinate_names().iter().enumerate() {
+        let vals = (0..=n).map(|k| value(c, k as f64 / RATE)[0]).collect();
+        let iv = Interval::curve(
+            Curve::samples(0.0, 1.0 / RATE, vals).expect("samples"),
+            0.0,
+            2.6,
+        )
+        .expect("interval");
+        m.insert(name.clone(), Dof::from(iv));
+    }
+    m
 }
 
-fn weights() -> Vec<f64> {
-    let mut w = vec![1.0; 44];
-    w[..6].fill(0.0);
-    w
+fn human44_case() -> &'static Case<'static> {
+    static C: OnceLock<Case<'static>> = OnceLock::new();
+    C.get_or_init(|| fig8::case(model(), calm_walk(model()), T0, T1).expect("case"))
 }
 
-fn objective(coefficients: usize, samples: usize) -> Objective<'static, BodyDynamics<'static>> {
-    static BODY: OnceLock<BodyDynamics<'static>> = OnceLock::new();
-    let body = BODY.get_or_init(|| BodyDynamics::new(model()));
-    let settings = TransitionSettings {
+fn example_case() -> &'static Case<'static> {
+    static M: OnceLock<Model> = OnceLock::new();
+    static C: OnceLock<Case<'static>> = OnceLock::new();
+    C.get_or_init(|| {
+        let (model, mu) = fig8::example_walk().expect("example walk");
+        let model = M.get_or_init(|| model);
+        let (t0, t1) = fig8::EXAMPLE_GAP;
+        fig8::case(model, mu, t0, t1).expect("case")
+    })
+}
+
+fn settings(coefficients: usize, samples: usize) -> TransitionSettings {
+    TransitionSettings {
         coefficients,
         samples,
-        continuity: Continuity::C1,
-    };
-    let inputs: &Inputs = &inputs;
-    Objective::new(body, gaps(), &settings, weights(), inputs).expect("objective")
+        ..Default::default()
+    }
 }
 
-fn table() {
+fn table(title: &str, case: &Case) {
     let coefs = [3, 5, 8, 12, 20];
     let samples = [10, 20, 40, 80];
     let default = TransitionSettings::default();
     let mut rows = vec![];
     for &n in &coefs {
         for &k in &samples {
-            let obj = objective(n, k);
             let mut best_t = f64::INFINITY;
             let mut sol = None;
+            let mut nodes = 0;
             for _ in 0..3 {
                 let t = Instant::now();
+                let obj = case.objective(&settings(n, k)).expect("objective");
                 let s = solve_group(&obj, &SolveOptions::default()).expect("solve");
                 best_t = best_t.min(t.elapsed().as_secs_f64());
+                nodes = obj.n_nodes();
                 sol = Some(s);
             }
             let sol = sol.expect("ran");
             // the true integral of the solution: the same curves under a 200-point rule
-            let fine = objective(n, 200);
+            let fine = case.objective(&settings(n, 200)).expect("objective");
             let e_true = fine.eval(&mut fine.scratch(), &sol.x, None).expect("eval");
             rows.push((
                 n,
                 k,
-                obj.n_nodes(),
+                nodes,
                 e_true,
                 sol.report.iterations,
                 sol.report.stop.clone(),
@@ -147,7 +140,8 @@ fn table() {
     }
     let best = rows.iter().map(|r| r.3).fold(f64::INFINITY, f64::min);
     println!(
-        "44-DOF human, 0.6 s gap, 38 DOFs (all but the root), ∫Στ² dt; energy re-measured with 200 Gauss points"
+        "{title}: {} joint DOFs, ∫Στ² dt re-measured with 200 Gauss points",
+        case.gaps.len()
     );
     println!(
         "{:>6} {:>7} {:>6} {:>14} {:>10} {:>6} {:>10}  stop",
@@ -165,20 +159,27 @@ fn table() {
             t * 1e3
         );
     }
+    println!();
 }
 
 fn main() {
-    table();
+    table(
+        "Fig. 8 case on human44.urdf, calm synthetic walk, gap [1.0, 1.6] s",
+        human44_case(),
+    );
+    table(
+        "Fig. 8 case on human(walk) with the project's procedural walk, gap [0.6, 1.2] s",
+        example_case(),
+    );
     divan::main();
 }
 
 /// One objective-and-gradient evaluation (adjoint through every node) at default settings.
 #[divan::bench]
 fn objective_and_gradient(bencher: divan::Bencher) {
-    let obj = objective(
-        TransitionSettings::default().coefficients,
-        TransitionSettings::default().samples,
-    );
+    let obj = human44_case()
+        .objective(&TransitionSettings::default())
+        .expect("objective");
     let x = obj.hermite_start();
     let mut s = obj.scratch();
     let mut g = vec![0.0; x.len()];
@@ -191,10 +192,10 @@ fn objective_and_gradient(bencher: divan::Bencher) {
 /// One inverse-dynamics pass over the same nodes (the floor of the above).
 #[divan::bench]
 fn inverse_dynamics_over_the_nodes(bencher: divan::Bencher) {
-    let obj = objective(
-        TransitionSettings::default().coefficients,
-        TransitionSettings::default().samples,
-    );
+    let case = human44_case();
+    let obj = case
+        .objective(&TransitionSettings::default())
+        .expect("objective");
     let nodes = obj.n_nodes();
     let m = model();
     let mut ws = Workspace::new(m);
@@ -202,7 +203,7 @@ fn inverse_dynamics_over_the_nodes(bencher: divan::Bencher) {
         .map(|k| {
             let t = T0 + (T1 - T0) * (k as f64 + 0.5) / nodes as f64;
             let (mut q, mut v, mut a) = (vec![0.0; 44], vec![0.0; 44], vec![0.0; 44]);
-            inputs(t, &mut q, &mut v, &mut a).expect("inputs");
+            case.inputs(t, &mut q, &mut v, &mut a).expect("inputs");
             [q, v, a]
         })
         .collect();
@@ -218,10 +219,9 @@ fn inverse_dynamics_over_the_nodes(bencher: divan::Bencher) {
 /// The preconditioner (built once per solve).
 #[divan::bench]
 fn preconditioner(bencher: divan::Bencher) {
-    let obj = objective(
-        TransitionSettings::default().coefficients,
-        TransitionSettings::default().samples,
-    );
+    let obj = human44_case()
+        .objective(&TransitionSettings::default())
+        .expect("objective");
     let mut s = obj.scratch();
     bencher.bench_local(|| obj.preconditioner(&mut s).expect("precond"));
 }

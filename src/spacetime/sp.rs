@@ -10,6 +10,7 @@ use super::objective::{GapDof, Inputs, TransitionSettings};
 use super::quadrature::GaussLegendre;
 use super::root::{RootCoords, RootTransition};
 use super::solve::{GapReport, SolveOptions};
+use super::support::HeldFrame;
 use super::torque::{BodyDynamics, TorqueModel};
 use super::transition::EndState;
 use crate::model::Model;
@@ -72,6 +73,8 @@ pub struct SpReport {
     /// DOFs filled by the cubic Hermite curve (root rotations and vertical).
     pub hermite: Vec<Undefined>,
     pub undefined: Vec<Undefined>,
+    /// Support frames held by IK (Rose §3.2.2), one entry per frame and gap.
+    pub support: Vec<HeldFrame>,
 }
 
 impl fmt::Display for SpReport {
@@ -114,6 +117,19 @@ impl fmt::Display for SpReport {
                 r.t0,
                 r.t1,
                 s.join(", ")
+            )?;
+        }
+        for h in &self.support {
+            writeln!(
+                f,
+                "support {} ({}) held over [{:.4}, {:.4}] s by IK on {}: moves {:.4} m from its planted path ({:.4} m on the Hermite start, without IK)",
+                h.frame,
+                if h.detected { "detected" } else { "named" },
+                h.t0,
+                h.t1,
+                abbreviate(&h.dofs),
+                h.moved,
+                h.moved_before
             )?;
         }
         for h in &self.hermite {
@@ -377,6 +393,7 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
             });
         }
     }
+    let gaps = hold_supports(&mut out, model, &gravity, opts, gaps, &mut report)?;
     if gaps.is_empty() {
         return Ok((out, report));
     }
@@ -401,6 +418,105 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
         report.groups.push(r);
     }
     Ok((result, report))
+}
+
+/// Support limbs (Rose §3.2.2, see [`super::support`]): per group of
+/// overlapping gaps, find the support frames (detected or named), solve the
+/// gap DOFs on their chains by IK and write those curves into `m`. Returns the
+/// gaps left for the spacetime solve.
+fn hold_supports(
+    m: &mut Mu,
+    model: &Model,
+    gravity: &Vector3<f64>,
+    opts: &SpOptions,
+    gaps: Vec<GapDof>,
+    report: &mut SpReport,
+) -> Result<Vec<GapDof>, SpError> {
+    use super::support::{self, SupportObjective};
+    let named = match &opts.support {
+        Support::Off => return Ok(gaps),
+        Support::Named(names) => Some(support::named(model, names)?),
+        Support::Auto { .. } => None,
+    };
+    let names = model.coordinate_names();
+    let mut left = vec![];
+    for group in super::groups::group_overlapping(gaps) {
+        let t0 = group.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
+        let t1 = group.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
+        let configuration = |t: f64| -> Result<Vec<f64>, SpError> {
+            let mut q = vec![f64::NAN; names.len()];
+            for (i, n) in names.iter().enumerate() {
+                if let Some([x, _, _]) = m.sample(n, t).map_err(motion_err)? {
+                    q[i] = x;
+                }
+            }
+            Ok(q)
+        };
+        let (frames, detected) = match (&named, &opts.support) {
+            (Some(f), _) => (f.clone(), false),
+            (None, Support::Auto { box_size }) => {
+                let mut qs = vec![];
+                for i in 0..support::WINDOW_SAMPLES {
+                    let dt = support::WINDOW * i as f64 / (support::WINDOW_SAMPLES - 1) as f64;
+                    for t in [t0 - dt, t1 + dt] {
+                        let q = configuration(t)?;
+                        // the motion may not reach that far: use what is defined
+                        if q.iter().all(|v| v.is_finite()) {
+                            qs.push(q);
+                        }
+                    }
+                }
+                (support::detect(model, &qs, gravity, *box_size)?, true)
+            }
+            _ => unreachable!("Off returned above"),
+        };
+        // the gap DOFs on the chains from the frames to the root are the IK
+        // unknowns; a frame no gap DOF moves has nothing to solve
+        let moves = |f: usize, c: usize| {
+            support::owner(model, c).is_some_and(|o| support::is_ancestor(model, o, f))
+        };
+        let frames: Vec<usize> = frames
+            .into_iter()
+            .filter(|&f| group.iter().any(|d| moves(f, d.coord)))
+            .collect();
+        let on_chain = |c: usize| frames.iter().any(|&f| moves(f, c));
+        let (ik, rest): (Vec<GapDof>, Vec<GapDof>) =
+            group.into_iter().partition(|d| on_chain(d.coord));
+        left.extend(rest);
+        if ik.is_empty() {
+            continue;
+        }
+        let obj = SupportObjective::new(model, frames.clone(), ik, &opts.settings, &configuration)?;
+        let x = obj.solve(&opts.solve.cancel)?;
+        let before = obj.largest_drift(&obj.hermite_start())?;
+        let after = obj.largest_drift(&x)?;
+        let dof_names: Vec<String> = obj.dofs().iter().map(|d| names[d.coord].clone()).collect();
+        for (i, &f) in frames.iter().enumerate() {
+            report.support.push(HeldFrame {
+                frame: model.link(f).name.clone(),
+                t0,
+                t1,
+                detected,
+                dofs: dof_names.clone(),
+                moved_before: before[i],
+                moved: after[i],
+            });
+        }
+        for ((gap, coefs), curve) in obj
+            .dofs()
+            .iter()
+            .zip(obj.coefficients(&x))
+            .zip(obj.curves())
+        {
+            let c = curve.to_curve(coefs)?;
+            let dof = m
+                .dofs
+                .get_mut(&names[gap.coord])
+                .ok_or_else(|| invalid("support DOF vanished"))?;
+            insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
+        }
+    }
+    Ok(left)
 }
 
 /// 1 for every joint coordinate, 0 for the root's (nothing actuates the six
