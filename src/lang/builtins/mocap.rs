@@ -12,7 +12,7 @@ use std::sync::Arc;
 use indexmap::IndexMap;
 
 use super::body::Body;
-use super::motion::{Motion, motion_error};
+use super::motion::{Motion, file_error, motion_error};
 use super::{ArgValue, Args, Registry, describe};
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
@@ -107,8 +107,10 @@ pub fn register(reg: &mut Registry) {
                 }
             };
             let dt = rate.map(|r| 1.0 / r).or(dt).or_else(|| to_motion::sample_period(m)).unwrap_or(1.0 / 30.0);
-            to_motion::save(m, &skeleton, scale, dt, path).map_err(|e| mocap_error(e, span))?;
-            Ok(())
+            // Written atomically: a failed save leaves an existing file as it was.
+            let (file, _) = to_motion::to_bvh(m, &skeleton, scale, dt).map_err(|e| mocap_error(e, span))?;
+            let text = mocap::bvh::to_string(&file).map_err(|e| mocap_error(e.into(), span))?;
+            crate::io::atomic::write_atomic(path, text.as_bytes()).map_err(|e| file_error(e, span))
         },
     );
     reg.add(
@@ -166,7 +168,7 @@ pub fn register(reg: &mut Registry) {
     );
     reg.add(
         "fit(clip, model)",
-        "Convert a clip to the human model by per-frame least squares on joint positions; prints the fit error (RMS and max, metres) and returns the model's motion.",
+        "Convert a clip to the human model by per-frame least squares on joint positions; reports the fit error (RMS and max, metres) on stderr and returns the model's motion.",
         |a, ev| {
             let carg = a.arg("clip")?;
             let m = mu_of(a, "clip", &carg)?;
@@ -180,10 +182,8 @@ pub fn register(reg: &mut Registry) {
             let dt = to_motion::sample_period(&m).unwrap_or(k.frame_time);
             let (file, _) = to_motion::to_bvh(&m, &k.skeleton, k.metres_per_unit, dt).map_err(|e| mocap_error(e, span))?;
             let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, Some(&ev.ctx.cancel)).map_err(|e| mocap_error(e, span))?;
-            ev.write_line(
-                &format!("fit: {} frames, {} landmarks, RMS error {:.4} m, max {:.4} m", file.frame_count(), rep.landmarks, rep.rms, rep.max),
-                span,
-            )?;
+            // A note, not a result: stderr, so stdout carries only `print` output.
+            eprintln!("fit: {} frames, {} landmarks, RMS error {:.4} m, max {:.4} m", file.frame_count(), rep.landmarks, rep.rms, rep.max);
             Ok(Value::object(Motion::Mu(mu)))
         },
     );
