@@ -7,6 +7,7 @@
 
 pub mod cancel;
 pub mod dynamics;
+pub mod fmt_num;
 pub mod io;
 pub mod lang;
 pub mod lie;

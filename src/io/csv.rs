@@ -8,6 +8,7 @@ use std::path::Path;
 use super::FileError;
 use super::atomic::write_atomic;
 use crate::cancel::CancelToken;
+use crate::fmt_num::Shortest;
 use crate::motion::{MotionError, Mu, sample_grid};
 
 /// Sample `mu` at `rate` Hz and write it atomically to `path`.
@@ -40,12 +41,13 @@ pub fn to_csv_string(
     }
     out.push('\n');
     for (k, t) in grid.times.iter().enumerate() {
-        // `{}` on f64 prints the shortest text that reads back to the same number.
-        let _ = write!(out, "{t}");
+        // Shortest round-trip text, exponent form for tiny or huge values
+        // (1e-300, not 300 zeros), so read(save(m)) gives the same numbers.
+        let _ = write!(out, "{}", Shortest(*t));
         for col in &grid.values {
             out.push(',');
             if let Some(v) = col[k] {
-                let _ = write!(out, "{v}");
+                let _ = write!(out, "{}", Shortest(v));
             }
         }
         out.push('\n');

@@ -157,30 +157,8 @@ impl Value {
     }
 }
 
-/// Shortest decimal that reads back to the same `f64` (`0.1`, `1e-12`, `3`).
-pub fn format_number(x: f64) -> String {
-    if x.is_nan() {
-        return "nan".into();
-    }
-    if x.is_infinite() {
-        return if x > 0.0 { "inf".into() } else { "-inf".into() };
-    }
-    if x == 0.0 {
-        return if x.is_sign_negative() {
-            "-0".into()
-        } else {
-            "0".into()
-        };
-    }
-    // Rust's `{}` prints the shortest round-trip digits but never uses an
-    // exponent (1e-12 → 0.000000000001); `{:e}` always does. Pick by magnitude.
-    let ax = x.abs();
-    if (1e-5..1e16).contains(&ax) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
+/// The shared number formatter (see [`crate::fmt_num`]).
+pub use crate::fmt_num::format_number;
 
 fn is_plain_key(k: &str) -> bool {
     let mut chars = k.chars();
@@ -315,23 +293,6 @@ impl From<Vec<Value>> for Value {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn numbers_print_shortest_round_trip() {
-        for (x, s) in [
-            (0.1, "0.1"),
-            (1e-12, "1e-12"),
-            (3.0, "3"),
-            (-2.5, "-2.5"),
-            (1e20, "1e20"),
-            (123456.0, "123456"),
-        ] {
-            assert_eq!(format_number(x), s);
-            assert_eq!(format_number(x).parse::<f64>().ok(), Some(x));
-        }
-        assert_eq!(format_number(f64::NAN), "nan");
-        assert_eq!(format_number(0.1 + 0.2), "0.30000000000000004");
-    }
 
     #[test]
     fn values_are_send_and_sync() {

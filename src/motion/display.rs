@@ -1,7 +1,9 @@
 //! One-line summaries of motions (what `print(m)` and the REPL show).
-//! Numbers use Rust's shortest round-trip form.
+//! Numbers use the shared shortest round-trip form ([`crate::fmt_num`]).
 
 use std::fmt;
+
+use crate::fmt_num::Shortest;
 
 use super::dof::Dof;
 use super::interval::Interval;
@@ -21,8 +23,8 @@ impl fmt::Display for Interval {
         write!(
             f,
             "interval([{}, {}], {}",
-            self.start,
-            self.stop,
+            Shortest(self.start),
+            Shortest(self.stop),
             plural(self.funcs.len(), "function")
         )?;
         if self.is_conflict() {
@@ -40,8 +42,10 @@ impl fmt::Display for Dof {
             Some((a, b)) => {
                 write!(
                     f,
-                    "dof({} over [{a}, {b}]",
-                    plural(self.intervals.len(), "interval")
+                    "dof({} over [{}, {}]",
+                    plural(self.intervals.len(), "interval"),
+                    Shortest(a),
+                    Shortest(b)
                 )?;
                 summary_tail(f, self.gaps().len(), self.conflicts().len())
             }
@@ -56,7 +60,7 @@ impl fmt::Display for Mu {
         match self.span() {
             None => write!(f, "mu({n}, empty)"),
             Some((a, b)) => {
-                write!(f, "mu({n} over [{a}, {b}]")?;
+                write!(f, "mu({n} over [{}, {}]", Shortest(a), Shortest(b))?;
                 let gaps = self.dofs.values().map(|d| d.gaps().len()).sum();
                 let conflicts = self.dofs.values().map(|d| d.conflicts().len()).sum();
                 summary_tail(f, gaps, conflicts)

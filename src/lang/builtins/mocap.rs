@@ -12,7 +12,7 @@ use std::sync::Arc;
 use indexmap::IndexMap;
 
 use super::body::Body;
-use super::motion::{Motion, motion_error};
+use super::motion::{Motion, file_error, motion_error};
 use super::{ArgValue, Args, Registry, describe};
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
@@ -107,8 +107,10 @@ pub fn register(reg: &mut Registry) {
                 }
             };
             let dt = rate.map(|r| 1.0 / r).or(dt).or_else(|| to_motion::sample_period(m)).unwrap_or(1.0 / 30.0);
-            to_motion::save(m, &skeleton, scale, dt, path).map_err(|e| mocap_error(e, span))?;
-            Ok(())
+            // Written atomically: a failed save leaves an existing file as it was.
+            let (file, _) = to_motion::to_bvh(m, &skeleton, scale, dt).map_err(|e| mocap_error(e, span))?;
+            let text = mocap::bvh::to_string(&file).map_err(|e| mocap_error(e.into(), span))?;
+            crate::io::atomic::write_atomic(path, text.as_bytes()).map_err(|e| file_error(e, span))
         },
     );
     reg.add(
@@ -166,7 +168,7 @@ pub fn register(reg: &mut Registry) {
     );
     reg.add(
         "fit(clip, model, angle_weight: 0.1)",
-        "Convert a clip to the human model by per-frame least squares on joint positions and segment orientations (angle_weight: metres one radian counts as; 0 = positions only); prints the errors (positions RMS/max in cm, orientations RMS/max in degrees) and returns the model's motion.",
+        "Convert a clip to the human model by per-frame least squares on joint positions and segment orientations (angle_weight: metres one radian counts as; 0 = positions only); notes the errors on stderr (positions RMS/max in cm, orientations RMS/max in degrees) and returns the model's motion.",
         |a, ev| {
             let carg = a.arg("clip")?;
             let m = mu_of(a, "clip", &carg)?;
@@ -181,7 +183,8 @@ pub fn register(reg: &mut Registry) {
             let (file, _) = to_motion::to_bvh(&m, &k.skeleton, k.metres_per_unit, dt).map_err(|e| mocap_error(e, span))?;
             let options = mocap::human::FitOptions { angle_weight: a.number_or("angle_weight", mocap::human::FitOptions::default().angle_weight)? };
             let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, options, Some(&ev.ctx.cancel)).map_err(|e| mocap_error(e, span))?;
-            ev.write_line(&format!("fit: {} frames, {rep}", file.frame_count()), span)?;
+            // A note, not a result: stderr, so stdout carries only `print` output.
+            eprintln!("fit: {} frames, {rep}", file.frame_count());
             Ok(Value::object(Motion::Mu(mu)))
         },
     );

@@ -525,6 +525,14 @@ pub fn register(reg: &mut Registry) {
                 .map_err(|e| file_error(e, span))
         },
     );
+    reg.loader(
+        "csv",
+        "Motion CSV as written by `save(m, \"x.csv\", rate: R)`: each run of filled cells becomes sampled data (C² cubic), empty cells stay undefined.",
+        |path, a, _| {
+            let m = crate::io::csv::load_csv(path).map_err(|e| file_error(e, a.call_span()))?;
+            obj(Motion::Mu(m))
+        },
+    );
     reg.saver(
         "json",
         "Motion JSON (exact round trip; functions stored as mx source).",
@@ -570,7 +578,7 @@ fn dof_spans(m: &Motion, f: fn(&Dof) -> Vec<(f64, f64)>) -> Vec<motion::DofSpan>
         .collect()
 }
 
-fn file_error(e: crate::io::FileError, span: crate::lang::ast::Span) -> MxError {
+pub(crate) fn file_error(e: crate::io::FileError, span: crate::lang::ast::Span) -> MxError {
     match e {
         crate::io::FileError::Motion(m) => motion_error(m, span),
         other => MxError::new(ErrorKind::Io, other.to_string())

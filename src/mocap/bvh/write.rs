@@ -1,7 +1,9 @@
-//! The BVH writer. Numbers are written with Rust's shortest round-trip
-//! formatting, so read(write(f)) == f exactly.
+//! The BVH writer. Numbers are written in the shared shortest round-trip
+//! form ([`crate::fmt_num`]), so read(write(f)) == f exactly and tiny values
+//! stay short (`1e-17`, not 17 zeros).
 
 use super::{BvhError, BvhFile, Skeleton};
+use crate::fmt_num::Shortest;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -41,7 +43,7 @@ pub fn to_string(file: &BvhFile) -> Result<String, BvhError> {
     let _ = writeln!(
         out,
         "MOTION\nFrames: {frames}\nFrame Time: {}",
-        file.frame_time
+        Shortest(file.frame_time)
     );
     for f in 0..frames {
         let row = file.frame(f);
@@ -49,7 +51,7 @@ pub fn to_string(file: &BvhFile) -> Result<String, BvhError> {
             if i > 0 {
                 out.push(' ');
             }
-            let _ = write!(out, "{v}");
+            let _ = write!(out, "{}", Shortest(*v));
         }
         out.push('\n');
     }
@@ -89,7 +91,9 @@ fn write_joint(s: &Skeleton, i: usize, depth: usize, out: &mut String) {
     let _ = writeln!(
         out,
         "{ind}\tOFFSET {} {} {}",
-        j.offset.x, j.offset.y, j.offset.z
+        Shortest(j.offset.x),
+        Shortest(j.offset.y),
+        Shortest(j.offset.z)
     );
     if !j.channels.is_empty() || j.parent.is_none() {
         let names: Vec<&str> = j.channels.iter().map(|c| c.name()).collect();
@@ -103,7 +107,9 @@ fn write_joint(s: &Skeleton, i: usize, depth: usize, out: &mut String) {
         let _ = writeln!(
             out,
             "{ind}\tEnd Site\n{ind}\t{{\n{ind}\t\tOFFSET {} {} {}\n{ind}\t}}",
-            e.x, e.y, e.z
+            Shortest(e.x),
+            Shortest(e.y),
+            Shortest(e.z)
         );
     }
     let _ = writeln!(out, "{ind}}}");
