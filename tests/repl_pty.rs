@@ -66,3 +66,49 @@ fn repl_in_a_terminal() {
         "history is saved in the data dir"
     );
 }
+
+#[test]
+fn sp_in_the_repl_info_progress_bar_and_ctrl_c() {
+    let data = tempfile::tempdir().unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mx"));
+    cmd.env("XDG_DATA_HOME", data.path())
+        .env("HOME", data.path())
+        .env("NO_COLOR", "1")
+        .env("TERM", "xterm");
+    let mut p = Session::spawn(cmd).expect("spawn mx in a pty");
+    p.set_expect_timeout(Some(Duration::from_secs(60)));
+    p.expect("mx> ").unwrap();
+    // Each input prints a word the echo does not contain, so the next input is
+    // typed only once the previous one has finished (rustyline drops type-ahead).
+    let walk = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/walk.bvh");
+    p.send_line(format!(
+        "let walk = load(\"{walk}\"); let body = body_of(walk); print(\"loaded\" + \"!\")"
+    ))
+    .unwrap();
+    p.expect("loaded!").unwrap();
+    p.send_line("let m = walk - clip_in_place(0.6s, 1.2s, walk.only(\"RightForeArm.*\")); print(\"cut\" + \"!\")")
+        .unwrap();
+    p.expect("cut!").unwrap();
+    p.send_line(
+        "let filled = SP(m, body: body, coefficients: 3, samples: 8); print(\"solved\" + \"!\")",
+    )
+    .unwrap();
+    p.expect("solved!").unwrap();
+    // :info shows SP's report beside the value.
+    p.send_line(":info filled").unwrap();
+    p.expect("SP report:").unwrap();
+    p.expect("gap 1 [0.6000, 1.2000] s, 3 DOFs").unwrap();
+
+    // A long SP shows its bar after 0.5 s; Ctrl-C cancels it and binds nothing.
+    p.send_line(
+        "let big = SP(gap_between(walk, walk, 0.5s), body: body, coefficients: 40, samples: 200)",
+    )
+    .unwrap();
+    p.expect("gap groups").unwrap();
+    p.send(ControlCode::EndOfText).unwrap();
+    p.expect("cancelled").unwrap();
+    p.send_line("big").unwrap();
+    p.expect("unknown name `big`").unwrap();
+    p.send_line(":quit").unwrap();
+    p.expect(Eof).unwrap();
+}
