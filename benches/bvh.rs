@@ -1,7 +1,8 @@
 //! BVH load time of every shared clip (ms and frames/s): read + parse +
 //! unwrap, and (`load` column) the whole conversion to a motion unit once
-//! it exists. Prints a table, then divan times the 1,901-frame dance (target:
-//! well under 50 ms).
+//! it exists. Prints a table, then the time `fit` takes to convert the
+//! 1,901-frame dance to the 44-DOF model (positions only, and positions and
+//! orientations), then divan times loading the dance (target: well under 50 ms).
 
 use mx::mocap::bvh;
 use std::path::{Path, PathBuf};
@@ -61,7 +62,40 @@ fn main() {
             mu * 1e3
         );
     }
+    fit_dance();
     divan::main();
+}
+
+/// One fit of the dance each way: seconds and ms per frame.
+fn fit_dance() {
+    use mx::mocap::human::{FitOptions, fit, human};
+    let Some(p) = shared_mocap()
+        .into_iter()
+        .find(|p| p.to_string_lossy().contains("dance-short"))
+    else {
+        return;
+    };
+    let f = bvh::read_file(&p).expect("shared clip loads");
+    let s = bvh::detect_units(&f.skeleton).metres_per_unit;
+    let h = human(&f.skeleton, s, 70.0).expect("humanoid");
+    println!(
+        "\n{:<28} {:>7} {:>8} {:>9} {:>8} {:>8}",
+        "fit of the dance", "frames", "s", "ms/frame", "RMS cm", "RMS deg"
+    );
+    for (what, w) in [("positions only", 0.0), ("positions + orientations", 0.1)] {
+        let start = Instant::now();
+        let (_, rep) = fit(&f, s, &h, FitOptions { angle_weight: w }, None).expect("fit");
+        let secs = start.elapsed().as_secs_f64();
+        println!(
+            "{:<28} {:>7} {:>8.2} {:>9.2} {:>8.2} {:>8.1}",
+            what,
+            f.frame_count(),
+            secs,
+            secs * 1e3 / f.frame_count() as f64,
+            rep.rms * 100.0,
+            rep.angle_rms.to_degrees()
+        );
+    }
 }
 
 #[divan::bench(sample_count = 20)]
