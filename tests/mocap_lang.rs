@@ -114,5 +114,6 @@ fn human_and_fit_in_mx() {
     assert_eq!(l[0].as_number(), Some(44.0));
     assert!(l[1].as_record().unwrap().contains_key("elbow_R.Yrotation"));
     let printed = String::from_utf8(out.lock().unwrap().clone()).unwrap();
-    assert!(printed.contains("RMS error"), "{printed}");
+    // fit notes its error on stderr: stdout carries only what the script prints
+    assert!(!printed.contains("RMS error"), "{printed}");
 }
