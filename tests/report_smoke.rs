@@ -25,6 +25,7 @@ fn smoke_report_produces_every_figure_with_finite_numbers() {
         "fit_smoothing.svg",
         "mocap_bspline.svg",
         "mocap_sampling.svg",
+        "cyclify.svg",
     ];
     for f in want {
         let p = dir.path().join(f);
@@ -41,6 +42,7 @@ fn smoke_report_produces_every_figure_with_finite_numbers() {
         "## Integrators",
         "## Spline-joint",
         "## Mocap",
+        "## Cyclification",
         "## Hard cases",
         "## Performance",
     ] {

@@ -1,17 +1,11 @@
 //! Spacetime transition work–precision (Rose et al. 1996, Fig. 8 kind): every
-//! joint of the 44-DOF human in one 0.6 s gap, for each combination of free
+//! joint of the 44-DOF human made from the project's own walk in one 0.6 s gap, for each combination of free
 //! coefficients per DOF × quadrature samples × solver tolerance. Each solution's
 //! torque energy is re-measured with one common fine quadrature so settings
 //! compare on the same scale; the gap is relative to the best of the table.
 
 use super::plot::{Figure, Series};
-use crate::model::Model;
-use crate::spacetime::objective::Inputs;
-use crate::spacetime::{
-    BodyDynamics, Continuity, EndState, GapDof, Objective, SolveOptions, SpError,
-    TransitionSettings, solve_group,
-};
-use std::path::Path;
+use crate::spacetime::{Continuity, SolveOptions, TransitionSettings, fig8, solve_group};
 
 pub struct Row {
     pub coefficients: usize,
@@ -35,70 +29,23 @@ pub struct Outcome {
     pub default_ms: Option<f64>,
 }
 
-/// End states of every coordinate from a smooth synthetic motion: small root
-/// sway, limb swings at distinct frequencies (the 44-DOF test's motion).
-pub fn motion(i: usize, t: f64) -> [f64; 3] {
-    let w = 2.0 + 0.37 * i as f64;
-    let amp = if i < 6 { 0.05 } else { 0.4 };
-    let ph = 0.9 * i as f64;
-    let base = if i == 2 { 1.0 } else { 0.0 };
-    [
-        base + amp * (w * t + ph).sin(),
-        amp * w * (w * t + ph).cos(),
-        -amp * w * w * (w * t + ph).sin(),
-    ]
-}
-
-fn inputs(t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) -> Result<(), SpError> {
-    for i in 0..q.len() {
-        let s = motion(i, t);
-        q[i] = s[0];
-        v[i] = s[1];
-        a[i] = s[2];
-    }
-    Ok(())
-}
-
-fn gap(coord: usize, t0: f64, t1: f64) -> GapDof {
-    let (s, e) = (motion(coord, t0), motion(coord, t1));
-    let es = |x: [f64; 3]| EndState {
-        q: x[0],
-        v: x[1],
-        a: x[2],
-    };
-    GapDof {
-        coord,
-        t0,
-        t1,
-        start: es(s),
-        end: es(e),
-    }
-}
-
 pub const DEFAULT_TOL: f64 = 1e-6;
 
-pub fn run(urdf: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
-    let model = Model::from_urdf_file(urdf).map_err(|e| format!("{}: {e}", urdf.display()))?;
-    let n = model.nq();
-    if n < 7 {
-        return Err(format!(
-            "{}: expected a human with a 6-DOF root, got {n} coordinates",
-            urdf.display()
-        ));
-    }
-    let body = BodyDynamics::new(&model);
-    let (t0, t1) = (1.0, 1.6);
-    let gaps: Vec<GapDof> = (6..n).map(|c| gap(c, t0, t1)).collect();
-    let mut w = vec![1.0; n];
-    w[..6].fill(0.0); // the root is unactuated
-    let inputs: &Inputs = &inputs;
+/// The table on the project's own data: `human(walk)` (44 DOFs) with the
+/// procedural walk fitted to it, every joint DOF left undefined over
+/// [`fig8::EXAMPLE_GAP`] (the case `benches/spacetime.rs` measures too).
+pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+    let (model, walk) = fig8::example_walk().map_err(|e| e.to_string())?;
+    let (t0, t1) = fig8::EXAMPLE_GAP;
+    let case = fig8::case(&model, walk, t0, t1).map_err(|e| e.to_string())?;
+    let n_gap = case.gaps.len();
     let d = TransitionSettings::default();
     let (coefs, samples, tols): (Vec<usize>, Vec<usize>, Vec<f64>) = if smoke {
-        (vec![4, d.coefficients], vec![d.samples], vec![DEFAULT_TOL])
+        (vec![3, d.coefficients], vec![d.samples], vec![DEFAULT_TOL])
     } else {
         (
-            vec![4, 6, d.coefficients, 12],
-            vec![10, d.samples, 40],
+            vec![3, 5, d.coefficients, 12, 20],
+            vec![10, d.samples, 40, 80],
             vec![1e-3, DEFAULT_TOL],
         )
     };
@@ -113,8 +60,7 @@ pub fn run(urdf: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, 
                     continuity: Continuity::C1,
                 };
                 let started = std::time::Instant::now();
-                let obj = Objective::new(&body, gaps.clone(), &settings, w.clone(), inputs)
-                    .map_err(|e| e.to_string())?;
+                let obj = case.objective(&settings).map_err(|e| e.to_string())?;
                 let sol = solve_group(
                     &obj,
                     &SolveOptions {
@@ -124,17 +70,12 @@ pub fn run(urdf: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, 
                 )
                 .map_err(|e| e.to_string())?;
                 let ms = started.elapsed().as_secs_f64() * 1e3;
-                let fine = Objective::new(
-                    &body,
-                    gaps.clone(),
-                    &TransitionSettings {
+                let fine = case
+                    .objective(&TransitionSettings {
                         samples: fine_samples,
                         ..settings.clone()
-                    },
-                    w.clone(),
-                    inputs,
-                )
-                .map_err(|e| e.to_string())?;
+                    })
+                    .map_err(|e| e.to_string())?;
                 let mut s = fine.scratch();
                 let energy = fine.eval(&mut s, &sol.x, None).map_err(|e| e.to_string())?;
                 let hermite_energy = fine
@@ -194,7 +135,7 @@ pub fn run(urdf: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, 
             file: "spacetime_energy.svg".into(),
             title: format!(
                 "{} DOFs, {:.1} s gap: torque-energy gap to the best",
-                n - 6,
+                n_gap,
                 t1 - t0
             ),
             x_label: "solve time (ms, this machine)".into(),
@@ -210,7 +151,7 @@ pub fn run(urdf: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, 
         },
     ];
     Ok(Outcome {
-        dofs: n - 6,
+        dofs: n_gap,
         duration: t1 - t0,
         rows,
         figures,
