@@ -1,6 +1,16 @@
 //! Minimise one group's objective with argmin: BFGS for small problems, where
 //! the dense inverse-Hessian update is cheap and converges in fewer steps;
 //! L-BFGS beyond, where (nm)² per step would dominate (Rose §3.2.3).
+//! The solver works in variables whitened by a Gauss–Newton preconditioner;
+//! the body's pose (hence its mass matrix and gravity torques) moves away
+//! from the Hermite start as the solve proceeds, so every
+//! `relinearise_every` iterations the preconditioner is rebuilt at the best
+//! point so far and the quasi-Newton run restarts there. Off by default: on
+//! the 44-DOF Fig. 8 case (every 50 iterations, L-BFGS memory 30) it lowers
+//! the fine-measured energy of a 300-iteration solve by 7–15 %, but at the
+//! test suite's coarse quadrature it finds curves that hide torque between
+//! nodes (the arm case of tests/spacetime_motion.rs ends above Hermite), so
+//! it needs samples that grow with the coefficients first.
 //! Evaluation shares one pass for cost and gradient (the adjoint gives both),
 //! remembers the best point seen, and polls a `CancelToken`.
 
@@ -25,6 +35,12 @@ pub struct SolveOptions {
     pub cost_rtol: f64,
     /// Use dense BFGS up to this many unknowns, L-BFGS above.
     pub bfgs_max_vars: usize,
+    /// Correction pairs L-BFGS keeps.
+    pub lbfgs_memory: usize,
+    /// Rebuild the preconditioner at the best point and restart after this many
+    /// iterations (≥ `max_iters`: never, the default; see the module docs).
+    /// Too often wastes the quasi-Newton memory: 50 was best of {15, 20, 50}.
+    pub relinearise_every: u64,
     pub cancel: CancelToken,
     /// Told of every objective evaluation (a progress bar's heartbeat).
     pub progress: super::progress::Progress,
@@ -37,6 +53,8 @@ impl Default for SolveOptions {
             grad_rtol: 1e-6,
             cost_rtol: 1e-12,
             bfgs_max_vars: 40,
+            lbfgs_memory: 10,
+            relinearise_every: u64::MAX,
             cancel: CancelToken::new(),
             progress: Default::default(),
         }
@@ -85,8 +103,8 @@ struct Best {
 
 struct Problem<'o, 'a, M: TorqueModel> {
     obj: &'o Objective<'a, M>,
-    /// x = T(y); the solver works in y.
-    t: Precond,
+    /// x = T(y); the solver works in y (re-linearised between rounds).
+    t: RefCell<Precond>,
     scratch: RefCell<Scratch<M::Workspace>>,
     /// The last evaluated point: argmin asks for cost and gradient separately at the same x.
     last: RefCell<LastEval>,
@@ -98,11 +116,11 @@ struct Problem<'o, 'a, M: TorqueModel> {
 
 impl<M: TorqueModel> Problem<'_, '_, M> {
     fn to_x(&self, y: &[f64]) -> Vec<f64> {
-        self.t.apply(y)
+        self.t.borrow().apply(y)
     }
 
     fn to_y(&self, x: &[f64]) -> Vec<f64> {
-        self.t.solve(x)
+        self.t.borrow().solve(x)
     }
 
     /// e and ∂e/∂y = Tᵀ ∂e/∂x at y.
@@ -114,7 +132,7 @@ impl<M: TorqueModel> Problem<'_, '_, M> {
         }
         let x = self.to_x(y);
         let (e, gx) = self.eval_x(&x)?;
-        let gy = self.t.apply_t(&gx);
+        let gy = self.t.borrow().apply_t(&gx);
         *self.last.borrow_mut() = Some((y.to_vec(), e, gy.clone()));
         Ok((e, gy))
     }
@@ -189,7 +207,7 @@ pub fn solve_group<M: TorqueModel>(
     let t = obj.preconditioner(&mut scratch)?;
     let problem = Problem {
         obj,
-        t,
+        t: RefCell::new(t),
         scratch: RefCell::new(scratch),
         last: RefCell::new(None),
         best: RefCell::new(None),
@@ -214,47 +232,71 @@ pub fn solve_group<M: TorqueModel>(
     } else if n > 0 {
         let tol_grad = (opts.grad_rtol * g0n).max(f64::MIN_POSITIVE);
         let tol_cost = (opts.cost_rtol * e0.abs()).max(f64::MIN_POSITIVE);
-        let linesearch = MoreThuenteLineSearch::new();
-        let run = if n <= opts.bfgs_max_vars {
-            method = "BFGS";
-            // In the preconditioned variables the Hessian is about 2·I.
-            let s = 0.5;
-            let h0: Vec<Vec<f64>> = (0..n)
-                .map(|i| (0..n).map(|j| if i == j { s } else { 0.0 }).collect())
-                .collect();
-            let solver = BFGS::new(linesearch)
-                .with_tolerance_grad(tol_grad)
-                .and_then(|s| s.with_tolerance_cost(tol_cost))
-                .map_err(|e| SpError::Invalid(e.to_string()))?;
-            Executor::new(Lend(&problem), solver)
-                .configure(|st| {
-                    st.param(y0.clone())
-                        .inv_hessian(h0)
-                        .max_iters(opts.max_iters)
-                })
-                .run()
-                .map(|r| {
-                    (
-                        r.state().get_iter(),
-                        stop_text(r.state().get_termination_status()),
-                    )
-                })
-        } else {
-            method = "L-BFGS";
-            let solver = LBFGS::new(linesearch, 10)
-                .with_tolerance_grad(tol_grad)
-                .and_then(|s| s.with_tolerance_cost(tol_cost))
-                .map_err(|e| SpError::Invalid(e.to_string()))?;
-            Executor::new(Lend(&problem), solver)
-                .configure(|st| st.param(y0.clone()).max_iters(opts.max_iters))
-                .run()
-                .map(|r| {
-                    (
-                        r.state().get_iter(),
-                        stop_text(r.state().get_termination_status()),
-                    )
-                })
-        };
+        let mem = opts.lbfgs_memory.max(1);
+        let round = opts.relinearise_every.max(1);
+        let mut y_start = y0.clone();
+        let mut run: Result<(u64, String), argmin::core::Error> = Ok((0, String::new()));
+        let mut total = 0;
+        while total < opts.max_iters {
+            let budget = round.min(opts.max_iters - total);
+            let linesearch = MoreThuenteLineSearch::new();
+            run = if n <= opts.bfgs_max_vars {
+                method = "BFGS";
+                // In the preconditioned variables the Hessian is about 2·I.
+                let s = 0.5;
+                let h0: Vec<Vec<f64>> = (0..n)
+                    .map(|i| (0..n).map(|j| if i == j { s } else { 0.0 }).collect())
+                    .collect();
+                let solver = BFGS::new(linesearch)
+                    .with_tolerance_grad(tol_grad)
+                    .and_then(|s| s.with_tolerance_cost(tol_cost))
+                    .map_err(|e| SpError::Invalid(e.to_string()))?;
+                Executor::new(Lend(&problem), solver)
+                    .configure(|st| st.param(y_start.clone()).inv_hessian(h0).max_iters(budget))
+                    .run()
+                    .map(|r| {
+                        (
+                            r.state().get_iter(),
+                            stop_text(r.state().get_termination_status()),
+                        )
+                    })
+            } else {
+                method = "L-BFGS";
+                let solver = LBFGS::new(linesearch, mem)
+                    .with_tolerance_grad(tol_grad)
+                    .and_then(|s| s.with_tolerance_cost(tol_cost))
+                    .map_err(|e| SpError::Invalid(e.to_string()))?;
+                Executor::new(Lend(&problem), solver)
+                    .configure(|st| st.param(y_start.clone()).max_iters(budget))
+                    .run()
+                    .map(|r| {
+                        (
+                            r.state().get_iter(),
+                            stop_text(r.state().get_termination_status()),
+                        )
+                    })
+            };
+            let it = run.as_ref().map(|r| r.0).unwrap_or(budget);
+            total += it.max(1);
+            // only a run cut short by its round's budget continues; convergence,
+            // a stuck line search or cancellation end the solve
+            let limited = matches!(&run, Ok((_, s)) if s == "iteration limit reached");
+            if !limited || total >= opts.max_iters {
+                break;
+            }
+            // re-linearise the preconditioner at the best point and restart there
+            let bx = problem
+                .best
+                .borrow()
+                .as_ref()
+                .map(|b| b.x.clone())
+                .unwrap_or(x0.clone());
+            let t = obj.gauss_newton_at(&mut problem.scratch.borrow_mut(), &bx)?;
+            *problem.t.borrow_mut() = t;
+            *problem.last.borrow_mut() = None;
+            y_start = problem.to_y(&bx);
+        }
+        let run = run.map(|(_, s)| (total, s));
         match run {
             Ok((it, s)) => {
                 iterations = it;
@@ -389,6 +431,30 @@ mod tests {
             solve_group(&arm_problem(&arm, &s(2), 0.8), &SolveOptions::default()).unwrap();
         let e_big = solve_group(&arm_problem(&arm, &s(5), 0.8), &SolveOptions::default()).unwrap();
         assert!(e_big.report.energy <= e_small.report.energy * (1.0 + 1e-9));
+    }
+
+    #[test]
+    fn relinearising_restarts_still_descend_to_a_stationary_point() {
+        let arm = TwoLinkArm::default();
+        let settings = TransitionSettings {
+            coefficients: 30,
+            samples: 90,
+            continuity: Continuity::C1,
+        };
+        let obj = arm_problem(&arm, &settings, 0.8);
+        let plain = solve_group(&obj, &SolveOptions::default()).unwrap().report;
+        let opts = SolveOptions {
+            relinearise_every: 5,
+            lbfgs_memory: 30,
+            ..Default::default()
+        };
+        let r = solve_group(&obj, &opts).unwrap().report;
+        assert!(r.iterations > 5, "{r:?}");
+        assert!(r.energy < 0.9 * r.initial_energy, "{r:?}");
+        assert!(
+            r.energy <= plain.energy * (1.0 + 1e-3),
+            "{r:?} vs {plain:?}"
+        );
     }
 
     #[test]
