@@ -209,3 +209,53 @@ impl JointAxis {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fast paths must agree with the generic `t ∘ G(q)` and `Ad_T s`,
+    /// for coordinate axes of either sign and for a general axis.
+    #[test]
+    fn axis_fast_paths_match_generic_products() {
+        let t = Se3 {
+            r: nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner(),
+            p: Vector3::new(0.4, -0.2, 1.5),
+        };
+        let axes = [
+            Vector3::x(),
+            -Vector3::y(),
+            Vector3::z(),
+            -Vector3::z(),
+            Vector3::new(0.3, -0.5, 0.8),
+        ];
+        for motion in [AxisMotion::Rotation, AxisMotion::Translation] {
+            for a in axes {
+                let axis = JointAxis::new(motion, Unit::new_normalize(a));
+                assert_eq!(
+                    axis.principal.is_some(),
+                    a.iter().filter(|x| **x != 0.0).count() == 1
+                );
+                for q in [-2.5, 0.0, 0.7] {
+                    let g = axis.transform(q);
+                    let want = t.compose(&g);
+                    let got = axis.place(&t, q);
+                    assert!((got.r - want.r).norm() < 1e-14, "{motion:?} {a:?} {q}");
+                    assert!((got.p - want.p).norm() < 1e-14, "{motion:?} {a:?} {q}");
+                    let s = (axis.twist_in(&got) - got.ad_twist(&axis.twist())).norm();
+                    assert!(s < 1e-14, "{motion:?} {a:?} {q}");
+                    // G(q) itself: rotation by q about a, or translation q a.
+                    let moved = g.r * Vector3::new(1.0, 2.0, 3.0) + g.p;
+                    let expect = match motion {
+                        AxisMotion::Rotation => {
+                            nalgebra::Rotation3::from_axis_angle(&axis.axis, q)
+                                * Vector3::new(1.0, 2.0, 3.0)
+                        }
+                        AxisMotion::Translation => Vector3::new(1.0, 2.0, 3.0) + axis.axis() * q,
+                    };
+                    assert!((moved - expect).norm() < 1e-14, "{motion:?} {a:?} {q}");
+                }
+            }
+        }
+    }
+}
