@@ -9,7 +9,7 @@
 //! 2. The cost of each scene effect (same scene with and without it).
 //! 3. Integrator work–precision: error at t = 1 s against a tight reference vs time.
 //!
-//! Run: `cargo bench --bench dynamics`.
+//! Run: `cargo bench --bench dynamics` (`-- per_call` prints table 1 only).
 
 use mx::cancel::CancelToken;
 use mx::dynamics::{
@@ -324,6 +324,10 @@ fn main() {
         } else {
             println!("\n{name}: {} not found (set MX_SHARED)", urdf.display());
         }
+    }
+    // Table 1 alone is what one checks against Pinocchio after a change.
+    if std::env::args().any(|a| a == "per_call") {
+        return;
     }
     effects();
     work_precision();

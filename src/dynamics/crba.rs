@@ -32,20 +32,32 @@ pub fn mass_matrix(
     // add up without transforms, and each entry above the diagonal block is a
     // plain dot product `J_aᵀ (I^c_i J_i)` instead of a transform per ancestor.
     for (i, l) in model.links().iter().enumerate() {
-        l.joint.kinematics(
-            &q[l.q_index..l.q_index + l.dof],
-            Derivatives::Jacobian,
-            &mut ws.kin[i],
-        );
-        let local = l.offset.compose(&ws.kin[i].transform);
-        let world = match l.parent {
-            Some(p) => ws.world[p].compose(&local),
-            None => local,
+        // The frame the joint moves in: the parent's placement times the fixed offset.
+        let before = match l.parent {
+            Some(p) => ws.world[p].compose(&l.offset),
+            None => l.offset,
+        };
+        let world = match l.joint.joint_axis() {
+            // Revolute/prismatic: a constant motion subspace, placed directly.
+            Some(axis) => {
+                let world = axis.place(&before, q[l.q_index]);
+                ws.jw[l.q_index] = axis.twist_in(&world);
+                world
+            }
+            None => {
+                l.joint.kinematics(
+                    &q[l.q_index..l.q_index + l.dof],
+                    Derivatives::Jacobian,
+                    &mut ws.kin[i],
+                );
+                let world = before.compose(&ws.kin[i].transform);
+                for j in 0..l.dof {
+                    ws.jw[l.q_index + j] = world.ad_twist(&ws.kin[i].s[j]);
+                }
+                world
+            }
         };
         ws.world[i] = world;
-        for j in 0..l.dof {
-            ws.jw[l.q_index + j] = world.ad_twist(&ws.kin[i].s[j]);
-        }
         ws.ic[i] = l.inertia.transformed(&world);
     }
     for i in (0..model.num_links()).rev() {

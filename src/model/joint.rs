@@ -6,6 +6,7 @@
 //! spline-joint paper) and its Hessian `∇S(q)` holds `∂s_j/∂q_k`.
 
 use crate::lie::{Se3, Twist};
+use nalgebra::{Matrix3, Unit, Vector3};
 use std::fmt::Debug;
 
 /// The largest number of coordinates a joint may have.
@@ -89,5 +90,172 @@ pub trait Joint: Send + Sync + Debug {
     /// skip the Hessian terms. Only return true when it really holds.
     fn constant_jacobian(&self) -> bool {
         false
+    }
+
+    /// `Some` for a 1-DOF joint that rotates about or slides along one fixed axis:
+    /// its motion subspace is then constant and known, so the algorithms that
+    /// work in the world frame (CRBA) place the link and its Jacobian column
+    /// without the generic [`Joint::kinematics`] call.
+    fn joint_axis(&self) -> Option<JointAxis> {
+        None
+    }
+}
+
+/// Whether a [`JointAxis`] rotates or translates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AxisMotion {
+    Rotation,
+    Translation,
+}
+
+/// The constant motion subspace of a revolute or prismatic joint, with fast
+/// paths when the axis is a coordinate axis (URDF models are mostly built of
+/// those): placing a link then touches two rotation columns instead of
+/// multiplying two 3×3 matrices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointAxis {
+    pub motion: AxisMotion,
+    axis: Unit<Vector3<f64>>,
+    /// `Some((k, σ))` when the axis is exactly `σ e_k`.
+    principal: Option<(usize, f64)>,
+}
+
+impl JointAxis {
+    pub fn new(motion: AxisMotion, axis: Unit<Vector3<f64>>) -> Self {
+        let principal = (0..3).find_map(|k| {
+            let others_zero = (0..3).all(|j| j == k || axis[j] == 0.0);
+            (others_zero && axis[k].abs() == 1.0).then_some((k, axis[k]))
+        });
+        JointAxis {
+            motion,
+            axis,
+            principal,
+        }
+    }
+
+    pub fn axis(&self) -> Vector3<f64> {
+        self.axis.into_inner()
+    }
+
+    /// The joint's Jacobian column `s` (body frame, constant).
+    pub fn twist(&self) -> Twist {
+        let a = &self.axis;
+        match self.motion {
+            AxisMotion::Rotation => Twist::new(a.x, a.y, a.z, 0.0, 0.0, 0.0),
+            AxisMotion::Translation => Twist::new(0.0, 0.0, 0.0, a.x, a.y, a.z),
+        }
+    }
+
+    /// `G(q)`.
+    pub fn transform(&self, q: f64) -> Se3 {
+        match (self.motion, self.principal) {
+            (AxisMotion::Rotation, None) => {
+                Se3::from_rotation(nalgebra::Rotation3::from_axis_angle(&self.axis, q).into_inner())
+            }
+            (AxisMotion::Translation, None) => Se3::from_translation(self.axis.into_inner() * q),
+            _ => self.place(&Se3::identity(), q),
+        }
+    }
+
+    /// `t ∘ G(q)` without forming `G(q)` as a matrix.
+    #[inline]
+    pub fn place(&self, t: &Se3, q: f64) -> Se3 {
+        match (self.motion, self.principal) {
+            (AxisMotion::Rotation, Some((k, sign))) => {
+                // Rotating about e_k mixes only the two other columns of t.r.
+                let (s, c) = (sign * q).sin_cos();
+                let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+                let (ca, cb) = (t.r.column(a).into_owned(), t.r.column(b).into_owned());
+                let mut r = t.r;
+                r.set_column(a, &(ca * c + cb * s));
+                r.set_column(b, &(cb * c - ca * s));
+                Se3 { r, p: t.p }
+            }
+            (AxisMotion::Rotation, None) => {
+                let g = nalgebra::Rotation3::from_axis_angle(&self.axis, q).into_inner();
+                Se3 { r: t.r * g, p: t.p }
+            }
+            (AxisMotion::Translation, Some((k, sign))) => Se3 {
+                r: t.r,
+                p: t.p + t.r.column(k) * (sign * q),
+            },
+            (AxisMotion::Translation, None) => Se3 {
+                r: t.r,
+                p: t.p + t.r * (self.axis.into_inner() * q),
+            },
+        }
+    }
+
+    /// `Ad_T s`: the Jacobian column in the frame `t` (typically the world placement
+    /// of the child frame, as returned by [`JointAxis::place`]).
+    #[inline]
+    pub fn twist_in(&self, t: &Se3) -> Twist {
+        let d = self.direction_in(&t.r);
+        match self.motion {
+            AxisMotion::Rotation => {
+                let v = t.p.cross(&d);
+                Twist::new(d.x, d.y, d.z, v.x, v.y, v.z)
+            }
+            AxisMotion::Translation => Twist::new(0.0, 0.0, 0.0, d.x, d.y, d.z),
+        }
+    }
+
+    /// `R a`: for a coordinate axis, a (signed) column of `r`.
+    #[inline]
+    fn direction_in(&self, r: &Matrix3<f64>) -> Vector3<f64> {
+        match self.principal {
+            Some((k, sign)) => r.column(k) * sign,
+            None => r * self.axis.into_inner(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The fast paths must agree with the generic `t ∘ G(q)` and `Ad_T s`,
+    /// for coordinate axes of either sign and for a general axis.
+    #[test]
+    fn axis_fast_paths_match_generic_products() {
+        let t = Se3 {
+            r: nalgebra::Rotation3::from_euler_angles(0.3, -1.1, 2.0).into_inner(),
+            p: Vector3::new(0.4, -0.2, 1.5),
+        };
+        let axes = [
+            Vector3::x(),
+            -Vector3::y(),
+            Vector3::z(),
+            -Vector3::z(),
+            Vector3::new(0.3, -0.5, 0.8),
+        ];
+        for motion in [AxisMotion::Rotation, AxisMotion::Translation] {
+            for a in axes {
+                let axis = JointAxis::new(motion, Unit::new_normalize(a));
+                assert_eq!(
+                    axis.principal.is_some(),
+                    a.iter().filter(|x| **x != 0.0).count() == 1
+                );
+                for q in [-2.5, 0.0, 0.7] {
+                    let g = axis.transform(q);
+                    let want = t.compose(&g);
+                    let got = axis.place(&t, q);
+                    assert!((got.r - want.r).norm() < 1e-14, "{motion:?} {a:?} {q}");
+                    assert!((got.p - want.p).norm() < 1e-14, "{motion:?} {a:?} {q}");
+                    let s = (axis.twist_in(&got) - got.ad_twist(&axis.twist())).norm();
+                    assert!(s < 1e-14, "{motion:?} {a:?} {q}");
+                    // G(q) itself: rotation by q about a, or translation q a.
+                    let moved = g.r * Vector3::new(1.0, 2.0, 3.0) + g.p;
+                    let expect = match motion {
+                        AxisMotion::Rotation => {
+                            nalgebra::Rotation3::from_axis_angle(&axis.axis, q)
+                                * Vector3::new(1.0, 2.0, 3.0)
+                        }
+                        AxisMotion::Translation => Vector3::new(1.0, 2.0, 3.0) + axis.axis() * q,
+                    };
+                    assert!((moved - expect).norm() < 1e-14, "{motion:?} {a:?} {q}");
+                }
+            }
+        }
     }
 }

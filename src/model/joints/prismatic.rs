@@ -1,12 +1,12 @@
 //! Prismatic joint: translation by q along a fixed unit axis.
 
-use crate::lie::{Se3, Twist};
-use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
+use crate::lie::Twist;
+use crate::model::joint::{AxisMotion, Derivatives, Joint, JointAxis, JointKinematics, Limit};
 use nalgebra::{Unit, Vector3};
 
 #[derive(Clone, Debug)]
 pub struct Prismatic {
-    axis: Unit<Vector3<f64>>,
+    axis: JointAxis,
     limit: Limit,
 }
 
@@ -17,7 +17,7 @@ impl Prismatic {
             return None;
         }
         Unit::try_new(axis, 1e-12).map(|axis| Prismatic {
-            axis,
+            axis: JointAxis::new(AxisMotion::Translation, axis),
             limit: Limit::NONE,
         })
     }
@@ -28,7 +28,7 @@ impl Prismatic {
     }
 
     pub fn axis(&self) -> Vector3<f64> {
-        self.axis.into_inner()
+        self.axis.axis()
     }
 }
 
@@ -42,10 +42,9 @@ impl Joint for Prismatic {
     }
 
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
-        out.transform = Se3::from_translation(self.axis.into_inner() * q[0]);
+        out.transform = self.axis.transform(q[0]);
         if want >= Derivatives::Jacobian {
-            let a = self.axis;
-            out.s[0] = Twist::new(0.0, 0.0, 0.0, a.x, a.y, a.z);
+            out.s[0] = self.axis.twist();
         }
         if want >= Derivatives::Hessian {
             out.ds[0][0] = Twist::zeros();
@@ -58,5 +57,9 @@ impl Joint for Prismatic {
 
     fn constant_jacobian(&self) -> bool {
         true
+    }
+
+    fn joint_axis(&self) -> Option<JointAxis> {
+        Some(self.axis)
     }
 }

@@ -1,12 +1,12 @@
 //! Revolute joint: rotation by q about a fixed unit axis through the joint origin.
 
-use crate::lie::{Se3, Twist};
-use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
-use nalgebra::{Rotation3, Unit, Vector3};
+use crate::lie::Twist;
+use crate::model::joint::{AxisMotion, Derivatives, Joint, JointAxis, JointKinematics, Limit};
+use nalgebra::{Unit, Vector3};
 
 #[derive(Clone, Debug)]
 pub struct Revolute {
-    axis: Unit<Vector3<f64>>,
+    axis: JointAxis,
     limit: Limit,
 }
 
@@ -17,7 +17,7 @@ impl Revolute {
             return None;
         }
         Unit::try_new(axis, 1e-12).map(|axis| Revolute {
-            axis,
+            axis: JointAxis::new(AxisMotion::Rotation, axis),
             limit: Limit::NONE,
         })
     }
@@ -28,7 +28,7 @@ impl Revolute {
     }
 
     pub fn axis(&self) -> Vector3<f64> {
-        self.axis.into_inner()
+        self.axis.axis()
     }
 }
 
@@ -42,11 +42,9 @@ impl Joint for Revolute {
     }
 
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
-        out.transform =
-            Se3::from_rotation(Rotation3::from_axis_angle(&self.axis, q[0]).into_inner());
+        out.transform = self.axis.transform(q[0]);
         if want >= Derivatives::Jacobian {
-            let a = self.axis;
-            out.s[0] = Twist::new(a.x, a.y, a.z, 0.0, 0.0, 0.0);
+            out.s[0] = self.axis.twist();
         }
         if want >= Derivatives::Hessian {
             out.ds[0][0] = Twist::zeros();
@@ -59,5 +57,9 @@ impl Joint for Revolute {
 
     fn constant_jacobian(&self) -> bool {
         true
+    }
+
+    fn joint_axis(&self) -> Option<JointAxis> {
+        Some(self.axis)
     }
 }
