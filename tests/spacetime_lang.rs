@@ -498,3 +498,83 @@ fn the_report_reads_like_a_record_and_prints_as_text() {
         shown.repr()
     );
 }
+
+/// Rose §3.2.1 on Bandai: the all-zero `joint_Root` is a placeholder, so the
+/// kinematic root is `Hips`: its x–z are filled from interpolated velocities
+/// (named in the report), its path is C¹ through the gap, and the run after
+/// the gap is translated to continue from where that path ends.
+#[test]
+fn bandai_walk_to_run_root_is_the_hips() {
+    let (Some(pa), Some(pb)) = (bandai("1_walk_normal"), bandai("1_run_normal")) else {
+        return;
+    };
+    let mut mx = Interpreter::new();
+    let out = mx.capture_output();
+    let src = format!(
+        "{BANDAI_PRELUDE}
+let gapped = with_fixed(gap_between(clip(0s, 1s, moving(a)), clip(0s, 0.6s, moving(b)), 0.4s))
+let filled = SP(gapped, body: body, coefficients: 3, samples: 8)
+print(sp_report(filled))
+"
+    )
+    .replace("$a", &pa.to_string_lossy())
+    .replace("$b", &pb.to_string_lossy());
+    if let Err(d) = mx.eval_str(&src) {
+        panic!("{}", d.render_plain());
+    }
+    let text = String::from_utf8(out.lock().unwrap().clone()).unwrap();
+    print!("{text}");
+    let root_line = text
+        .lines()
+        .find(|l| l.starts_with("root over"))
+        .expect("a root line in the report");
+    assert!(
+        root_line.contains("Hips.Xposition") && root_line.contains("Hips.Zposition"),
+        "{root_line}"
+    );
+    assert!(!root_line.contains("joint_Root"), "{root_line}");
+    let gapped = mu(&mx.get("gapped").unwrap());
+    let filled = mu(&mx.get("filled").unwrap());
+    let gaps = gapped.get("Hips.Xposition").unwrap().gaps();
+    assert_eq!(gaps.len(), 1, "{gaps:?}");
+    let (t0, t1) = gaps[0];
+    let at = |m: &Mu, n: &str, t: f64| m.sample(n, t).unwrap().unwrap();
+    for n in ["Hips.Xposition", "Hips.Zposition"] {
+        // C¹ at both ends of the transition (the jumps check of the composite
+        // tests covers interval joins; here against the neighbouring samples)
+        let h = 1e-6;
+        for t in [t0, t1] {
+            let [q0, v0, _] = at(&filled, n, t - h);
+            let [q1, v1, _] = at(&filled, n, t + h);
+            assert!(
+                (q1 - q0).abs() < 1e-4 && (v1 - v0).abs() < 1e-2,
+                "{n} at {t}"
+            );
+        }
+        // the path is the integral of a linearly interpolated velocity
+        let [p1, v1, _] = at(&filled, n, t0);
+        let [p2, v2, _] = at(&filled, n, t1);
+        let end = p1 + (t1 - t0) * (v1 + v2) / 2.0;
+        assert!(
+            (p2 - end).abs() < 1e-9,
+            "{n}: ends at {p2}, path ends at {end}"
+        );
+        // after the gap the run is the recorded one translated by the shift
+        let shift = p2 - at(&gapped, n, t1)[0];
+        for t in [t1, t1 + 0.2, t1 + 0.5] {
+            let moved = at(&filled, n, t)[0] - at(&gapped, n, t)[0];
+            assert!(
+                (moved - shift).abs() < 1e-9,
+                "{n} at {t}: {moved} vs {shift}"
+            );
+        }
+        assert!(
+            root_line.contains(&format!("{n} {shift:+.4}")),
+            "{root_line}"
+        );
+    }
+    // the placeholder stays where it was
+    for c in ["joint_Root.Xposition", "joint_Root.Zposition"] {
+        assert_eq!(at(&filled, c, (t0 + t1) / 2.0)[0], 0.0);
+    }
+}

@@ -8,7 +8,7 @@
 //! skeleton it came from (or any skeleton whose channels it names).
 
 use super::MocapError;
-use super::bvh::{self, BvhFile, Channel, Skeleton, UnitChoice, Units};
+use super::bvh::{self, BvhFile, Skeleton, UnitChoice, Units};
 use crate::motion::{Curve, Dof, Interval, Mu};
 use std::path::Path;
 
@@ -56,30 +56,30 @@ pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
             "the BVH file has no frames (Frames: 0): nothing to load as motion",
         ));
     }
-    let mut f = file.clone();
-    let wraps_removed = f.unwrap_rotations();
-    let dt = f.frame_time;
+    let dt = file.frame_time;
     // A single frame is held for one frame time (an interval needs start < stop).
     let stop = if frames > 1 {
         (frames - 1) as f64 * dt
     } else {
         dt
     };
-    let kinds: Vec<Channel> = f
-        .skeleton
-        .joints
-        .iter()
-        .flat_map(|j| j.channels.clone())
-        .collect();
-    let names = f.skeleton.channel_names();
+    let nch = file.skeleton.channel_count().max(1);
+    let kinds = file.skeleton.joints.iter().flat_map(|j| j.channels.iter());
+    let names = file.skeleton.channel_names();
+    let mut wraps_removed = 0;
     let mut mu = Mu::new();
     for (c, (name, kind)) in names.into_iter().zip(kinds).enumerate() {
+        // The column is copied out of the frame table once, into the Vec the
+        // curve keeps; unwrapping and scaling happen in place in it (cloning
+        // the whole file to unwrap it first doubled the copying).
+        let mut values: Vec<f64> = file.values.iter().skip(c).step_by(nch).copied().collect();
         let scale = if kind.is_rotation() {
+            wraps_removed += bvh::unwrap_degrees_in(values.iter_mut());
             1f64.to_radians()
         } else {
             units.metres_per_unit
         };
-        let values: Vec<f64> = f.column(c).into_iter().map(|v| v * scale).collect();
+        values.iter_mut().for_each(|v| *v *= scale);
         let curve = if frames == 1 {
             Curve::constant(values[0])?
         } else {
@@ -89,7 +89,7 @@ pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
     }
     Ok(Clip {
         mu,
-        skeleton: f.skeleton,
+        skeleton: file.skeleton.clone(),
         units,
         frame_time: dt,
         frames,

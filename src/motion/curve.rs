@@ -294,27 +294,29 @@ fn not_a_knot_second_derivatives(y: &[f64], h: f64) -> Vec<f64> {
         m.fill(r(1) / 6.0);
         return m;
     }
-    // Unknowns M[1..n-1] (k = i − 1), k = 0..n−3.
+    // Unknowns M[1..n-1] (k = i − 1), k = 0..n−3, solved in place in m (the
+    // right-hand side goes in, the solution comes out): the off-diagonals are
+    // 1 but for the not-a-knot rows, so only the diagonal needs a scratch
+    // vector (one allocation per curve; a clip builds one curve per channel).
     let k = n - 2;
+    let sub = |j: usize| if j == k - 1 { 0.0 } else { 1.0 }; // coefficient of unknown j−1 in row j
+    let sup = |j: usize| if j == 0 { 0.0 } else { 1.0 }; // coefficient of unknown j+1 in row j
     let mut diag = vec![4.0; k];
-    let mut sub = vec![1.0; k]; // sub[j]: coefficient of unknown j−1 in row j
-    let mut sup = vec![1.0; k]; // sup[j]: coefficient of unknown j+1 in row j
-    let mut rhs: Vec<f64> = (1..n - 1).map(r).collect();
     diag[0] = 6.0;
-    sup[0] = 0.0;
     diag[k - 1] = 6.0;
-    sub[k - 1] = 0.0;
+    for (i, mi) in m.iter_mut().enumerate().take(n - 1).skip(1) {
+        *mi = r(i);
+    }
+    let rhs = &mut m[1..n - 1];
     for j in 1..k {
-        let w = sub[j] / diag[j - 1];
-        diag[j] -= w * sup[j - 1];
+        let w = sub(j) / diag[j - 1];
+        diag[j] -= w * sup(j - 1);
         rhs[j] -= w * rhs[j - 1];
     }
-    let mut x = vec![0.0; k];
-    x[k - 1] = rhs[k - 1] / diag[k - 1];
+    rhs[k - 1] /= diag[k - 1];
     for j in (0..k - 1).rev() {
-        x[j] = (rhs[j] - sup[j] * x[j + 1]) / diag[j];
+        rhs[j] = (rhs[j] - sup(j) * rhs[j + 1]) / diag[j];
     }
-    m[1..n - 1].copy_from_slice(&x);
     m[0] = 2.0 * m[1] - m[2];
     m[n - 1] = 2.0 * m[n - 2] - m[n - 3];
     m

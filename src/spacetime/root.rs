@@ -181,6 +181,12 @@ pub struct RootCoords {
     pub vertical: Vec<usize>,
     /// Root rotations (interpolated by the cubic Hermite curve over a gap).
     pub rotations: Vec<usize>,
+    /// Coordinates of massless links above the moving root that stay constant
+    /// in the motion (the Bandai skeletons' all-zero `joint_Root`): they place
+    /// the body rather than move it. They are in `all` (the world's force on
+    /// the body passes through them unchanged, so counting them would count
+    /// the root's virtual forces) and a gap in them is bridged by Hermite.
+    pub fixed: Vec<usize>,
 }
 
 impl RootCoords {
@@ -191,6 +197,36 @@ impl RootCoords {
     /// `up = −gravity` at q = 0; a translation neither horizontal nor vertical
     /// (a tilted slide) is treated like a rotation.
     pub fn detect(model: &crate::model::Model, gravity: &nalgebra::Vector3<f64>) -> RootCoords {
+        Self::detect_with(model, gravity, |_| false)
+    }
+
+    /// The root of `model` as it moves in `motion`: as [`detect`](Self::detect),
+    /// but leading massless single-child links whose coordinates are all
+    /// constant in `motion` are skipped (listed in `fixed`), and the root is
+    /// the chain from the first link that moves. A skeleton whose top joint is
+    /// a constant placeholder (Bandai's `joint_Root`, six zero channels above
+    /// the moving `Hips`) so gets `Hips` as its root, as a skeleton without
+    /// the placeholder would. If nothing on that chain moves (a motion that
+    /// stands still) nothing is skipped. Coordinates the motion does not name,
+    /// or whose curves are not provably constant, count as moving.
+    pub fn detect_in(
+        model: &crate::model::Model,
+        gravity: &nalgebra::Vector3<f64>,
+        motion: &crate::motion::Mu,
+    ) -> RootCoords {
+        let names = model.coordinate_names();
+        Self::detect_with(model, gravity, |c| {
+            motion
+                .get(&names[c])
+                .is_some_and(|d| is_constant(d, &names[c]))
+        })
+    }
+
+    fn detect_with(
+        model: &crate::model::Model,
+        gravity: &nalgebra::Vector3<f64>,
+        constant: impl Fn(usize) -> bool,
+    ) -> RootCoords {
         use crate::model::{Derivatives, JointKinematics};
         let mut out = RootCoords::default();
         if model.num_links() == 0 || model.link(0).parent.is_some() {
@@ -206,8 +242,15 @@ impl RootCoords {
         if model.forward_kinematics(&q0, &mut poses).is_err() {
             return out;
         }
-        let mut jk = JointKinematics::default();
+        let start = moving_root_link(model, &constant);
         let mut link = 0;
+        while link != start {
+            let l = model.link(link);
+            out.all.extend(l.q_index..l.q_index + l.dof);
+            out.fixed.extend(l.q_index..l.q_index + l.dof);
+            link = model.children(link)[0];
+        }
+        let mut jk = JointKinematics::default();
         loop {
             let l = model.link(link);
             l.joint.kinematics(
@@ -243,6 +286,59 @@ impl RootCoords {
         }
         out
     }
+}
+
+/// The first link from the world, down the chain of massless single-child
+/// links, that has a coordinate not `constant`; the world's first link (0)
+/// when there is none (nothing to skip).
+fn moving_root_link(model: &crate::model::Model, constant: &impl Fn(usize) -> bool) -> usize {
+    let mut link = 0;
+    loop {
+        let l = model.link(link);
+        if (l.q_index..l.q_index + l.dof).any(|c| !constant(c)) {
+            return link;
+        }
+        let children = model.children(link);
+        if l.inertia.mass > 0.0 || children.len() != 1 {
+            return 0;
+        }
+        link = children[0];
+    }
+}
+
+/// Whether `dof` holds one value wherever it is defined: every curve is
+/// constant by construction (a constant, equal samples, a flat Hermite or
+/// spline) and every interval starts at the same value. Curves given as
+/// functions cannot be inspected and count as moving.
+fn is_constant(dof: &crate::motion::Dof, name: &str) -> bool {
+    use crate::motion::Curve;
+    let flat = |v: &[f64]| v.iter().all(|x| *x == v[0]);
+    let curves_flat = dof
+        .intervals
+        .iter()
+        .flat_map(|i| &i.funcs)
+        .all(|f| match f.curve.as_ref() {
+            Curve::Constant(_) => true,
+            Curve::Samples(s) => flat(s.values()),
+            Curve::Hermite(h) => h.q0 == h.q1 && h.v0 == 0.0 && h.v1 == 0.0,
+            Curve::Spline(c) => flat(&c.coeffs),
+            Curve::Function(_) => false,
+        });
+    if !curves_flat {
+        return false;
+    }
+    let mut first = None;
+    for iv in &dof.intervals {
+        let Ok(Some(v)) = dof.sample_value(name, iv.start) else {
+            return false; // conflicting or undefined: not provably constant
+        };
+        match first {
+            None => first = Some(v),
+            Some(f) if (v - f).abs() <= 1e-12 * f64::max(1.0, f.abs()) => {}
+            Some(_) => return false,
+        }
+    }
+    true
 }
 
 #[cfg(test)]
@@ -300,5 +396,116 @@ mod detect_tests {
         assert_eq!(rc.horizontal, vec![0, 2]);
         assert_eq!(rc.vertical, vec![1]);
         assert_eq!(rc.rotations, vec![3]);
+    }
+}
+
+#[cfg(test)]
+mod detect_in_tests {
+    use super::*;
+    use crate::lie::Se3;
+    use crate::model::joints::{Prismatic, Revolute};
+    use crate::model::{Inertia, Model};
+    use crate::motion::{Curve, Dof, Interval, Mu};
+    use nalgebra::Vector3;
+    use std::sync::Arc;
+
+    /// A placeholder slide (`place`) above a moving slide pair (`x`, `y`) and
+    /// a massive hinge, as Bandai's `joint_Root` sits above `Hips`.
+    fn model() -> Model {
+        let mut m = Model::new("t");
+        let z = Inertia::zero();
+        let slide = |ax| Arc::new(Prismatic::new(ax).unwrap());
+        let p = m
+            .add_link(
+                "place",
+                None,
+                "place",
+                slide(Vector3::x()),
+                Se3::identity(),
+                z,
+            )
+            .unwrap();
+        let p = m
+            .add_link("sx", Some(p), "x", slide(Vector3::x()), Se3::identity(), z)
+            .unwrap();
+        let p = m
+            .add_link("sy", Some(p), "y", slide(Vector3::y()), Se3::identity(), z)
+            .unwrap();
+        let mass = Inertia::point(10.0, Vector3::zeros()).unwrap();
+        let r = m
+            .add_link(
+                "pelvis",
+                Some(p),
+                "rz",
+                Arc::new(Revolute::new(Vector3::z()).unwrap()),
+                Se3::identity(),
+                mass,
+            )
+            .unwrap();
+        m.add_link(
+            "thigh",
+            Some(r),
+            "hip",
+            Arc::new(Revolute::new(Vector3::x()).unwrap()),
+            Se3::identity(),
+            mass,
+        )
+        .unwrap();
+        m
+    }
+
+    fn motion(values: &[(&str, Vec<f64>)]) -> Mu {
+        let mut mu = Mu::new();
+        for (n, v) in values {
+            let stop = 0.1 * (v.len() - 1) as f64;
+            let c = Curve::samples(0.0, 0.1, v.clone()).unwrap();
+            mu.insert(
+                n.to_string(),
+                Dof::new(vec![Interval::curve(c, 0.0, stop).unwrap()]).unwrap(),
+            );
+        }
+        mu
+    }
+
+    const Y_UP: Vector3<f64> = Vector3::new(0.0, -9.8, 0.0);
+
+    #[test]
+    fn a_constant_placeholder_above_the_moving_root_is_skipped() {
+        let m = model();
+        let mu = motion(&[
+            ("place", vec![0.0; 4]),
+            ("x", vec![0.0, 0.1, 0.3, 0.6]),
+            ("y", vec![0.9; 4]),
+            ("rz", vec![0.0, 0.1, 0.0, 0.1]),
+            ("hip", vec![0.2, 0.1, 0.0, 0.1]),
+        ]);
+        let rc = RootCoords::detect_in(&m, &Y_UP, &mu);
+        assert_eq!(rc.fixed, vec![0]);
+        assert_eq!(rc.all, vec![0, 1, 2, 3]);
+        assert_eq!(rc.horizontal, vec![1]);
+        assert_eq!(rc.vertical, vec![2]);
+        assert_eq!(rc.rotations, vec![3]);
+        // structure alone takes the placeholder as the root's first slide
+        let plain = RootCoords::detect(&m, &Y_UP);
+        assert_eq!(plain.horizontal, vec![0, 1]);
+        assert!(plain.fixed.is_empty());
+    }
+
+    #[test]
+    fn a_moving_placeholder_or_a_still_body_skips_nothing() {
+        let m = model();
+        let plain = RootCoords::detect(&m, &Y_UP);
+        let moving = motion(&[("place", vec![0.0, 0.0, 0.5, 0.0]), ("x", vec![0.0; 4])]);
+        assert_eq!(RootCoords::detect_in(&m, &Y_UP, &moving), plain);
+        // nothing on the root chain moves: the structural root stands
+        let still = motion(&[
+            ("place", vec![0.0; 4]),
+            ("x", vec![1.0; 4]),
+            ("y", vec![0.9; 4]),
+            ("rz", vec![0.3; 4]),
+        ]);
+        assert_eq!(RootCoords::detect_in(&m, &Y_UP, &still), plain);
+        // a DOF the motion lacks counts as moving
+        assert_eq!(RootCoords::detect_in(&m, &Y_UP, &Mu::new()), plain);
     }
 }

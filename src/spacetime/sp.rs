@@ -371,7 +371,8 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     check_conflicts(m)?;
     check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);
-    let root = RootCoords::detect(model, &gravity);
+    // the root as it moves in m: a constant placeholder above it is skipped
+    let root = RootCoords::detect_in(model, &gravity, m);
     let mut report = SpReport {
         undefined: undefined_ends(m),
         ..Default::default()
@@ -547,7 +548,7 @@ pub fn torque_energy(m: &Mu, model: &Model, gravity: Option<Vector3<f64>>) -> Re
             "torque_energy of an empty motion: it defines no DOF anywhere",
         ));
     };
-    let root = RootCoords::detect(model, &gravity);
+    let root = RootCoords::detect_in(model, &gravity, m);
     let weights = joint_weights(model, &root);
     let names = model.coordinate_names();
     let mut breaks = vec![s, e];
