@@ -5,6 +5,7 @@ mod common;
 
 use mx::mocap::bvh::Units;
 use mx::motion::Mu;
+use mx::spacetime::cyclify::floor_drift;
 use mx::spacetime::{CyclifyOptions, cyclify, loop_motion};
 
 /// Largest (|Δq|, |Δq̇|, |Δq̈|) where consecutive intervals touch, minus each DOF's
@@ -39,12 +40,7 @@ fn cyclified_walks_loop_with_c2_seams() {
     for path in files {
         let clip = mx::mocap::load(&path, Units::Auto).unwrap();
         // every horizontal position channel (y is up in BVH) keeps its advance per cycle
-        let drift: Vec<String> = clip
-            .mu
-            .names()
-            .filter(|n| n.ends_with("Xposition") || n.ends_with("Zposition"))
-            .map(String::from)
-            .collect();
+        let drift = floor_drift(&clip.mu);
         let opts = CyclifyOptions {
             drift,
             ..Default::default()

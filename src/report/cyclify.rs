@@ -6,6 +6,7 @@ use super::plot::{Figure, Series};
 use super::timed;
 use crate::mocap::bvh::Units;
 use crate::motion::Mu;
+use crate::spacetime::cyclify::floor_drift;
 use crate::spacetime::{CyclifyOptions, cyclify, loop_motion};
 use std::path::Path;
 
@@ -50,12 +51,7 @@ pub const DEFAULT_SPACING: f64 = 1.0 / 30.0;
 pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
     let clip = crate::mocap::load(clip_path, Units::Auto)
         .map_err(|e| format!("{}: {e}", clip_path.display()))?;
-    let drift: Vec<String> = clip
-        .mu
-        .names()
-        .filter(|n| n.ends_with("Xposition") || n.ends_with("Zposition"))
-        .map(String::from)
-        .collect();
+    let drift = floor_drift(&clip.mu);
     let rotations: Vec<String> = clip
         .mu
         .names()

@@ -38,6 +38,15 @@ impl Default for CyclifyOptions {
     }
 }
 
+/// The DOFs of a y-up clip that advance in the floor plane: every
+/// `*Xposition` and `*Zposition` (a walk's root keeps its advance per cycle).
+pub fn floor_drift(m: &Mu) -> Vec<String> {
+    m.names()
+        .filter(|n| n.ends_with("Xposition") || n.ends_with("Zposition"))
+        .map(str::to_string)
+        .collect()
+}
+
 /// What cyclify chose.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CyclifyReport {

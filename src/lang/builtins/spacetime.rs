@@ -261,11 +261,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let te = a.finite("t_end")?;
     let mut opts = CyclifyOptions {
         // BVH clips are y up: a walk advances in the floor plane x–z.
-        drift: m
-            .names()
-            .filter(|n| n.ends_with("Xposition") || n.ends_with("Zposition"))
-            .map(str::to_string)
-            .collect(),
+        drift: crate::spacetime::cyclify::floor_drift(&m),
         ..Default::default()
     };
     if let Some(arg) = a.opt_named("drift") {
