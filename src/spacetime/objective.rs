@@ -443,18 +443,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
 
     /// Full coefficient vectors of every gap DOF for free coefficients x.
     pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
-        self.dofs
-            .iter()
-            .zip(&self.curves)
-            .enumerate()
-            .map(|(d, (dof, c))| {
-                c.coefficients(
-                    &dof.start,
-                    &dof.end,
-                    &x[d * self.n_free..(d + 1) * self.n_free],
-                )
-            })
-            .collect()
+        full_coefficients(&self.dofs, &self.curves, self.n_free, x)
     }
 }
 
@@ -610,4 +599,20 @@ mod tests {
         };
         assert!(Objective::new(&arm, vec![gap0], &s0, vec![1.0; 2], &inputs).is_err());
     }
+}
+
+/// Full coefficient vectors of gap DOFs whose free coefficients are laid out
+/// DOF after DOF, `n_free` each, in `x` (the torque objective's and the
+/// support IK's layout).
+pub(crate) fn full_coefficients(
+    dofs: &[GapDof],
+    curves: &[TransitionCurve],
+    n_free: usize,
+    x: &[f64],
+) -> Vec<Vec<f64>> {
+    dofs.iter()
+        .zip(curves)
+        .enumerate()
+        .map(|(d, (dof, c))| c.coefficients(&dof.start, &dof.end, &x[d * n_free..(d + 1) * n_free]))
+        .collect()
 }

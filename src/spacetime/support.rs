@@ -438,18 +438,7 @@ impl<'a> SupportObjective<'a> {
 
     /// Full coefficient vectors of every gap DOF for free coefficients x.
     pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
-        self.dofs
-            .iter()
-            .zip(&self.curves)
-            .enumerate()
-            .map(|(d, (dof, c))| {
-                c.coefficients(
-                    &dof.start,
-                    &dof.end,
-                    &x[d * self.n_free..(d + 1) * self.n_free],
-                )
-            })
-            .collect()
+        super::objective::full_coefficients(&self.dofs, &self.curves, self.n_free, x)
     }
 
     /// Minimise R by Levenberg–Marquardt from the Hermite start; returns x.
