@@ -447,6 +447,22 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     }
 }
 
+/// Full coefficient vectors of gap DOFs whose free coefficients are laid out
+/// DOF after DOF, `n_free` each, in `x` (the torque objective's and the
+/// support IK's layout).
+pub(crate) fn full_coefficients(
+    dofs: &[GapDof],
+    curves: &[TransitionCurve],
+    n_free: usize,
+    x: &[f64],
+) -> Vec<Vec<f64>> {
+    dofs.iter()
+        .zip(curves)
+        .enumerate()
+        .map(|(d, (dof, c))| c.coefficients(&dof.start, &dof.end, &x[d * n_free..(d + 1) * n_free]))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -599,20 +615,4 @@ mod tests {
         };
         assert!(Objective::new(&arm, vec![gap0], &s0, vec![1.0; 2], &inputs).is_err());
     }
-}
-
-/// Full coefficient vectors of gap DOFs whose free coefficients are laid out
-/// DOF after DOF, `n_free` each, in `x` (the torque objective's and the
-/// support IK's layout).
-pub(crate) fn full_coefficients(
-    dofs: &[GapDof],
-    curves: &[TransitionCurve],
-    n_free: usize,
-    x: &[f64],
-) -> Vec<Vec<f64>> {
-    dofs.iter()
-        .zip(curves)
-        .enumerate()
-        .map(|(d, (dof, c))| c.coefficients(&dof.start, &dof.end, &x[d * n_free..(d + 1) * n_free]))
-        .collect()
 }
