@@ -3,14 +3,14 @@
 //! L-BFGS beyond, where (nm)² per step would dominate (Rose §3.2.3).
 //! The solver works in variables whitened by a Gauss–Newton preconditioner;
 //! the body's pose (hence its mass matrix and gravity torques) moves away
-//! from the Hermite start as the solve proceeds, so every
-//! `relinearise_every` iterations the preconditioner is rebuilt at the best
-//! point so far and the quasi-Newton run restarts there. Off by default: on
-//! the 44-DOF Fig. 8 case (every 50 iterations, L-BFGS memory 30) it lowers
-//! the fine-measured energy of a 300-iteration solve by 7–15 %, but at the
-//! test suite's coarse quadrature it finds curves that hide torque between
-//! nodes (the arm case of tests/spacetime_motion.rs ends above Hermite), so
-//! it needs samples that grow with the coefficients first.
+//! from the Hermite start as the solve proceeds, so the solve runs in rounds
+//! of `relinearise_every` iterations: after each, the preconditioner is
+//! rebuilt at the best point so far and the quasi-Newton run restarts there.
+//! A round that lowers the energy by less than `tolerance` (relative) ends
+//! the solve: the objective is non-convex and its gradient never gets small
+//! in relative terms before the energy has stopped moving, so energy progress
+//! is the honest stopping rule. Measured on the 44-DOF Fig. 8 case
+//! (`cargo bench --bench spacetime`): see the solver table there.
 //! Evaluation shares one pass for cost and gradient (the adjoint gives both),
 //! remembers the best point seen, and polls a `CancelToken`.
 
@@ -31,15 +31,17 @@ pub struct SolveOptions {
     pub max_iters: u64,
     /// Stop when ‖∇e‖ falls below this fraction of its value at the start.
     pub grad_rtol: f64,
+    /// Stop when a round of `relinearise_every` iterations lowers the energy
+    /// by less than this fraction of it (`tolerance:` in mx).
+    pub tolerance: f64,
     /// Stop when an iteration lowers e by less than this fraction of the starting e.
     pub cost_rtol: f64,
     /// Use dense BFGS up to this many unknowns, L-BFGS above.
     pub bfgs_max_vars: usize,
     /// Correction pairs L-BFGS keeps.
     pub lbfgs_memory: usize,
-    /// Rebuild the preconditioner at the best point and restart after this many
-    /// iterations (≥ `max_iters`: never, the default; see the module docs).
-    /// Too often wastes the quasi-Newton memory: 50 was best of {15, 20, 50}.
+    /// Iterations per round: the preconditioner is rebuilt at the best point
+    /// and L-BFGS restarts after each (see the module docs).
     pub relinearise_every: u64,
     pub cancel: CancelToken,
     /// Told of every objective evaluation (a progress bar's heartbeat).
@@ -51,10 +53,11 @@ impl Default for SolveOptions {
         SolveOptions {
             max_iters: 300,
             grad_rtol: 1e-6,
+            tolerance: 1e-3,
             cost_rtol: 1e-12,
             bfgs_max_vars: 40,
-            lbfgs_memory: 10,
-            relinearise_every: u64::MAX,
+            lbfgs_memory: 30,
+            relinearise_every: 25,
             cancel: CancelToken::new(),
             progress: Default::default(),
         }
@@ -236,6 +239,7 @@ pub fn solve_group<M: TorqueModel>(
         let round = opts.relinearise_every.max(1);
         let mut y_start = y0.clone();
         let mut run: Result<(u64, String), argmin::core::Error> = Ok((0, String::new()));
+        let mut round_start_e = e0;
         let mut total = 0;
         while total < opts.max_iters {
             let budget = round.min(opts.max_iters - total);
@@ -284,13 +288,24 @@ pub fn solve_group<M: TorqueModel>(
             if !limited || total >= opts.max_iters {
                 break;
             }
-            // re-linearise the preconditioner at the best point and restart there
-            let bx = problem
+            let (bx, be) = problem
                 .best
                 .borrow()
                 .as_ref()
-                .map(|b| b.x.clone())
-                .unwrap_or(x0.clone());
+                .map(|b| (b.x.clone(), b.e))
+                .unwrap_or((x0.clone(), e0));
+            if round_start_e - be < opts.tolerance * be.abs() {
+                run = Ok((
+                    total,
+                    format!(
+                        "converged (the last {it} iterations lowered the energy by less than {})",
+                        opts.tolerance
+                    ),
+                ));
+                break;
+            }
+            round_start_e = be;
+            // re-linearise the preconditioner at the best point and restart there
             let t = obj.gauss_newton_at(&mut problem.scratch.borrow_mut(), &bx)?;
             *problem.t.borrow_mut() = t;
             *problem.last.borrow_mut() = None;
