@@ -169,7 +169,7 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
         min,
         200,
         &format!(
-            "free B-spline coefficients per DOF and gap: at least {min} with continuity: {} (default 8; Rose uses 5–10)",
+            "free B-spline coefficients per DOF and gap: at least {min} with continuity: {} (default 5, as in Rose's Fig. 8; Rose uses 5–10)",
             continuity.order()
         ),
     )? {
@@ -180,7 +180,7 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
         "samples",
         1,
         100_000,
-        "Gauss points of the torque integral per gap (default 20)",
+        "Gauss points of the torque integral per gap, at least 4 per B-spline piece (default 20)",
     )? {
         o.settings.samples = n;
     }
@@ -196,7 +196,7 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
     }
     if let Some(arg) = a.opt_named("tolerance") {
         match arg.value {
-            Value::Number(x) if x > 0.0 && x < 1.0 => o.solve.grad_rtol = x,
+            Value::Number(x) if x > 0.0 && x < 1.0 => o.solve.tolerance = x,
             _ => {
                 return Err(bad_option(
                     a,
@@ -205,7 +205,7 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
                         "`tolerance:` must be a number in (0, 1), found {}",
                         arg.value.repr()
                     ),
-                    "the solver stops when the gradient falls below this fraction of its start (default 1e-6)",
+                    "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)",
                 ));
             }
         }
@@ -308,13 +308,13 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 
 pub fn register(reg: &mut Registry) {
     reg.add(
-        "SP(m, body: b, coefficients: 8, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-6)",
+        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3)",
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
          coefficients: free B-spline coefficients per DOF (at least 2, or 3 with continuity: 2); samples: Gauss points \
-         of the torque integral; support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
-         iterations/tolerance: solver limits. Gaps at the start or end stay undefined; a conflict is an error. \
+         of the torque integral (at least 4 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
+         iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
         run_sp,
     );
