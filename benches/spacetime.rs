@@ -1,6 +1,8 @@
 //! Spacetime transitions: what accuracy costs in time.
 //!
-//! 1. The Fig. 8 case (`mx::spacetime::fig8`): a 0.6 s gap on all 38 joint
+//! 1. The solver's knobs (rounds between re-linearisations, L-BFGS memory,
+//!    stopping tolerance) at the default settings, against the converged optimum.
+//! 2. The Fig. 8 case (`mx::spacetime::fig8`): a 0.6 s gap on all 38 joint
 //!    DOFs of a 44-DOF human (the root is an input), on two bodies and motions —
 //!    `$MX_SHARED/data/reference/human44.urdf` driven by a calm synthetic
 //!    walk-like motion (root forward at 1.2 m/s, joints swinging at ~1 Hz),
@@ -8,9 +10,12 @@
 //!    For coefficients per DOF (3, 5, 8, 12, 20) × quadrature samples
 //!    (10, 20, 40, 80): final energy (re-measured with a fine 200-point rule,
 //!    so rows compare the true integral, not each rule's own estimate), gap to
-//!    the best energy of the table, iterations, wall time (best of 3, set-up
-//!    of the objective included), the default marked.
-//! 2. divan: one objective-and-gradient evaluation against one inverse-dynamics
+//!    the best energy of the table and to the converged optimum of the same
+//!    coefficient count, iterations, evaluations, wall time (best of 3, set-up
+//!    of the objective included), the default marked. The machine's load
+//!    average is printed: wall times on a shared machine are only comparable
+//!    within one run.
+//! 3. divan: one objective-and-gradient evaluation against one inverse-dynamics
 //!    pass over the same quadrature nodes, and the preconditioner.
 //!
 //! Run: `cargo bench --bench spacetime`.
@@ -105,12 +110,38 @@ fn settings(coefficients: usize, samples: usize) -> TransitionSettings {
     }
 }
 
+/// The converged optimum of each coefficient count (tight tolerance, many
+/// iterations, 80 samples): what the table's rows are compared with besides
+/// the best of the table, so solver error and discretisation error show apart.
+fn converged(case: &Case, coefficients: usize) -> f64 {
+    let obj = case
+        .objective(&settings(coefficients, 80))
+        .expect("objective");
+    let opts = SolveOptions {
+        tolerance: 1e-6,
+        max_iters: 5000,
+        ..Default::default()
+    };
+    let sol = solve_group(&obj, &opts).expect("solve");
+    let fine = case
+        .objective(&settings(coefficients, 200))
+        .expect("objective");
+    fine.eval(&mut fine.scratch(), &sol.x, None).expect("eval")
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "unknown".into())
+}
+
 fn table(title: &str, case: &Case) {
     let coefs = [3, 5, 8, 12, 20];
     let samples = [10, 20, 40, 80];
     let default = TransitionSettings::default();
+    let optimum: Vec<f64> = coefs.iter().map(|&n| converged(case, n)).collect();
     let mut rows = vec![];
-    for &n in &coefs {
+    for (ci, &n) in coefs.iter().enumerate() {
         for &k in &samples {
             let mut best_t = f64::INFINITY;
             let mut sol = None;
@@ -127,83 +158,115 @@ fn table(title: &str, case: &Case) {
             // the true integral of the solution: the same curves under a 200-point rule
             let fine = case.objective(&settings(n, 200)).expect("objective");
             let e_true = fine.eval(&mut fine.scratch(), &sol.x, None).expect("eval");
-            rows.push((
-                n,
-                k,
-                nodes,
-                e_true,
-                sol.report.iterations,
-                sol.report.stop.clone(),
-                best_t,
-            ));
+            rows.push((n, k, nodes, e_true, optimum[ci], sol.report, best_t));
         }
     }
     let best = rows.iter().map(|r| r.3).fold(f64::INFINITY, f64::min);
     println!(
-        "{title}: {} joint DOFs, ∫Στ² dt re-measured with 200 Gauss points",
-        case.gaps.len()
+        "{title}: {} joint DOFs, ∫Στ² dt re-measured with 200 Gauss points; load average {}",
+        case.gaps.len(),
+        load_average()
     );
     println!(
-        "{:>6} {:>7} {:>6} {:>14} {:>10} {:>6} {:>10}  stop",
-        "coefs", "samples", "nodes", "energy", "gap", "iters", "time ms"
+        "converged optimum per coefficient count (80 samples, tolerance 1e-6): {}",
+        coefs
+            .iter()
+            .zip(&optimum)
+            .map(|(n, e)| format!("{n}: {e:.3}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     );
-    for (n, k, nodes, e, it, stop, t) in &rows {
+    println!(
+        "{:>6} {:>7} {:>6} {:>12} {:>10} {:>10} {:>6} {:>6} {:>9}  stop",
+        "coefs", "samples", "nodes", "energy", "vs best", "vs optimum", "iters", "evals", "time ms"
+    );
+    for (n, k, nodes, e, opt, report, t) in &rows {
         let mark = if *n == default.coefficients && *k == default.samples {
             " ← default"
         } else {
             ""
         };
         println!(
-            "{n:>6} {k:>7} {nodes:>6} {e:>14.6} {:>9.3}% {it:>6} {:>10.1}  {stop}{mark}",
+            "{n:>6} {k:>7} {nodes:>6} {e:>12.3} {:>9.2}% {:>9.2}% {:>6} {:>6} {:>9.1}  {}{mark}",
             100.0 * (e - best) / best,
-            t * 1e3
+            100.0 * (e - opt) / opt,
+            report.iterations,
+            report.evaluations,
+            t * 1e3,
+            report.stop
         );
     }
     println!();
 }
 
-/// The solver's own knobs at the default transition settings: L-BFGS memory
-/// and restarts from a re-linearised preconditioner → energy against time.
+/// The solver's own knobs at the default transition settings: iterations per
+/// re-linearised round, L-BFGS memory and the stopping tolerance → energy
+/// against time.
 fn solver_table(title: &str, case: &Case) {
-    let obj = case
-        .objective(&TransitionSettings::default())
-        .expect("objective");
+    let d = TransitionSettings::default();
+    let obj = case.objective(&d).expect("objective");
     let fine = case
-        .objective(&settings(TransitionSettings::default().coefficients, 200))
+        .objective(&settings(d.coefficients, 200))
         .expect("objective");
+    let optimum = converged(case, d.coefficients);
     println!(
-        "{title}: solver knobs at the default settings (energy re-measured with 200 Gauss points)"
+        "{title}: solver knobs at the default settings ({} coefficients, {} samples); energy \
+         re-measured with 200 Gauss points, converged optimum {optimum:.3}; load average {}",
+        d.coefficients,
+        d.samples,
+        load_average()
     );
     println!(
-        "{:>7} {:>10} {:>14} {:>6} {:>10}  stop",
-        "memory", "relinearise", "energy", "iters", "time ms"
+        "{:>6} {:>6} {:>9} {:>12} {:>10} {:>6} {:>6} {:>9}  stop",
+        "round", "memory", "tolerance", "energy", "vs optimum", "iters", "evals", "time ms"
     );
-    for (memory, every) in [(10, u64::MAX), (30, u64::MAX), (30, 50), (30, 15)] {
+    let def = SolveOptions::default();
+    for (every, memory, tolerance) in [
+        (u64::MAX, 10, 1e-3),
+        (u64::MAX, 30, 1e-3),
+        (50, 30, 1e-3),
+        (25, 10, 1e-3),
+        (25, 30, 1e-2),
+        (25, 30, 1e-3),
+        (25, 30, 1e-4),
+        (15, 30, 1e-3),
+    ] {
         let opts = SolveOptions {
             lbfgs_memory: memory,
             relinearise_every: every,
+            tolerance,
             ..Default::default()
         };
-        let t = Instant::now();
-        let sol = solve_group(&obj, &opts).expect("solve");
-        let ms = t.elapsed().as_secs_f64() * 1e3;
+        let mut best_t = f64::INFINITY;
+        let mut sol = None;
+        for _ in 0..3 {
+            let t = Instant::now();
+            let s = solve_group(&obj, &opts).expect("solve");
+            best_t = best_t.min(t.elapsed().as_secs_f64());
+            sol = Some(s);
+        }
+        let sol = sol.expect("ran");
         let e = fine.eval(&mut fine.scratch(), &sol.x, None).expect("eval");
-        let every = if every == u64::MAX {
+        let round = if every == u64::MAX {
             "never".to_string()
         } else {
             every.to_string()
         };
-        let mark = if memory == SolveOptions::default().lbfgs_memory
-            && SolveOptions::default().relinearise_every == u64::MAX
-            && every == "never"
+        let mark = if memory == def.lbfgs_memory
+            && every == def.relinearise_every
+            && tolerance == def.tolerance
         {
             " ← default"
         } else {
             ""
         };
         println!(
-            "{memory:>7} {every:>10} {e:>14.6} {:>6} {ms:>10.1}  {}{mark}",
-            sol.report.iterations, sol.report.stop
+            "{round:>6} {memory:>6} {tolerance:>9.0e} {e:>12.3} {:>9.2}% {:>6} {:>6} {:>9.1}  {}{mark}",
+            100.0 * (e - optimum) / optimum,
+            sol.report.iterations,
+            sol.report.evaluations,
+            best_t * 1e3,
+            sol.report.stop
         );
     }
     println!();
