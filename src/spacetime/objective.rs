@@ -50,11 +50,12 @@ impl Default for TransitionSettings {
 
 /// Fewest Gauss points on one polynomial piece of a transition. With fewer,
 /// the optimiser hides torque between nodes (aliasing): on the Fig. 8 case
-/// (8 coefficients, 9 pieces) a converged solve with 3 points per piece
-/// reads 212.4 by its own rule but 220.8 under a 400-point rule, and with 2
-/// per piece the re-measured energy was several times the rule's own; with 4
-/// per piece (5 coefficients, 24 nodes) the two agree within 0.2 %.
-pub const MIN_POINTS_PER_PIECE: usize = 4;
+/// on human44.urdf (5 coefficients, 6 pieces) a solve with 4 points per
+/// piece reads 840 by its own rule but 1520 under a 200-point rule; on the
+/// project's walk (8 coefficients) 3 points per piece read 212.4 against
+/// 220.8. With 6 per piece the two agree within 0.1 % on both cases
+/// (measured by hand; the spacetime benchmark shows the nodes per row).
+pub const MIN_POINTS_PER_PIECE: usize = 6;
 
 /// Quadrature nodes and weights for the curves of one group: Gauss rules on
 /// every piece between consecutive knots of any curve (so neither a gap end,

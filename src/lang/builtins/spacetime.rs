@@ -180,7 +180,7 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
         "samples",
         1,
         100_000,
-        "Gauss points of the torque integral per gap, at least 4 per B-spline piece (default 20)",
+        "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)",
     )? {
         o.settings.samples = n;
     }
@@ -313,7 +313,7 @@ pub fn register(reg: &mut Registry) {
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
          coefficients: free B-spline coefficients per DOF (at least 2, or 3 with continuity: 2); samples: Gauss points \
-         of the torque integral (at least 4 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
+         of the torque integral (at least 6 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
          iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
         run_sp,
