@@ -221,9 +221,7 @@ mod tests {
             let mut a = Some(i);
             while let Some(k) = a {
                 let lk = dfs.link(k);
-                for c in lk.q_index..lk.q_index + lk.dof {
-                    moving[c] = true;
-                }
+                moving[lk.q_index..lk.q_index + lk.dof].fill(true);
                 a = lk.parent;
             }
             for r in 0..n {
