@@ -92,6 +92,20 @@ pub trait Joint: Send + Sync + Debug {
         false
     }
 
+    /// `out[m] = ∂(Ṡ(q) q̇)/∂q_m` for m < `dof()`, where `Ṡ q̇ = Σ_ij ∂s_i/∂q_j q̇_i q̇_j`
+    /// (body frame, q̇ = `v` held fixed): the joint map's third derivative
+    /// contracted twice with the velocity, the one term of the dynamics'
+    /// ∂τ/∂q and adjoint gradient the Hessian does not give. At a coordinate's
+    /// range end it is the value from inside the range (as the Hessian is).
+    ///
+    /// Returns false when the joint does not provide it (the default, for joints
+    /// defined outside this library); the dynamics then differences the Hessian.
+    /// Never called for joints with a [`Joint::constant_jacobian`].
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        let _ = (q, v, out);
+        false
+    }
+
     /// `Some` for a 1-DOF joint that rotates about or slides along one fixed axis:
     /// its motion subspace is then constant and known, so the algorithms that
     /// work in the world frame (CRBA) place the link and its Jacobian column
