@@ -10,7 +10,7 @@ use mx::dynamics::{
 };
 use mx::model::Model;
 use nalgebra::{DMatrix, DVector, Vector3};
-use support::{Rng, random_tree};
+use support::{Rng, random_tree, spline_chain};
 
 fn maxabs(x: &[f64]) -> f64 {
     x.iter().fold(0.0, |m, v| m.max(v.abs()))
@@ -94,8 +94,14 @@ fn tau_at(m: &Model, ws: &mut Workspace, q: &[f64], v: &[f64], a: &[f64]) -> Vec
 #[test]
 fn rnea_derivatives_match_finite_differences() {
     let mut rng = Rng::new(3);
-    for poe in [false, true] {
-        let m = random_tree(&mut rng, 9, poe);
+    // poe: the test joint without an analytic ∂(Ṡq̇)/∂q (Hessian differenced);
+    // spline: the library's q-dependent joints with theirs.
+    for (poe, spline) in [(false, false), (true, false), (true, true)] {
+        let m = if spline {
+            spline_chain(&mut rng)
+        } else {
+            random_tree(&mut rng, 9, poe)
+        };
         let nq = m.nq();
         let mut ws = Workspace::new(&m);
         let q = rng.vec(nq, -2.0, 2.0);
@@ -132,16 +138,20 @@ fn rnea_derivatives_match_finite_differences() {
                 }
             }
         }
-        eprintln!("poe={poe}: ∂τ analytic vs central FD worst rel err {worst:.2e}");
-        assert!(worst < 1e-6, "poe={poe}: {worst:e}");
+        eprintln!("poe={poe} spline={spline}: ∂τ analytic vs central FD worst rel err {worst:.2e}");
+        assert!(worst < 1e-6, "poe={poe} spline={spline}: {worst:e}");
     }
 }
 
 #[test]
 fn adjoint_gradient_matches_finite_differences_and_the_jacobians() {
     let mut rng = Rng::new(5);
-    for poe in [false, true] {
-        let m = random_tree(&mut rng, 12, poe);
+    for (poe, spline) in [(false, false), (true, false), (true, true)] {
+        let m = if spline {
+            spline_chain(&mut rng)
+        } else {
+            random_tree(&mut rng, 12, poe)
+        };
         let nq = m.nq();
         let mut ws = Workspace::new(&m);
         let q = rng.vec(nq, -2.0, 2.0);
@@ -165,8 +175,8 @@ fn adjoint_gradient_matches_finite_differences_and_the_jacobians() {
         for (g, jac, name) in [(&gq, &dq, "q"), (&gv, &dv, "v"), (&ga, &mm, "a")] {
             let expect = jac.transpose() * &wt;
             let e = (DVector::from_vec(g.clone()) - &expect).amax() / scale;
-            eprintln!("poe={poe}: adjoint ∂J/∂{name} vs 2Jᵀwτ err {e:.2e}");
-            assert!(e < 1e-9, "poe={poe} {name}: {e:e}");
+            eprintln!("poe={poe} spline={spline}: adjoint ∂J/∂{name} vs 2Jᵀwτ err {e:.2e}");
+            assert!(e < 1e-9, "poe={poe} spline={spline} {name}: {e:e}");
         }
         // And against central differences of J.
         let h = 1e-6;
@@ -187,7 +197,7 @@ fn adjoint_gradient_matches_finite_differences_and_the_jacobians() {
                 let fd = (jp - jm) / (2.0 * h);
                 assert!(
                     (fd - g[k]).abs() < 1e-6 * (j_ref + fd.abs()),
-                    "poe={poe} x{which}[{k}]: fd {fd} vs {}",
+                    "poe={poe} spline={spline} x{which}[{k}]: fd {fd} vs {}",
                     g[k]
                 );
             }

@@ -1,5 +1,6 @@
-//! Every joint type: Jacobian S and Hessian ∇S against central differences at
-//! random q, exactly at knots and near the range ends (relative error ≤ 1e-7),
+//! Every joint type: Jacobian S, Hessian ∇S and the third-derivative term
+//! ∂(Ṡ q̇)/∂q against central differences at random q, exactly at knots and
+//! near the range ends (relative error ≤ 1e-7),
 //! C² continuity of the curve joint across knots, and the documented errors.
 // Index loops mirror the equations (several arrays per index); iterators would obscure them.
 #![allow(clippy::needless_range_loop)]
@@ -91,6 +92,57 @@ fn fd_error(j: &dyn Joint, q: &[f64], h: f64, kink: bool) -> (f64, f64) {
     (es, eh)
 }
 
+/// `Ṡ q̇ = Σ_ij ∂s_i/∂q_j q̇_i q̇_j` at q.
+fn sdot_v(j: &dyn Joint, q: &[f64], v: &[f64]) -> Twist {
+    let mut k = JointKinematics::default();
+    j.kinematics(q, Derivatives::Hessian, &mut k);
+    let mut t = Twist::zeros();
+    for a in 0..j.dof() {
+        for b in 0..j.dof() {
+            t += k.ds[a][b] * (v[a] * v[b]);
+        }
+    }
+    t
+}
+
+/// Worst relative error of the joint's `∂(Ṡ q̇)/∂q` against differences of
+/// `Ṡ q̇` (that is, of the Hessian) at q. Central differences where the joint is
+/// smooth; at a knot or a range end (`kink`) the third derivative jumps and the
+/// joint gives one side's value (the right side at a knot, the inside at an
+/// end), so there it must match the forward or the backward second-order
+/// one-sided difference. Joints with a constant Jacobian have no such term.
+fn third_error(j: &dyn Joint, q: &[f64], h: f64, kink: bool) -> f64 {
+    if j.constant_jacobian() {
+        return 0.0;
+    }
+    let n = j.dof();
+    let v = &[0.7, -1.3, 0.4, 1.1, -0.6, 0.9][..n];
+    let mut got = [Twist::zeros(); 6];
+    assert!(
+        j.sdot_v_dq(q, v, &mut got),
+        "{} gives no analytic ∂(Ṡ q̇)/∂q",
+        j.kind()
+    );
+    let at = |m: usize, d: f64| {
+        let mut qq = q.to_vec();
+        qq[m] += d;
+        sdot_v(j, &qq, v)
+    };
+    let scale = 1.0 + (0..n).map(|m| got[m].norm()).fold(0.0, f64::max);
+    let mut worst = 0.0f64;
+    for m in 0..n {
+        let err = |fd: Twist| (fd - got[m]).norm() / scale;
+        let e = if kink {
+            let side = |s: f64| (at(m, 0.0) * -3.0 + at(m, s) * 4.0 - at(m, 2.0 * s)) / (2.0 * s);
+            err(side(h)).min(err(side(-h)))
+        } else {
+            err((at(m, h) - at(m, -h)) / (2.0 * h))
+        };
+        worst = worst.max(e);
+    }
+    worst
+}
+
 fn check(name: &str, j: &dyn Joint, qs: &[Vec<f64>], h: f64) {
     check_at(name, j, qs, h, false)
 }
@@ -100,20 +152,22 @@ fn check_knots(name: &str, j: &dyn Joint, qs: &[Vec<f64>]) {
 }
 
 fn check_at(name: &str, j: &dyn Joint, qs: &[Vec<f64>], h: f64, kink: bool) {
-    let mut worst = (0.0f64, 0.0f64);
+    let mut worst = (0.0f64, 0.0f64, 0.0f64);
     for q in qs {
         let (a, b) = fd_error(j, q, h, kink);
+        let c = third_error(j, q, h, kink);
         assert!(
-            a <= 1e-7 && b <= 1e-7,
-            "{name} at q = {q:?}: S error {a:.2e}, ∇S error {b:.2e}"
+            a <= 1e-7 && b <= 1e-7 && c <= 1e-7,
+            "{name} at q = {q:?}: S error {a:.2e}, ∇S error {b:.2e}, ∂(Ṡq̇)/∂q error {c:.2e}"
         );
-        worst = (worst.0.max(a), worst.1.max(b));
+        worst = (worst.0.max(a), worst.1.max(b), worst.2.max(c));
     }
     println!(
-        "{name:>22}: {} points, worst relative error S {:.1e}, ∇S {:.1e}",
+        "{name:>22}: {} points, worst relative error S {:.1e}, ∇S {:.1e}, ∂(Ṡq̇)/∂q {:.1e}",
         qs.len(),
         worst.0,
-        worst.1
+        worst.1,
+        worst.2
     );
 }
 
@@ -262,6 +316,10 @@ fn spline_curve_joint_matches_finite_differences_at_random_q_knots_and_ends() {
         vec![b - 1e-3],
     ];
     check("spline curve (ends)", &j, &ends, 1e-6);
+    for q in [a, b] {
+        let e = third_error(&j, &[q], 1e-5, true);
+        assert!(e <= 1e-7, "spline curve at its range end {q}: {e:.2e}");
+    }
     // outside: constant-screw continuation, ∇S = 0
     let outside = vec![vec![a - 0.5], vec![b + 0.7]];
     check("spline curve (outside)", &j, &outside, 1e-6);
@@ -444,6 +502,12 @@ fn function_joint_with_offsets_matches_direct_composition_and_differences() {
         &j,
         &[vec![-1.2], vec![-0.5], vec![0.0]],
     );
+    // Exactly at the end knots the third-derivative term is the inside one
+    // (the linear extension outside has none).
+    for q in [-2.0, 0.4] {
+        let e = third_error(&j, &[q], 1e-5, true);
+        assert!(e <= 1e-7, "function-based at its range end {q}: {e:.2e}");
+    }
 }
 
 #[test]
@@ -505,4 +569,34 @@ fn curve_joint_knot_forms_agree() {
         assert_eq!(ka.transform, kb.transform);
         assert_eq!(ka.ds[0][0], kb.ds[0][0]);
     }
+}
+
+#[test]
+fn spline_loop_joint_matches_finite_differences_at_random_q_knots_and_across_the_seam() {
+    let mut rng = Lcg(11);
+    // A closed, wobbling ring of 8 control frames, one lap = 2π.
+    let frames: Vec<Se3> = (0..8)
+        .map(|k| {
+            let a = k as f64 * 2.0 * PI / 8.0;
+            let wobble = Twist::new(
+                0.1 * a.sin(),
+                0.0,
+                a,
+                a.cos(),
+                a.sin(),
+                0.1 * (2.0 * a).sin(),
+            );
+            exp_se3(&wobble)
+        })
+        .collect();
+    let j = SplineLoopJoint::new(frames, 2.0 * PI).unwrap();
+    let qs = random_qs(&mut rng, 1, -7.0, 7.0, 30);
+    check("spline loop (random)", &j, &qs, 1e-6);
+    // knots at multiples of the step, the seam at 0 and one lap further
+    let h = j.period() / 8.0;
+    let knots: Vec<Vec<f64>> = [0.0, h, 3.0 * h, -2.0 * h, j.period()]
+        .iter()
+        .map(|&k| vec![k])
+        .collect();
+    check_knots("spline loop (knots)", &j, &knots);
 }

@@ -15,11 +15,12 @@
 //! ```
 
 use crate::dynamics::DynamicsError;
-use crate::dynamics::derivatives::{limit_of, sdot_v_dq};
+use crate::dynamics::derivatives::sdot_v_gradient;
 use crate::dynamics::rnea::{check_inputs, check_out, rnea_core};
 use crate::dynamics::workspace::Workspace;
 use crate::lie::{Twist, ad, ad_dual};
 use crate::model::Model;
+use crate::model::joint::MAX_JOINT_DOF;
 use nalgebra::Vector3;
 
 /// Returns `Σ wᵢ τᵢ²` with `τ` the inverse dynamics at `(q, q̇, q̈)`, and writes
@@ -107,16 +108,10 @@ pub fn torque_sq_gradient(
                 gq[c] += gqk;
                 gv[c] += gvk;
             }
+            let mut third = [Twist::zeros(); MAX_JOINT_DOF];
+            sdot_v_gradient(l, &q[r.clone()], &v[r], &mut ws.scratch, &mut third);
             for k in 0..l.dof {
-                let d = sdot_v_dq(
-                    l.joint.as_ref(),
-                    limit_of(l, k),
-                    &q[r.clone()],
-                    &v[r.clone()],
-                    k,
-                    &mut ws.scratch,
-                );
-                gq[l.q_index + k] += d.dot(&lam);
+                gq[l.q_index + k] += third[k].dot(&lam);
             }
         }
         if let Some(p) = l.parent {

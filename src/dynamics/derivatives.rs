@@ -19,9 +19,9 @@
 //! any parents-first link order works (subtrees need not be contiguous).
 //!
 //! For those q-dependent joints, `∂(Ṡ q̇)/∂q` needs the third derivative of the
-//! joint map, which the `Joint` trait does not give: that one term is a
-//! difference of the joint's Hessian (step 1e-5, error ~1e-10 relative). Every
-//! other term, and everything for joints with a constant Jacobian, is exact.
+//! joint map: every joint of the library gives it analytically
+//! ([`Joint::sdot_v_dq`]); for a joint defined elsewhere that does not, that one
+//! term is a difference of the joint's Hessian (step 1e-5, error ~1e-10 relative).
 
 #![allow(clippy::needless_range_loop)] // index loops over coupled arrays read clearer here
 
@@ -33,11 +33,28 @@ use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
 use crate::model::{Inertia, Model};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
+/// `out[m] = ∂(Ṡ(q) q̇)/∂q_m` for the coordinates of link `l` (`q`, `v` its own):
+/// the joint's analytic third derivative, else a difference of its Hessian.
+pub(crate) fn sdot_v_gradient(
+    l: &crate::model::tree::Link,
+    q: &[f64],
+    v: &[f64],
+    scratch: &mut JointKinematics,
+    out: &mut [Twist; MAX_JOINT_DOF],
+) {
+    if l.joint.sdot_v_dq(q, v, out) {
+        return;
+    }
+    for (k, o) in out.iter_mut().enumerate().take(l.dof) {
+        *o = sdot_v_dq_by_differences(l.joint.as_ref(), limit_of(l, k), q, v, k, scratch);
+    }
+}
+
 /// `∂(Ṡ(q) q̇)/∂q_k` of one joint by a difference of its Hessian: central, or
 /// one-sided (second order) where the central stencil would straddle an end of
 /// the coordinate's range: a spline joint's Hessian may jump there (SimmSpline
 /// extends linearly past its knots), and the inside value is the one wanted.
-pub(crate) fn sdot_v_dq(
+fn sdot_v_dq_by_differences(
     joint: &dyn Joint,
     limit: (f64, f64),
     q: &[f64],
@@ -76,7 +93,7 @@ pub(crate) fn sdot_v_dq(
 }
 
 /// The limits of coordinate k of a link, as a pair.
-pub(crate) fn limit_of(l: &crate::model::tree::Link, k: usize) -> (f64, f64) {
+fn limit_of(l: &crate::model::tree::Link, k: usize) -> (f64, f64) {
     l.limits
         .get(k)
         .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper))
@@ -190,6 +207,10 @@ fn forward_pass(
         };
         let t = ws.world[i];
         let ov = ws.ov[i];
+        let mut third = [Twist::zeros(); MAX_JOINT_DOF];
+        if !l.constant_jacobian {
+            sdot_v_gradient(l, &q[r.clone()], &v[r], &mut ws.scratch, &mut third);
+        }
         let kin = &ws.kin[i];
         let mut oa = ap + ws.c[i];
         for m in 0..l.dof {
@@ -210,17 +231,9 @@ fn forward_pass(
                     ha += kin.ds[n][m] * a[qi + n];
                     hvv += (kin.ds[n][m] + kin.ds[m][n]) * v[qi + n];
                 }
-                let third = sdot_v_dq(
-                    l.joint.as_ref(),
-                    limit_of(l, m),
-                    &q[r.clone()],
-                    &v[r.clone()],
-                    m,
-                    &mut ws.scratch,
-                );
                 let h = t.ad_twist(&hv);
                 dvdq += h;
-                dadq += t.ad_twist(&(ha + third)) + ad(&ov, &h);
+                dadq += t.ad_twist(&(ha + third[m])) + ad(&ov, &h);
                 dadv += t.ad_twist(&hvv);
             }
             dadq += ad(&vp, &dvdq);

@@ -40,8 +40,9 @@ pub struct Workspace {
     pub(crate) u: Vec<[Twist; MAX_JOINT_DOF]>,
     pub(crate) dinv: Vec<Matrix6<f64>>,
     pub(crate) uu: Vec<[f64; MAX_JOINT_DOF]>,
-    // CRBA
+    // CRBA: composite inertias per link, composite momenta `I^c J` per coordinate
     pub(crate) ic: Vec<Inertia>,
+    pub(crate) ag: Vec<Wrench>,
     // adjoint: V̄, Λ, F̄ per link
     pub(crate) dv: Vec<Twist>,
     pub(crate) da: Vec<Twist>,
@@ -84,6 +85,7 @@ impl Workspace {
             dinv: vec![Matrix6::zeros(); n],
             uu: vec![[0.0; MAX_JOINT_DOF]; n],
             ic: vec![Inertia::zero(); n],
+            ag: vec![Wrench::zeros(); model.nq()],
             dv: vec![Twist::zeros(); n],
             da: vec![Twist::zeros(); n],
             df: vec![Wrench::zeros(); n],

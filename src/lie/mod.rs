@@ -79,6 +79,15 @@ impl Se3 {
         }
     }
 
+    /// `self ∘ (1, p)`: composing with a pure translation needs no rotation product.
+    #[inline]
+    pub fn translated(&self, p: &Vector3<f64>) -> Se3 {
+        Se3 {
+            r: self.r,
+            p: self.r * p + self.p,
+        }
+    }
+
     /// The inverse transform `(Rᵀ, −Rᵀp)`.
     #[inline]
     pub fn inverse(&self) -> Se3 {

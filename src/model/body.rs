@@ -79,18 +79,45 @@ impl Inertia {
         self.i_o + c * c * self.mass
     }
 
+    /// True for a massless body without rotational inertia (URDF's links
+    /// between the axes of one anatomical joint): transforming it is a no-op.
+    #[inline]
+    pub fn is_zero(&self) -> bool {
+        self.mass == 0.0 && self.h == Vector3::zeros() && self.i_o == Matrix3::zeros()
+    }
+
     /// This inertia, given in frame `child`, expressed in the frame in which
     /// `t` places `child` (`x_parent = t x_child`).
+    #[inline]
     pub fn transformed(&self, t: &Se3) -> Inertia {
-        let rh = t.r * self.h;
+        let r = &t.r;
+        let rh = r * self.h;
         let p = &t.p;
-        // The parallel-axis part −[rh][p] − [p][rh] − m[p]² written out with
-        // [a][b] = b aᵀ − (a·b) 1: it is 2(p·w) 1 − p wᵀ − w pᵀ, w = rh + m p / 2
-        // (the dynamics transforms every link's inertia on every call).
+        // The dynamics transforms every link's inertia on every call, so only the
+        // six unique entries of the symmetric result are formed. `R I Rᵀ` is
+        // `A Rᵀ` with `A = R I`; the parallel-axis part −[rh][p] − [p][rh] − m[p]²
+        // written out with [a][b] = b aᵀ − (a·b) 1 is 2(p·w) 1 − p wᵀ − w pᵀ,
+        // w = rh + m p / 2.
+        let a = r * self.i_o;
         let w = rh + p * (0.5 * self.mass);
-        let pw = p * w.transpose();
-        let i_o = t.r * self.i_o * t.r.transpose() - pw - pw.transpose()
-            + Matrix3::from_diagonal_element(2.0 * p.dot(&w));
+        let d = 2.0 * p.dot(&w);
+        let e = |i: usize, j: usize| {
+            a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)]
+                - p[i] * w[j]
+                - w[i] * p[j]
+        };
+        let (xy, xz, yz) = (e(0, 1), e(0, 2), e(1, 2));
+        let i_o = Matrix3::new(
+            e(0, 0) + d,
+            xy,
+            xz,
+            xy,
+            e(1, 1) + d,
+            yz,
+            xz,
+            yz,
+            e(2, 2) + d,
+        );
         Inertia {
             mass: self.mass,
             h: rh + p * self.mass,

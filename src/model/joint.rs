@@ -92,6 +92,20 @@ pub trait Joint: Send + Sync + Debug {
         false
     }
 
+    /// `out[m] = ∂(Ṡ(q) q̇)/∂q_m` for m < `dof()`, where `Ṡ q̇ = Σ_ij ∂s_i/∂q_j q̇_i q̇_j`
+    /// (body frame, q̇ = `v` held fixed): the joint map's third derivative
+    /// contracted twice with the velocity, the one term of the dynamics'
+    /// ∂τ/∂q and adjoint gradient the Hessian does not give. At a coordinate's
+    /// range end it is the value from inside the range (as the Hessian is).
+    ///
+    /// Returns false when the joint does not provide it (the default, for joints
+    /// defined outside this library); the dynamics then differences the Hessian.
+    /// Never called for joints with a [`Joint::constant_jacobian`].
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        let _ = (q, v, out);
+        false
+    }
+
     /// `Some` for a 1-DOF joint that rotates about or slides along one fixed axis:
     /// its motion subspace is then constant and known, so the algorithms that
     /// work in the world frame (CRBA) place the link and its Jacobian column
@@ -162,13 +176,12 @@ impl JointAxis {
     pub fn place(&self, t: &Se3, q: f64) -> Se3 {
         match (self.motion, self.principal) {
             (AxisMotion::Rotation, Some((k, sign))) => {
-                // Rotating about e_k mixes only the two other columns of t.r.
                 let (s, c) = (sign * q).sin_cos();
-                let (a, b) = ((k + 1) % 3, (k + 2) % 3);
-                let (ca, cb) = (t.r.column(a).into_owned(), t.r.column(b).into_owned());
-                let mut r = t.r;
-                r.set_column(a, &(ca * c + cb * s));
-                r.set_column(b, &(cb * c - ca * s));
+                let r = match k {
+                    0 => rotate_columns::<0>(&t.r, s, c),
+                    1 => rotate_columns::<1>(&t.r, s, c),
+                    _ => rotate_columns::<2>(&t.r, s, c),
+                };
                 Se3 { r, p: t.p }
             }
             (AxisMotion::Rotation, None) => {
@@ -208,6 +221,24 @@ impl JointAxis {
             None => r * self.axis.into_inner(),
         }
     }
+}
+
+/// `r · Rot(e_K, θ)` given `sin θ`, `cos θ`: rotating about e_K mixes only the
+/// two other columns of `r`. Built element by element from scalars (with K known
+/// at compile time) so the placement stays in registers instead of being
+/// patched column by column through memory.
+#[inline(always)]
+fn rotate_columns<const K: usize>(r: &Matrix3<f64>, s: f64, c: f64) -> Matrix3<f64> {
+    let (a, b) = ((K + 1) % 3, (K + 2) % 3);
+    Matrix3::from_fn(|i, j| {
+        if j == K {
+            r[(i, K)]
+        } else if j == a {
+            r[(i, a)] * c + r[(i, b)] * s
+        } else {
+            r[(i, b)] * c - r[(i, a)] * s
+        }
+    })
 }
 
 #[cfg(test)]

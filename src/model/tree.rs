@@ -8,7 +8,7 @@
 
 use crate::lie::Se3;
 use crate::model::body::Inertia;
-use crate::model::joint::Joint;
+use crate::model::joint::{Joint, JointAxis};
 use nalgebra::Vector3;
 use std::sync::Arc;
 
@@ -41,6 +41,12 @@ pub struct Link {
     pub constant_jacobian: bool,
     /// Cached `joint.limits()` (no allocation in the algorithms).
     pub limits: Vec<crate::model::joint::Limit>,
+    /// Cached `joint.joint_axis()`: the world-frame algorithms place
+    /// revolute/prismatic links without a dynamic call.
+    pub axis: Option<JointAxis>,
+    /// False when `offset` is a pure translation (most URDF joint origins):
+    /// placing the link then needs no rotation product.
+    pub offset_rotates: bool,
 }
 
 /// A tree of links with a fixed base.
@@ -50,6 +56,18 @@ pub struct Model {
     links: Vec<Link>,
     children: Vec<Vec<usize>>,
     coordinate_names: Vec<String>,
+    /// Per coordinate, the coordinate before it on the path to the root (the
+    /// previous coordinate of the same joint, else the last one of the nearest
+    /// ancestor joint with coordinates): the mass matrix walks these chains.
+    coordinate_parent: Vec<Option<usize>>,
+    /// Per link, the last link of its subtree and one past the subtree's last
+    /// coordinate; only meaningful while `depth_first` holds.
+    subtree_last_link: Vec<usize>,
+    subtree_end: Vec<usize>,
+    /// True while every subtree is a contiguous run of links (each link added
+    /// under the last link or one of its ancestors, as URDF and BVH loading do):
+    /// the mass matrix then fills contiguous row ranges.
+    depth_first: bool,
     nq: usize,
     /// The gravity a model loaded from a file starts with (URDF: `[0, 0, −9.81]`,
     /// Pinocchio's default, so results match it); code may override it.
@@ -118,7 +136,39 @@ impl Model {
                 format!("{joint_name}.{s}")
             });
         }
+        // The last coordinate of the nearest ancestor joint that has any.
+        let mut before = None;
+        let mut a = parent;
+        while let Some(p) = a {
+            let lp = &self.links[p];
+            if lp.dof > 0 {
+                before = Some(lp.q_index + lp.dof - 1);
+                break;
+            }
+            a = lp.parent;
+        }
+        for k in 0..dof {
+            self.coordinate_parent.push(if k == 0 {
+                before
+            } else {
+                Some(self.nq + k - 1)
+            });
+        }
         let idx = self.links.len();
+        if idx == 0 {
+            self.depth_first = true;
+        }
+        if let Some(p) = parent {
+            self.depth_first &= self.subtree_last_link[p] == idx - 1;
+        }
+        self.subtree_last_link.push(idx);
+        self.subtree_end.push(self.nq + dof);
+        let mut a = parent;
+        while let Some(p) = a {
+            self.subtree_last_link[p] = idx;
+            self.subtree_end[p] = self.nq + dof;
+            a = self.links[p].parent;
+        }
         self.links.push(Link {
             name: name.to_string(),
             parent,
@@ -126,6 +176,8 @@ impl Model {
             joint_name: joint_name.to_string(),
             constant_jacobian: joint.constant_jacobian(),
             limits: joint.limits(),
+            axis: joint.joint_axis(),
+            offset_rotates: offset.r != nalgebra::Matrix3::identity(),
             joint,
             inertia,
             q_index: self.nq,
@@ -153,6 +205,23 @@ impl Model {
     /// Coordinate names in `q` order: `joint` for a 1-DOF joint, `joint.suffix` otherwise.
     pub fn coordinate_names(&self) -> &[String] {
         &self.coordinate_names
+    }
+
+    /// The coordinate before coordinate `k` on its path to the root, if any
+    /// (coordinates of one joint follow each other, then the nearest ancestor
+    /// joint's last coordinate).
+    #[inline]
+    pub fn coordinate_parent(&self, k: usize) -> Option<usize> {
+        self.coordinate_parent[k]
+    }
+
+    /// The coordinates of link `i` and all its descendants, when they form one
+    /// contiguous range (see `depth_first`); `None` when links were added in an
+    /// order that interleaves subtrees.
+    #[inline]
+    pub fn subtree_coordinates(&self, i: usize) -> Option<std::ops::Range<usize>> {
+        self.depth_first
+            .then(|| self.links[i].q_index..self.subtree_end[i])
     }
 
     pub fn links(&self) -> &[Link] {

@@ -309,17 +309,24 @@ impl BSplineBasis {
     }
 
     /// Non-zero basis functions at t and their derivatives up to order
-    /// `nderiv` (≤ 2): `out[d][i]` is the d-th derivative of basis function
+    /// `nderiv` (< R, the rows of `out`: 3 for the Hessian, 4 when the third
+    /// derivative is wanted): `out[d][i]` is the d-th derivative of basis function
     /// `first + i`, i in 0..=degree. Returns `first`. For a periodic basis the
     /// function index is `(first + i) % n_coeffs`. Orders above `nderiv` are
     /// left untouched.
-    pub fn eval_nonzero(&self, t: f64, nderiv: usize, out: &mut [[f64; 6]; 3]) -> usize {
+    pub fn eval_nonzero<const R: usize>(
+        &self,
+        t: f64,
+        nderiv: usize,
+        out: &mut [[f64; 6]; R],
+    ) -> usize {
         let p = self.degree;
+        let top = nderiv.min(R.saturating_sub(1));
         // derivatives above the degree vanish
-        for row in out.iter_mut().take(nderiv.min(2) + 1).skip(p + 1) {
+        for row in out.iter_mut().take(top + 1).skip(p + 1) {
             row[..=p].fill(0.0);
         }
-        let nd = nderiv.min(2).min(p);
+        let nd = top.min(p);
         let t = self.wrap(t);
         let s = self.span(t);
         let k = &self.knots;
@@ -431,10 +438,17 @@ impl BSplineCurve {
 
     /// Value, first and second derivative at t.
     pub fn eval(&self, t: f64) -> [f64; 3] {
-        let mut b = [[0.0; 6]; 3];
+        let [f, d1, d2, _] = self.eval3(t);
+        [f, d1, d2]
+    }
+
+    /// Value and first three derivatives at t (the third for the joints'
+    /// third-derivative kinematics).
+    pub fn eval3(&self, t: f64) -> [f64; 4] {
+        let mut b = [[0.0; 6]; 4];
         let p = self.basis.degree();
-        let first = self.basis.eval_nonzero(t, 2, &mut b);
-        let mut r = [0.0; 3];
+        let first = self.basis.eval_nonzero(t, 3, &mut b);
+        let mut r = [0.0; 4];
         for i in 0..=p {
             let c = self
                 .coeffs
@@ -445,11 +459,9 @@ impl BSplineCurve {
                 *rd += c * b[d][i];
             }
         }
-        if p < 2 {
-            r[2] = 0.0;
-        }
-        if p < 1 {
-            r[1] = 0.0;
+        // Orders above the degree were left untouched by eval_nonzero: zero them.
+        for rd in r.iter_mut().skip(p + 1) {
+            *rd = 0.0;
         }
         r
     }

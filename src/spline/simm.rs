@@ -123,14 +123,22 @@ impl SimmSpline {
     /// Value, first and second derivative. Outside [x₀, x_{n−1}] the spline
     /// continues as the tangent line at the end (s'' = 0 there), as OpenSim does.
     pub fn eval(&self, t: f64) -> [f64; 3] {
+        let [f, d1, d2, _] = self.eval3(t);
+        [f, d1, d2]
+    }
+
+    /// Value and first three derivatives. The third is constant on each
+    /// interval (taken from the interval `eval` uses at a knot) and zero outside.
+    pub fn eval3(&self, t: f64) -> [f64; 4] {
         let n = self.x.len();
         if t < self.x[0] {
-            return [self.y[0] + self.b[0] * (t - self.x[0]), self.b[0], 0.0];
+            return [self.y[0] + self.b[0] * (t - self.x[0]), self.b[0], 0.0, 0.0];
         }
         if t > self.x[n - 1] {
             return [
                 self.y[n - 1] + self.b[n - 1] * (t - self.x[n - 1]),
                 self.b[n - 1],
+                0.0,
                 0.0,
             ];
         }
@@ -145,6 +153,7 @@ impl SimmSpline {
             self.y[i] + dx * (b + dx * (c + dx * d)),
             b + dx * (2.0 * c + 3.0 * dx * d),
             2.0 * c + 6.0 * dx * d,
+            6.0 * d,
         ]
     }
 }

@@ -69,14 +69,71 @@ impl TensorSpline {
 
     pub fn eval(&self, q: &[f64]) -> TensorEval {
         let n = self.bases.len();
-        let mut b = [[[0.0; 6]; 3]; 6];
+        let mut r = TensorEval::default();
+        self.for_each_term::<3>(q, 2, |c, b, idx| {
+            let mut v = c;
+            for d in 0..n {
+                v *= b[d][0][idx[d]];
+            }
+            r.value += v;
+            for k in 0..n {
+                let mut g = c * b[k][1][idx[k]];
+                for d in (0..n).filter(|&d| d != k) {
+                    g *= b[d][0][idx[d]];
+                }
+                r.grad[k] += g;
+                for l in 0..n {
+                    let mut h = c;
+                    for d in 0..n {
+                        let order = (d == k) as usize + (d == l) as usize;
+                        h *= b[d][order][idx[d]];
+                    }
+                    r.hess[k][l] += h;
+                }
+            }
+        });
+        r
+    }
+
+    /// `Σ_kl v_k v_l ∂³φ/∂q_k∂q_l∂q_m` for each m: the third derivative
+    /// contracted twice with a velocity (what a joint's `∂(Ṡ q̇)/∂q` needs).
+    pub fn third_vv(&self, q: &[f64], v: &[f64]) -> [f64; 6] {
+        let n = self.bases.len();
+        let mut r = [0.0; 6];
+        self.for_each_term::<4>(q, 3, |c, b, idx| {
+            for (m, rm) in r.iter_mut().enumerate().take(n) {
+                for k in 0..n {
+                    for l in 0..n {
+                        let mut t = c * v[k] * v[l];
+                        for d in 0..n {
+                            let order = (d == k) as usize + (d == l) as usize + (d == m) as usize;
+                            t *= b[d][order][idx[d]];
+                        }
+                        *rm += t;
+                    }
+                }
+            }
+        });
+        r
+    }
+
+    /// Calls `f(c, b, idx)` for every non-zero coefficient `c` of the
+    /// (degree+1)ⁿ whose basis functions are non-zero at `q`; `b[d][order][idx[d]]`
+    /// is the derivative of that order of coordinate d's basis function.
+    fn for_each_term<const R: usize>(
+        &self,
+        q: &[f64],
+        nderiv: usize,
+        mut f: impl FnMut(f64, &[[[f64; 6]; R]; 6], &[usize; 6]),
+    ) {
+        let n = self.bases.len();
+        let mut b = [[[0.0; 6]; R]; 6];
         let mut first = [0usize; 6];
         let mut cnt = [0usize; 6];
         for d in 0..n {
-            first[d] = self.bases[d].eval_nonzero(q[d], 2, &mut b[d]);
+            first[d] = self.bases[d].eval_nonzero(q[d], nderiv, &mut b[d]);
             cnt[d] = self.bases[d].degree() + 1;
         }
-        let mut r = TensorEval::default();
         let mut idx = [0usize; 6];
         loop {
             // flat coefficient index
@@ -86,32 +143,13 @@ impl TensorSpline {
             }
             let c = self.coeffs[flat];
             if c != 0.0 {
-                let mut v = c;
-                for d in 0..n {
-                    v *= b[d][0][idx[d]];
-                }
-                r.value += v;
-                for k in 0..n {
-                    let mut g = c * b[k][1][idx[k]];
-                    for d in (0..n).filter(|&d| d != k) {
-                        g *= b[d][0][idx[d]];
-                    }
-                    r.grad[k] += g;
-                    for l in 0..n {
-                        let mut h = c;
-                        for d in 0..n {
-                            let order = (d == k) as usize + (d == l) as usize;
-                            h *= b[d][order][idx[d]];
-                        }
-                        r.hess[k][l] += h;
-                    }
-                }
+                f(c, &b, &idx);
             }
             // next multi-index
             let mut d = n;
             loop {
                 if d == 0 {
-                    return r;
+                    return;
                 }
                 d -= 1;
                 idx[d] += 1;

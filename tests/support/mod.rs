@@ -147,3 +147,77 @@ pub fn random_tree(rng: &mut Rng, n: usize, poe: bool) -> Model {
     }
     m
 }
+
+/// A chain of the library's configuration-dependent joints — a spline curve
+/// joint, a closed spline loop, an elliptic joint, a 2-DOF tensor-spline joint,
+/// a spherical and a universal joint — with random inertias and offsets: the
+/// dynamics' derivatives use each joint's analytic ∂(Ṡ q̇)/∂q on it.
+pub fn spline_chain(rng: &mut Rng) -> Model {
+    use mx::lie::exp_se3;
+    use mx::model::joints::{
+        Elliptic, EulerOrder, Spherical, SplineCurveJoint, SplineJoint, SplineLoopJoint, Universal,
+    };
+    use mx::spline::{BSplineBasis, TensorSpline};
+    let mut frames = |m: usize, step: f64| -> Vec<Se3> {
+        let mut g = Se3::identity();
+        let mut out = vec![g];
+        for _ in 1..m {
+            let t = Twist::from_fn(|_, _| rng.uniform(-1.0, 1.0));
+            g = g.compose(&exp_se3(&(t * step)));
+            out.push(g);
+        }
+        out
+    };
+    let curve = SplineCurveJoint::from_knots(
+        frames(8, 0.5),
+        &[-3., -3., -3., -3., -1.6, -0.1, 0.2, 1.1, 3., 3., 3., 3.],
+    )
+    .unwrap();
+    // A closed ring of 7 frames turning about z, wobbling out of the plane.
+    let ring: Vec<Se3> = (0..7)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / 7.0;
+            exp_se3(&Twist::new(
+                0.2 * a.sin(),
+                0.0,
+                a,
+                a.cos(),
+                a.sin(),
+                0.1 * (2.0 * a).sin(),
+            ))
+        })
+        .collect();
+    let lp = SplineLoopJoint::new(ring, 2.0).unwrap();
+    let b0 = BSplineBasis::clamped_uniform(3, 5, -3.0, 3.0).unwrap();
+    let b1 = BSplineBasis::clamped_uniform(3, 4, -3.0, 3.0).unwrap();
+    let phis: Vec<TensorSpline> = (0..6)
+        .map(|_| {
+            let c = (0..20).map(|_| rng.uniform(-0.6, 0.6)).collect();
+            TensorSpline::new(vec![b0.clone(), b1.clone()], c).unwrap()
+        })
+        .collect();
+    let surface = SplineJoint::new(Se3::identity(), SplineJoint::standard_twists(), phis).unwrap();
+    let joints: Vec<Arc<dyn Joint>> = vec![
+        Arc::new(curve),
+        Arc::new(lp),
+        Arc::new(Elliptic::new(0.4, 0.25).unwrap()),
+        Arc::new(surface),
+        Arc::new(Spherical::new(EulerOrder::ZXY)),
+        Arc::new(Universal::new(Vector3::x(), Vector3::new(0.2, 1.0, -0.3)).unwrap()),
+    ];
+    let mut m = Model::new("spline chain");
+    for (i, j) in joints.into_iter().enumerate() {
+        let mass = rng.uniform(0.5, 3.0);
+        let inertia = random_inertia(rng, mass);
+        m.add_link(
+            &format!("l{i}"),
+            i.checked_sub(1),
+            &format!("j{i}"),
+            j,
+            random_offset(rng),
+            inertia,
+        )
+        .unwrap();
+    }
+    m
+}

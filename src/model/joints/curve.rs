@@ -12,9 +12,9 @@
 //! analogue of OpenSim's linear extension of splines.
 
 use super::error::{JointSpecError, jerr};
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use crate::lie::{Se3, Twist, exp_se3, log_se3, rotation_angle};
-use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
 use crate::spline::BSplineBasis;
 use std::f64::consts::PI;
 
@@ -133,19 +133,28 @@ impl SplineCurveJoint {
 
     /// Kinematics strictly inside the domain (q clamped into it).
     fn inside(&self, q: f64, want: Derivatives, out: &mut JointKinematics) {
+        let (first, f) = self.factors(q, 0.0);
         let p = self.basis.degree();
-        let mut b = [[0.0; 6]; 3];
-        let first = self.basis.eval_nonzero(q, 2, &mut b);
+        poe_kinematics(&self.frames[first], &f[..p], None, 1, want, out);
+    }
+
+    /// The index of the first control frame acting at `q` (inside the domain)
+    /// and the factors exp(ĝ B̃(q)) after it, the third derivative of each B̃
+    /// contracted with the velocity `v` (for [`poe_sdot_v_dq`]).
+    fn factors(&self, q: f64, v: f64) -> (usize, [PoeFactor; 5]) {
+        let p = self.basis.degree();
+        let mut b = [[0.0; 6]; 4];
+        let first = self.basis.eval_nonzero(q, 3, &mut b);
         let mut f = [PoeFactor::new(Twist::zeros(), 0.0); 5];
         // cumulative sums from the top: B̃_{first+i} = Σ_{l=i..p} B_{first+l}
-        let mut acc = [0.0; 3];
+        let mut acc = [0.0; 4];
         for i in (1..=p).rev() {
-            for d in 0..3 {
+            for d in 0..4 {
                 acc[d] += b[d][i];
             }
-            f[i - 1] = PoeFactor::of_coordinate(self.twists[first + i - 1], 0, acc);
+            f[i - 1] = PoeFactor::of_coordinate3(self.twists[first + i - 1], 0, acc, v);
         }
-        poe_kinematics(&self.frames[first], &f[..p], None, 1, want, out);
+        (first, f)
     }
 
     /// Minimum of ‖S(q)‖ over `n` evenly spaced points of the domain, and where:
@@ -243,6 +252,18 @@ impl Joint for SplineCurveJoint {
         if want >= Derivatives::Hessian {
             out.ds[0][0] = Twist::zeros();
         }
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        let (a, b) = self.domain();
+        if q[0] < a || q[0] > b {
+            // Past the ends the joint continues as a screw motion: S is constant.
+            out[0] = Twist::zeros();
+        } else {
+            // The head frame is constant and does not enter.
+            let (_, f) = self.factors(q[0], v[0]);
+            poe_sdot_v_dq(&f[..self.basis.degree()], None, 1, v, out);
+        }
+        true
     }
     fn limits(&self) -> Vec<Limit> {
         vec![self.limit]

@@ -7,10 +7,13 @@
 //! with p' = (a cos q, b sin q, 0) and p'' = (−a sin q, b cos q, 0). For k = z
 //! this is the paper's eq. (20); the form above holds for any unit k because
 //! [k] commutes with exp([k]φ). H is a constant placement (identity by default).
+//! The dynamics' third-derivative term differentiates dS/dq once more the same way:
+//!   d²S/dq² = [φ''' k;  e^{−[k]φ} (X' − φ' k × X)],  X = p'' − φ' k × p',
+//!   X' = p''' − φ'' k × p' − φ' k × p'',  p''' = −p'.
 
 use super::error::{JointSpecError, jerr, unit};
 use crate::lie::{Se3, Twist, exp_so3};
-use crate::model::joint::{Derivatives, Joint, JointKinematics};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
 use nalgebra::Vector3;
 
 #[derive(Clone, Debug)]
@@ -74,5 +77,27 @@ impl Joint for Elliptic {
             let dw = k * ddphi;
             out.ds[0][0] = Twist::new(dw.x, dw.y, dw.z, dv.x, dv.y, dv.z);
         }
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        // Ṡ q̇ = dS/dq q̇², so its q-derivative is d²S/dq² q̇².
+        let (a, b, k) = (self.a, self.b, self.k);
+        let (s, c) = q[0].sin_cos();
+        let phi = (b * s).atan2(a * c);
+        let rt = exp_so3(&(k * phi)).transpose();
+        // φ' = ab / D with D = a² cos² q + b² sin² q, and its next two derivatives.
+        let d = a * a * c * c + b * b * s * s;
+        let d1 = 2.0 * (b * b - a * a) * s * c;
+        let d2 = 2.0 * (b * b - a * a) * (c * c - s * s);
+        let dphi = a * b / d;
+        let ddphi = -a * b * d1 / (d * d);
+        let dddphi = -a * b * (d2 / (d * d) - 2.0 * d1 * d1 / (d * d * d));
+        let dp = Vector3::new(a * c, b * s, 0.0);
+        let ddp = Vector3::new(-a * s, b * c, 0.0);
+        let x = ddp - k.cross(&dp) * dphi;
+        let dx = -dp - k.cross(&dp) * ddphi - k.cross(&ddp) * dphi;
+        let dv = rt * (dx - k.cross(&x) * dphi) * (v[0] * v[0]);
+        let dw = k * (dddphi * v[0] * v[0]);
+        out[0] = Twist::new(dw.x, dw.y, dw.z, dv.x, dv.y, dv.z);
+        true
     }
 }

@@ -10,7 +10,7 @@
 //!   G = T_parent_F · e^{[0;b1]g1} e^{[0;b2]g2} e^{[0;b3]g3} e^{[a1;0]f1} e^{[a2;0]f2} e^{[a3;0]f3} · T_child_M⁻¹
 //! so the Jacobian and Hessian come from the recursion of [`super::poe`].
 
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use super::scalar_function::ScalarFunction;
 use crate::lie::{Se3, Twist};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
@@ -277,7 +277,9 @@ impl FunctionJoint {
         self.defaults = defaults;
     }
 
-    fn factors(&self, q: &[f64]) -> [PoeFactor; 6] {
+    /// The six factors at `q`; with `v`, each also carries its third
+    /// derivative contracted with the velocity (for [`poe_sdot_v_dq`]).
+    fn factors(&self, q: &[f64], v: Option<&[f64]>) -> [PoeFactor; 6] {
         let mk = |ax: &TransformAxis, rot: bool| {
             let a = ax.axis;
             let tw = if rot {
@@ -286,7 +288,10 @@ impl FunctionJoint {
                 Twist::new(0.0, 0.0, 0.0, a.x, a.y, a.z)
             };
             match ax.coordinate {
-                Some(i) => PoeFactor::of_coordinate(tw, i, ax.function.eval(q[i])),
+                Some(i) => match v {
+                    Some(v) => PoeFactor::of_coordinate3(tw, i, ax.function.eval3(q[i]), v[i]),
+                    None => PoeFactor::of_coordinate(tw, i, ax.function.eval(q[i])),
+                },
                 None => PoeFactor::new(tw, ax.function.eval(0.0)[0]),
             }
         };
@@ -426,7 +431,7 @@ impl Joint for FunctionJoint {
     }
 
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
-        let f = self.factors(q);
+        let f = self.factors(q, None);
         poe_kinematics(
             &self.parent_offset,
             &f,
@@ -435,6 +440,12 @@ impl Joint for FunctionJoint {
             want,
             out,
         );
+    }
+
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        let f = self.factors(q, Some(v));
+        poe_sdot_v_dq(&f, Some(&self.child_offset_inv), self.dof(), v, out);
+        true
     }
 
     fn limits(&self) -> Vec<Limit> {

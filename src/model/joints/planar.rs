@@ -3,9 +3,9 @@
 //! G = exp([0;u] q0) exp([0;v] q1) exp([n;0] q2).
 
 use super::error::{JointSpecError, jerr, unit};
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use crate::lie::{Se3, Twist};
-use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
 use nalgebra::Vector3;
 
 #[derive(Clone, Debug)]
@@ -33,6 +33,20 @@ impl Planar {
             n,
         })
     }
+    fn factors(&self, q: &[f64]) -> [PoeFactor; 3] {
+        let tr = |a: &Vector3<f64>| Twist::new(0.0, 0.0, 0.0, a.x, a.y, a.z);
+        let n = self.n;
+        [
+            PoeFactor::of_coordinate(tr(&self.u), 0, [q[0], 1.0, 0.0]),
+            PoeFactor::of_coordinate(tr(&self.v), 1, [q[1], 1.0, 0.0]),
+            PoeFactor::of_coordinate(
+                Twist::new(n.x, n.y, n.z, 0.0, 0.0, 0.0),
+                2,
+                [q[2], 1.0, 0.0],
+            ),
+        ]
+    }
+
     /// The x–y plane (rotation about z).
     pub fn xy() -> Self {
         Planar {
@@ -54,18 +68,12 @@ impl Joint for Planar {
         vec!["x".into(), "y".into(), "angle".into()]
     }
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
-        let tr = |a: &Vector3<f64>| Twist::new(0.0, 0.0, 0.0, a.x, a.y, a.z);
-        let n = self.n;
-        let f = [
-            PoeFactor::of_coordinate(tr(&self.u), 0, [q[0], 1.0, 0.0]),
-            PoeFactor::of_coordinate(tr(&self.v), 1, [q[1], 1.0, 0.0]),
-            PoeFactor::of_coordinate(
-                Twist::new(n.x, n.y, n.z, 0.0, 0.0, 0.0),
-                2,
-                [q[2], 1.0, 0.0],
-            ),
-        ];
-        poe_kinematics(&Se3::identity(), &f, None, 3, want, out);
+        poe_kinematics(&Se3::identity(), &self.factors(q), None, 3, want, out);
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        // φ linear in q: no third-derivative term of its own.
+        poe_sdot_v_dq(&self.factors(q), None, 3, v, out);
+        true
     }
     fn limits(&self) -> Vec<Limit> {
         vec![Limit::NONE; 3]

@@ -27,24 +27,31 @@ pub enum ScalarFunction {
 impl ScalarFunction {
     /// Value, first and second derivative at x.
     pub fn eval(&self, x: f64) -> [f64; 3] {
+        let [f, d1, d2, _] = self.eval3(x);
+        [f, d1, d2]
+    }
+
+    /// Value and first three derivatives at x (the joints' third-derivative kinematics).
+    pub fn eval3(&self, x: f64) -> [f64; 4] {
         match self {
-            ScalarFunction::Constant { value } => [*value, 0.0, 0.0],
-            ScalarFunction::Linear { slope, intercept } => [slope * x + intercept, *slope, 0.0],
-            ScalarFunction::SimmSpline(s) => s.eval(x),
+            ScalarFunction::Constant { value } => [*value, 0.0, 0.0, 0.0],
+            ScalarFunction::Linear { slope, intercept } => {
+                [slope * x + intercept, *slope, 0.0, 0.0]
+            }
+            ScalarFunction::SimmSpline(s) => s.eval3(x),
             ScalarFunction::Polynomial { coefficients } => {
-                let (mut f, mut d1, mut d2) = (0.0, 0.0, 0.0);
+                // Horner's scheme carried to the third derivative.
+                let (mut f, mut d1, mut d2, mut d3) = (0.0, 0.0, 0.0, 0.0);
                 for &c in coefficients {
+                    d3 = d3 * x + 3.0 * d2;
                     d2 = d2 * x + 2.0 * d1;
                     d1 = d1 * x + f;
                     f = f * x + c;
                 }
-                [f, d1, d2]
+                [f, d1, d2, d3]
             }
-            ScalarFunction::Multiplier { scale, function } => {
-                let v = function.eval(x);
-                [scale * v[0], scale * v[1], scale * v[2]]
-            }
-            ScalarFunction::BSpline(c) => c.eval(x),
+            ScalarFunction::Multiplier { scale, function } => function.eval3(x).map(|v| scale * v),
+            ScalarFunction::BSpline(c) => c.eval3(x),
         }
     }
 

@@ -12,10 +12,10 @@
 //! [`Spherical::singularity_measure`] reports |det| so callers can detect it.
 
 use super::error::{JointSpecError, jerr};
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use super::universal::rot_twist;
-use crate::lie::Se3;
-use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
+use crate::lie::{Se3, Twist};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
 use nalgebra::{Matrix3, Vector3};
 
 /// An Euler order: three axis indices (0 = x, 1 = y, 2 = z), consecutive ones distinct.
@@ -134,6 +134,11 @@ impl Joint for Spherical {
             want,
             out,
         );
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        // φ linear in q: no third-derivative term of its own.
+        poe_sdot_v_dq(&self.order.factors(q, 0), None, 3, v, out);
+        true
     }
     fn limits(&self) -> Vec<Limit> {
         self.limits.to_vec()

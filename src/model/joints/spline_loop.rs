@@ -9,9 +9,9 @@
 
 use super::curve::MAX_FRAME_ANGLE;
 use super::error::{JointSpecError, jerr};
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use crate::lie::{Se3, Twist, log_se3, rotation_angle};
-use crate::model::joint::{Derivatives, Joint, JointKinematics};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
 
 #[derive(Clone, Debug)]
 pub struct SplineLoopJoint {
@@ -75,28 +75,45 @@ impl Joint for SplineLoopJoint {
         1
     }
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
+        let (head, f) = self.factors(q[0], 0.0);
+        poe_kinematics(&self.frames[head], &f, None, 1, want, out);
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        let (_, f) = self.factors(q[0], v[0]);
+        poe_sdot_v_dq(&f, None, 1, v, out);
+        true
+    }
+}
+
+impl SplineLoopJoint {
+    /// The index of the head control frame at `q` and the three factors after
+    /// it, each cumulative basis function's third derivative contracted with
+    /// the velocity `v` (for [`poe_sdot_v_dq`]).
+    fn factors(&self, q: f64, v: f64) -> (usize, [PoeFactor; 3]) {
         let m = self.frames.len() as i64;
-        let u = q[0] / self.h;
+        let u = q / self.h;
         let s = u.floor();
         let t = u - s;
         let s = (s as i64).rem_euclid(m);
         let idx = |k: i64| (s + k).rem_euclid(m) as usize;
         let (h, h2) = (self.h, self.h * self.h);
+        let h3 = h2 * h;
         let w = 1.0 - t;
-        // Cumulative basis values and their q-derivatives.
+        // Cumulative basis values and their first three q-derivatives.
         let b = [
-            [1.0 - w * w * w / 6.0, w * w / 2.0 / h, -w / h2],
+            [1.0 - w * w * w / 6.0, w * w / 2.0 / h, -w / h2, 1.0 / h3],
             [
                 (1.0 + 3.0 * t + 3.0 * t * t - 2.0 * t * t * t) / 6.0,
                 (1.0 + 2.0 * t - 2.0 * t * t) / 2.0 / h,
                 (1.0 - 2.0 * t) / h2,
+                -2.0 / h3,
             ],
-            [t * t * t / 6.0, t * t / 2.0 / h, t / h2],
+            [t * t * t / 6.0, t * t / 2.0 / h, t / h2, 1.0 / h3],
         ];
         let f: [PoeFactor; 3] = std::array::from_fn(|l| {
-            PoeFactor::of_coordinate(self.twists[idx(l as i64 - 2)], 0, b[l])
+            PoeFactor::of_coordinate3(self.twists[idx(l as i64 - 2)], 0, b[l], v)
         });
-        poe_kinematics(&self.frames[idx(-3)], &f, None, 1, want, out);
+        (idx(-3), f)
     }
 }
 

@@ -5,7 +5,7 @@
 //! basis twists to keep them outside the joint limits.
 
 use super::error::{JointSpecError, jerr};
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use crate::lie::{Se3, Twist};
 use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
 use crate::spline::TensorSpline;
@@ -78,6 +78,21 @@ impl Joint for SplineJoint {
         self.n
     }
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
+        poe_kinematics(&self.head, &self.factors(q, None), None, self.n, want, out);
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        poe_sdot_v_dq(&self.factors(q, Some(v)), None, self.n, v, out);
+        true
+    }
+    fn limits(&self) -> Vec<Limit> {
+        vec![Limit::NONE; self.n]
+    }
+}
+
+impl SplineJoint {
+    /// The six factors at `q`; with `v`, each also carries its third
+    /// derivative contracted with the velocity (for [`poe_sdot_v_dq`]).
+    fn factors(&self, q: &[f64], v: Option<&[f64]>) -> [PoeFactor; 6] {
         let mut f = [PoeFactor::new(Twist::zeros(), 0.0); 6];
         for (k, fk) in f.iter_mut().enumerate() {
             let e = self.phis[k].eval(q);
@@ -88,10 +103,10 @@ impl Joint for SplineJoint {
                     fk.ddphi[i][j] = e.hess[i][j];
                 }
             }
+            if let Some(v) = v {
+                fk.dddphi_vv = self.phis[k].third_vv(q, v);
+            }
         }
-        poe_kinematics(&self.head, &f, None, self.n, want, out);
-    }
-    fn limits(&self) -> Vec<Limit> {
-        vec![Limit::NONE; self.n]
+        f
     }
 }

@@ -193,6 +193,9 @@ impl Joint for SplineSurfaceJoint {
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
         self.inner.kinematics(q, want, out)
     }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        self.inner.sdot_v_dq(q, v, out)
+    }
     fn limits(&self) -> Vec<Limit> {
         self.limits.clone()
     }

@@ -4,9 +4,9 @@
 //! the product-of-exponentials recursion.
 
 use super::error::{JointSpecError, jerr, unit};
-use super::poe::{PoeFactor, poe_kinematics};
+use super::poe::{PoeFactor, poe_kinematics, poe_sdot_v_dq};
 use crate::lie::{Se3, Twist};
-use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit};
+use crate::model::joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
 use nalgebra::Vector3;
 
 #[derive(Clone, Debug)]
@@ -32,6 +32,13 @@ impl Universal {
         self.limits = [l0, l1];
         self
     }
+
+    fn factors(&self, q: &[f64]) -> [PoeFactor; 2] {
+        [
+            PoeFactor::of_coordinate(rot_twist(&self.axes[0]), 0, [q[0], 1.0, 0.0]),
+            PoeFactor::of_coordinate(rot_twist(&self.axes[1]), 1, [q[1], 1.0, 0.0]),
+        ]
+    }
 }
 
 pub(crate) fn rot_twist(a: &Vector3<f64>) -> Twist {
@@ -46,11 +53,12 @@ impl Joint for Universal {
         2
     }
     fn kinematics(&self, q: &[f64], want: Derivatives, out: &mut JointKinematics) {
-        let f = [
-            PoeFactor::of_coordinate(rot_twist(&self.axes[0]), 0, [q[0], 1.0, 0.0]),
-            PoeFactor::of_coordinate(rot_twist(&self.axes[1]), 1, [q[1], 1.0, 0.0]),
-        ];
-        poe_kinematics(&Se3::identity(), &f, None, 2, want, out);
+        poe_kinematics(&Se3::identity(), &self.factors(q), None, 2, want, out);
+    }
+    fn sdot_v_dq(&self, q: &[f64], v: &[f64], out: &mut [Twist; MAX_JOINT_DOF]) -> bool {
+        // φ linear in q: no third-derivative term of its own.
+        poe_sdot_v_dq(&self.factors(q), None, 2, v, out);
+        true
     }
     fn limits(&self) -> Vec<Limit> {
         self.limits.to_vec()
