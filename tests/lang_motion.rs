@@ -119,3 +119,24 @@ fn prelude_helpers() {
         print(span(shift(a, 2)), duration(repeat(a, 4)), gaps(gap_between(a, b, 0.5)), span(stretch(shift(a, 1), 3)))");
     assert_eq!(out, "[2, 3] 4 [{dof: \"x\", start: 1, stop: 1.5}] [1, 4]\n");
 }
+
+#[test]
+fn a_failing_function_of_time_names_the_dof_and_the_time() {
+    // `y` fails past t = 1 (1 / 0 is an error in mx); `x` is fine.
+    let src = "fn bad(t) = if t < 1 { t } else { 1 / 0 }\n\
+               let m = mu({x: interval(1, 0, 2), \"Hips.Yrotation\": interval(bad, 0, 2)})\n";
+    let dir = tempfile::tempdir().unwrap();
+    for (call, t) in [
+        ("sample(m, 1.5)", "1.5"),
+        ("save(m, \"out.csv\", rate: 4)", "1"),
+    ] {
+        let mut mx = Interpreter::new();
+        mx.capture_output();
+        mx.set_file_root(Some(dir.path().to_path_buf()));
+        let e = mx.eval_str(&format!("{src}{call}")).unwrap_err();
+        let msg = e.render_plain();
+        assert!(msg.contains("DOF 'Hips.Yrotation'"), "{call}: {msg}");
+        assert!(msg.contains(&format!("t = {t}")), "{call}: {msg}");
+        assert!(msg.contains("division by zero"), "{call}: {msg}");
+    }
+}
