@@ -923,6 +923,25 @@ mod tests {
     }
 
     #[test]
+    fn long_runs_of_whitespace_and_prefixes_parse() {
+        // Whitespace, newlines, comments and prefix operators are loops in
+        // the grammar, not recursion: long runs need no deep stack.
+        let n = 200_000;
+        for src in [
+            format!("1{}+ 1", " ".repeat(n)),
+            format!("f(1,{}2)", "\n".repeat(n)),
+            format!("1{}+ 1", "/**/".repeat(n)),
+            format!("{}1", "- ".repeat(n)),
+        ] {
+            let prog = match parse_program(&src, 0) {
+                Ok(p) => p,
+                Err(e) => panic!("{}: {e}", &src[..20]),
+            };
+            assert_eq!(prog.stmts.len(), 1);
+        }
+    }
+
+    #[test]
     fn incomplete_input() {
         assert!(is_incomplete("f(1,"));
         assert!(is_incomplete("let a = [1,\n2"));
