@@ -5,6 +5,7 @@
 //! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `spacetime` → `io` → `report` → `lang`.
 //! Everything up to `io` is a library that knows nothing of the language.
 
+pub mod atomic_file;
 pub mod cancel;
 pub mod dynamics;
 pub mod fmt_num;

@@ -196,3 +196,23 @@ fn simulate_returns_a_motion_that_conserves_energy() {
         e.render_plain()
     );
 }
+
+#[test]
+fn a_scene_summary_counts_springs_in_the_singular_and_plural() {
+    // The repository's own double pendulum (no shared data needed).
+    let mut mx = Interpreter::new();
+    let buf = mx.capture_output();
+    let spring = "{a: \"world\", pa: [0.5, 0, -1.5], b: \"lower\", pb: [0, 0, -0.8], k: 40}";
+    let src = format!(
+        "let body = load(\"examples/data/double_pendulum.urdf\")\n\
+         print(scene(body, springs: [{spring}]))\n\
+         print(scene(body, springs: [{spring}, {spring}]))"
+    );
+    if let Err(d) = mx.eval_str(&src) {
+        panic!("{}", d.render_plain());
+    }
+    let out = String::from_utf8(buf.lock().unwrap().clone()).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].contains("(1 spring)"), "{out}");
+    assert!(lines[1].contains("(2 springs)"), "{out}");
+}

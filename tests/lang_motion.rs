@@ -119,3 +119,47 @@ fn prelude_helpers() {
         print(span(shift(a, 2)), duration(repeat(a, 4)), gaps(gap_between(a, b, 0.5)), span(stretch(shift(a, 1), 3)))");
     assert_eq!(out, "[2, 3] 4 [{dof: \"x\", start: 1, stop: 1.5}] [1, 4]\n");
 }
+
+#[test]
+fn a_failing_function_of_time_names_the_dof_and_the_time() {
+    // `y` fails past t = 1 (1 / 0 is an error in mx); `x` is fine.
+    let src = "fn bad(t) = if t < 1 { t } else { 1 / 0 }\n\
+               let m = mu({x: interval(1, 0, 2), \"Hips.Yrotation\": interval(bad, 0, 2)})\n";
+    let dir = tempfile::tempdir().unwrap();
+    for (call, t) in [
+        ("sample(m, 1.5)", "1.5"),
+        ("save(m, \"out.csv\", rate: 4)", "1"),
+    ] {
+        let mut mx = Interpreter::new();
+        mx.capture_output();
+        mx.set_file_root(Some(dir.path().to_path_buf()));
+        let e = mx.eval_str(&format!("{src}{call}")).unwrap_err();
+        let msg = e.render_plain();
+        assert!(msg.contains("DOF 'Hips.Yrotation'"), "{call}: {msg}");
+        assert!(msg.contains(&format!("t = {t}")), "{call}: {msg}");
+        assert!(msg.contains("division by zero"), "{call}: {msg}");
+    }
+}
+
+#[test]
+fn negative_zero_is_written_as_minus_zero_everywhere_and_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut mx = Interpreter::new();
+    let out = mx.capture_output();
+    mx.set_file_root(Some(dir.path().to_path_buf()));
+    let src = "let m = mu({x: interval(-0.0, 0, 1)})\n\
+               print(-0.0, sample(m, 0.5).x, -0 == 0, [-0], {a: -0})\n\
+               save(m, \"z.csv\", rate: 2)\n\
+               save(m, \"z.json\")\n\
+               print(sample(load(\"z.json\"), 0.5).x, sample(load(\"z.csv\"), 0.5).x)";
+    if let Err(d) = mx.eval_str(src) {
+        panic!("{}", d.render_plain());
+    }
+    let printed = String::from_utf8(out.lock().unwrap().clone()).unwrap();
+    let lines: Vec<&str> = printed.lines().collect();
+    assert_eq!(lines[0], "-0 -0 true [-0] {a: -0}");
+    // JSON and CSV both keep the sign bit: the round trips are exact.
+    assert_eq!(lines[1], "-0 -0");
+    let csv = std::fs::read_to_string(dir.path().join("z.csv")).unwrap();
+    assert_eq!(csv, "t,x\n0,-0\n0.5,-0\n1,-0\n");
+}

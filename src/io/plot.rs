@@ -170,7 +170,7 @@ pub fn svg(series: &[Series], title: &str, width: u32, height: u32) -> Result<St
 /// Writes the plot to `path` as SVG.
 pub fn write_svg(series: &[Series], title: &str, path: &Path) -> Result<(), PlotError> {
     let text = svg(series, title, 960, 540)?;
-    std::fs::write(path, text).map_err(|source| PlotError::Io {
+    crate::atomic_file::write(path, text.as_bytes()).map_err(|source| PlotError::Io {
         path: path.to_path_buf(),
         source,
     })

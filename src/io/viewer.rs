@@ -135,7 +135,7 @@ pub fn html(data: &ViewerData) -> Result<String, ViewerError> {
 /// Writes the viewer to `path`.
 pub fn write_html(data: &ViewerData, path: &Path) -> Result<(), ViewerError> {
     let text = html(data)?;
-    std::fs::write(path, text).map_err(|source| ViewerError::Io {
+    crate::atomic_file::write(path, text.as_bytes()).map_err(|source| ViewerError::Io {
         path: path.to_path_buf(),
         source,
     })

@@ -253,6 +253,7 @@ fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> MxErr
                 matches!(
                     r,
                     Rule::call
+                        | Rule::postfix_start
                         | Rule::method
                         | Rule::field
                         | Rule::index
@@ -476,10 +477,17 @@ impl Builder<'_> {
                 let name = it.next().ok_or_else(|| internal(span))?;
                 let params = it.next().ok_or_else(|| internal(span))?;
                 let body = it.next().ok_or_else(|| internal(span))?;
+                let params = self.params(params)?;
+                let body = self.body(body)?;
+                // The pair also holds the whitespace after the body.
+                let span = Span {
+                    end: body.span.end,
+                    ..span
+                };
                 let def = FnDef {
                     name: Some(name.as_str().to_string()),
-                    params: self.params(params)?,
-                    body: self.body(body)?,
+                    params,
+                    body,
                     span,
                     text: self.text(span),
                 };
@@ -748,9 +756,7 @@ impl Builder<'_> {
             }
             Rule::block => return self.block(p),
             Rule::if_expr => {
-                let mut it = p
-                    .into_inner()
-                    .filter(|q| !matches!(q.as_rule(), Rule::kw_if | Rule::kw_else));
+                let mut it = p.into_inner().filter(|q| q.as_rule() != Rule::kw_else);
                 let cond = self.expr(it.next().ok_or_else(|| internal(span))?)?;
                 let then = self.block(it.next().ok_or_else(|| internal(span))?)?;
                 let els = match it.next() {
@@ -764,13 +770,21 @@ impl Builder<'_> {
                 let mut it = p.into_inner();
                 let params = self.params(it.next().ok_or_else(|| internal(span))?)?;
                 let body = self.body(it.next().ok_or_else(|| internal(span))?)?;
-                ExprKind::Lambda(Arc::new(FnDef {
-                    name: None,
-                    params,
-                    body,
+                // The pair also holds the whitespace after the body.
+                let span = Span {
+                    end: body.span.end,
+                    ..span
+                };
+                return Ok(Expr {
+                    kind: ExprKind::Lambda(Arc::new(FnDef {
+                        name: None,
+                        params,
+                        body,
+                        span,
+                        text: self.text(span),
+                    })),
                     span,
-                    text: self.text(span),
-                }))
+                });
             }
             Rule::expr => return self.expr(p),
             Rule::postfix_expr => return self.postfix(p),
@@ -906,6 +920,25 @@ mod tests {
         }
         let src = format!("{}1", "-".repeat(5000));
         let _ = parse_program(&src, 0);
+    }
+
+    #[test]
+    fn long_runs_of_whitespace_and_prefixes_parse() {
+        // Whitespace, newlines, comments and prefix operators are loops in
+        // the grammar, not recursion: long runs need no deep stack.
+        let n = 200_000;
+        for src in [
+            format!("1{}+ 1", " ".repeat(n)),
+            format!("f(1,{}2)", "\n".repeat(n)),
+            format!("1{}+ 1", "/**/".repeat(n)),
+            format!("{}1", "- ".repeat(n)),
+        ] {
+            let prog = match parse_program(&src, 0) {
+                Ok(p) => p,
+                Err(e) => panic!("{}: {e}", &src[..20]),
+            };
+            assert_eq!(prog.stmts.len(), 1);
+        }
     }
 
     #[test]

@@ -115,8 +115,13 @@ fn call(f: &dyn TimeFunction, t: f64) -> Result<f64, MotionError> {
         Ok(v) => Err(MotionError::Function {
             t,
             message: format!("returned {v}, not a finite number"),
+            dof: None,
         }),
-        Err(message) => Err(MotionError::Function { t, message }),
+        Err(message) => Err(MotionError::Function {
+            t,
+            message,
+            dof: None,
+        }),
     }
 }
 

@@ -90,9 +90,17 @@ pub enum MotionError {
     #[error("pattern '{pattern}' matches no DOF of the motion (it has: {available})")]
     NoMatch { pattern: String, available: String },
 
-    /// A function of time failed or returned a non-finite value.
-    #[error("function of time failed at t = {t}: {message}")]
-    Function { t: f64, message: String },
+    /// A function of time failed or returned a non-finite value. `dof` names
+    /// the DOF being sampled when the failure happened while sampling one.
+    #[error(
+        "function of time failed {}at t = {t}: {message}",
+        dof.as_ref().map(|d| format!("for DOF '{d}' ")).unwrap_or_default()
+    )]
+    Function {
+        t: f64,
+        message: String,
+        dof: Option<String>,
+    },
 
     /// Sampled data evaluated outside the times it covers.
     #[error(

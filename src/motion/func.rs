@@ -41,14 +41,25 @@ impl Func {
     pub fn eval(&self, t: f64) -> Result<[f64; 3], MotionError> {
         let [v, d, dd] = self.curve.eval(self.local_time(t))?;
         Ok([
-            v + self.offset,
+            self.offset_value(v),
             d / self.scale,
             dd / (self.scale * self.scale),
         ])
     }
 
     pub fn value(&self, t: f64) -> Result<f64, MotionError> {
-        Ok(self.curve.value(self.local_time(t))? + self.offset)
+        Ok(self.offset_value(self.curve.value(self.local_time(t))?))
+    }
+
+    /// `v + offset`, except that no offset leaves `v` as it is: −0 + 0 would
+    /// be +0, and a curve's −0 should sample (and print) as −0.
+    #[inline]
+    fn offset_value(&self, v: f64) -> f64 {
+        if self.offset == 0.0 {
+            v
+        } else {
+            v + self.offset
+        }
     }
 
     /// The same function after time t ↦ ts + d·t: the new function at the

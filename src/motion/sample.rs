@@ -58,7 +58,9 @@ impl Dof {
         check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
-            Located::Single(i) => Ok(Some(i.first_func()?.eval(t)?)),
+            Located::Single(i) => Ok(Some(
+                i.first_func()?.eval(t).map_err(|e| of_dof(e, dof_name))?,
+            )),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
     }
@@ -80,7 +82,9 @@ impl Dof {
             }
             out.push(match self.locate_from(k, t) {
                 Located::Undefined => None,
-                Located::Single(i) => Some(i.first_func()?.value(t)?),
+                Located::Single(i) => {
+                    Some(i.first_func()?.value(t).map_err(|e| of_dof(e, dof_name))?)
+                }
                 Located::Conflict(i) => return Err(conflict(dof_name, i, t)),
             });
         }
@@ -92,9 +96,28 @@ impl Dof {
         check_time(t)?;
         match self.locate(t) {
             Located::Undefined => Ok(None),
-            Located::Single(i) => Ok(Some(i.first_func()?.value(t)?)),
+            Located::Single(i) => Ok(Some(
+                i.first_func()?.value(t).map_err(|e| of_dof(e, dof_name))?,
+            )),
             Located::Conflict(i) => Err(conflict(dof_name, i, t)),
         }
+    }
+}
+
+/// A failing function of time names the DOF it was sampled for (the curve
+/// itself does not know which DOF holds it).
+fn of_dof(e: MotionError, dof_name: &str) -> MotionError {
+    match e {
+        MotionError::Function {
+            t,
+            message,
+            dof: None,
+        } => MotionError::Function {
+            t,
+            message,
+            dof: Some(dof_name.to_string()),
+        },
+        other => other,
     }
 }
 

@@ -28,6 +28,15 @@ pub struct SceneValue {
     pub scene: Scene,
 }
 
+/// `1 spring`, `2 springs`: the plural only when the count is not one.
+fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 impl HostObject for SceneValue {
     fn type_name(&self) -> &'static str {
         "Scene"
@@ -42,10 +51,10 @@ impl HostObject for SceneValue {
             fx.push("damping".into());
         }
         if !s.springs.is_empty() {
-            fx.push(format!("{} springs", s.springs.len()));
+            fx.push(count(s.springs.len(), "spring"));
         }
         if !s.forces.is_empty() {
-            fx.push(format!("{} forces", s.forces.len()));
+            fx.push(count(s.forces.len(), "force"));
         }
         if s.limits.is_some() {
             fx.push("joint limits".into());

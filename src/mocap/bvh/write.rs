@@ -7,10 +7,10 @@ use crate::fmt_num::Shortest;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Writes `file` to `path`.
+/// Writes `file` to `path` atomically (a reader never sees half a file).
 pub fn write_file(file: &BvhFile, path: &Path) -> Result<(), BvhError> {
     let text = to_string(file)?;
-    std::fs::write(path, text).map_err(|source| BvhError::Io {
+    crate::atomic_file::write(path, text.as_bytes()).map_err(|source| BvhError::Io {
         path: path.to_path_buf(),
         source,
     })
@@ -113,4 +113,29 @@ fn write_joint(s: &Skeleton, i: usize, depth: usize, out: &mut String) {
         );
     }
     let _ = writeln!(out, "{ind}}}");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CLIP: &str = "HIERARCHY\nROOT Hips\n{\n\tOFFSET 0 0 0\n\tCHANNELS 3 Xposition Yposition Zposition\n\tEnd Site\n\t{\n\t\tOFFSET 0 1 0\n\t}\n}\nMOTION\nFrames: 1\nFrame Time: 0.04\n1 2 3\n";
+
+    #[test]
+    fn write_file_replaces_atomically_and_leaves_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("clip.bvh");
+        std::fs::write(&p, "old").unwrap();
+        let file = super::super::parse(CLIP).unwrap();
+        write_file(&file, &p).unwrap();
+        assert_eq!(super::super::read_file(&p).unwrap().values, file.values);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+        // A folder where the file should go: the write fails, naming the
+        // path, and leaves nothing behind.
+        let blocked = dir.path().join("blocked.bvh");
+        std::fs::create_dir(&blocked).unwrap();
+        let e = write_file(&file, &blocked).unwrap_err();
+        assert!(e.to_string().contains("blocked.bvh"), "{e}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+    }
 }
