@@ -44,7 +44,7 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
     let case = fig8::case(&model, walk, t0, t1).map_err(|e| e.to_string())?;
     let n_gap = case.gaps.len();
     let d = TransitionSettings::default();
-    let (coefs, samples, tols): (Vec<usize>, Vec<usize>, Vec<f64>) = if smoke {
+    let (mut coefs, mut samples, mut tols): (Vec<usize>, Vec<usize>, Vec<f64>) = if smoke {
         (
             vec![3, d.coefficients],
             vec![d.samples],
@@ -52,11 +52,18 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
         )
     } else {
         (
-            vec![3, 5, d.coefficients, 12, 20],
-            vec![10, d.samples, 40, 80],
-            vec![1e-2, default_tolerance(), 1e-4],
+            // the grid, plus the defaults wherever they sit
+            vec![3, 5, 8, 12, 20, d.coefficients],
+            vec![10, 20, 40, 80, d.samples],
+            vec![1e-2, 1e-3, 1e-4, default_tolerance()],
         )
     };
+    coefs.sort_unstable();
+    coefs.dedup();
+    samples.sort_unstable();
+    samples.dedup();
+    tols.sort_by(|a, b| b.total_cmp(a));
+    tols.dedup();
     let fine_samples = if smoke { 40 } else { 200 };
     let mut rows = Vec::new();
     for &m in &coefs {
