@@ -325,15 +325,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     /// The starting point: every gap DOF's free coefficients fitted to the
     /// Hermite curve (cubic for C¹ — exactly representable — quintic for C²).
     pub fn hermite_start(&self) -> Vec<f64> {
-        let mut x = Vec::with_capacity(self.n_vars());
-        for (d, c) in self.dofs.iter().zip(&self.curves) {
-            let f = |t: f64| match c.continuity() {
-                Continuity::C1 => super::hermite::cubic(d.t0, d.t1, &d.start, &d.end, t)[0],
-                Continuity::C2 => super::hermite::quintic(d.t0, d.t1, &d.start, &d.end, t)[0],
-            };
-            x.extend(c.fit_free(&d.start, &d.end, f));
-        }
-        x
+        hermite_free_coefficients(&self.dofs, &self.curves)
     }
 
     /// Set the q, q̇, q̈ of node k from x into the scratch vectors.
@@ -571,6 +563,21 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
         full_coefficients(&self.dofs, &self.curves, self.n_free, x)
     }
+}
+
+/// The free coefficients of every gap DOF fitted to its Hermite curve (cubic
+/// for C¹ — exactly representable — quintic for C²), DOF after DOF: the
+/// starting point of the torque objective and of the support IK.
+pub(crate) fn hermite_free_coefficients(dofs: &[GapDof], curves: &[TransitionCurve]) -> Vec<f64> {
+    let mut x = vec![];
+    for (d, c) in dofs.iter().zip(curves) {
+        let f = |t: f64| match c.continuity() {
+            Continuity::C1 => super::hermite::cubic(d.t0, d.t1, &d.start, &d.end, t)[0],
+            Continuity::C2 => super::hermite::quintic(d.t0, d.t1, &d.start, &d.end, t)[0],
+        };
+        x.extend(c.fit_free(&d.start, &d.end, f));
+    }
+    x
 }
 
 /// Full coefficient vectors of gap DOFs whose free coefficients are laid out

@@ -26,8 +26,8 @@
 //! spacetime solve of the remaining ones.
 
 use super::error::{SpError, invalid};
-use super::objective::{GapDof, TransitionSettings, composite_nodes};
-use super::transition::{Continuity, TransitionCurve};
+use super::objective::{GapDof, TransitionSettings, composite_nodes, hermite_free_coefficients};
+use super::transition::TransitionCurve;
 use crate::cancel::CancelToken;
 use crate::lie::Se3;
 use crate::model::{Derivatives, JointKinematics, Model};
@@ -315,15 +315,7 @@ impl<'a> SupportObjective<'a> {
 
     /// The starting point: the Hermite curves (as the spacetime solve's).
     pub fn hermite_start(&self) -> Vec<f64> {
-        let mut x = Vec::with_capacity(self.n_vars());
-        for (d, c) in self.dofs.iter().zip(&self.curves) {
-            let f = |t: f64| match c.continuity() {
-                Continuity::C1 => super::hermite::cubic(d.t0, d.t1, &d.start, &d.end, t)[0],
-                Continuity::C2 => super::hermite::quintic(d.t0, d.t1, &d.start, &d.end, t)[0],
-            };
-            x.extend(c.fit_free(&d.start, &d.end, f));
-        }
-        x
+        hermite_free_coefficients(&self.dofs, &self.curves)
     }
 
     /// q at node k for free coefficients x.
