@@ -205,11 +205,11 @@ fn bandai(name_part: &str) -> Option<PathBuf> {
     )
 }
 
-/// Runs `src` with `$a`, `$b` replaced by the clips' paths; checks the transitions of `filled`.
-fn bandai_composite(a: &str, b: &str, src: &str) {
-    let (Some(pa), Some(pb)) = (bandai(a), bandai(b)) else {
-        return;
-    };
+/// Runs `src` with `$a`, `$b` replaced by the paths of the Bandai clips
+/// named `a` and `b`: the interpreter and what the script printed (None
+/// without the shared data, outside CI).
+fn run_bandai(a: &str, b: &str, src: &str) -> Option<(Interpreter, String)> {
+    let (pa, pb) = (bandai(a)?, bandai(b)?);
     let mut mx = Interpreter::new();
     let out = mx.capture_output();
     let src = src
@@ -220,6 +220,14 @@ fn bandai_composite(a: &str, b: &str, src: &str) {
     }
     let text = String::from_utf8(out.lock().unwrap().clone()).unwrap();
     print!("{text}");
+    Some((mx, text))
+}
+
+/// Runs `src` (see [`run_bandai`]); checks the transitions of `filled`.
+fn bandai_composite(a: &str, b: &str, src: &str) {
+    let Some((mx, text)) = run_bandai(a, b, src) else {
+        return;
+    };
     let filled = mu(&mx.get("filled").unwrap());
     assert!(mx::motion::gaps(&filled).is_empty());
     let [jq, jv, _] = jumps(&filled);
@@ -505,25 +513,16 @@ fn the_report_reads_like_a_record_and_prints_as_text() {
 /// the gap is translated to continue from where that path ends.
 #[test]
 fn bandai_walk_to_run_root_is_the_hips() {
-    let (Some(pa), Some(pb)) = (bandai("1_walk_normal"), bandai("1_run_normal")) else {
-        return;
-    };
-    let mut mx = Interpreter::new();
-    let out = mx.capture_output();
     let src = format!(
         "{BANDAI_PRELUDE}
 let gapped = with_fixed(gap_between(clip(0s, 1s, moving(a)), clip(0s, 0.6s, moving(b)), 0.4s))
 let filled = SP(gapped, body: body, coefficients: 3, samples: 8)
 print(sp_report(filled))
 "
-    )
-    .replace("$a", &pa.to_string_lossy())
-    .replace("$b", &pb.to_string_lossy());
-    if let Err(d) = mx.eval_str(&src) {
-        panic!("{}", d.render_plain());
-    }
-    let text = String::from_utf8(out.lock().unwrap().clone()).unwrap();
-    print!("{text}");
+    );
+    let Some((mx, text)) = run_bandai("1_walk_normal", "1_run_normal", &src) else {
+        return;
+    };
     let root_line = text
         .lines()
         .find(|l| l.starts_with("root over"))
