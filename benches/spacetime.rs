@@ -162,13 +162,32 @@ fn table(title: &str, case: &Case) {
         }
     }
     let best = rows.iter().map(|r| r.3).fold(f64::INFINITY, f64::min);
+    // The landscape has several local minima (human44): a row may land below
+    // the converged run from the Hermite start; the optimum quoted is the
+    // lowest energy known for the coefficient count.
+    let optimum: Vec<f64> = coefs
+        .iter()
+        .zip(&optimum)
+        .map(|(&n, &o)| {
+            rows.iter()
+                .filter(|r| r.0 == n)
+                .map(|r| r.3)
+                .fold(o, f64::min)
+        })
+        .collect();
+    for r in &mut rows {
+        r.4 = optimum[coefs
+            .iter()
+            .position(|&n| n == r.0)
+            .expect("row of the grid")];
+    }
     println!(
         "{title}: {} joint DOFs, ∫Στ² dt re-measured with 200 Gauss points; load average {}",
         case.gaps.len(),
         load_average()
     );
     println!(
-        "converged optimum per coefficient count (80 samples, tolerance 1e-6): {}",
+        "optimum per coefficient count (the lower of a run converged from the Hermite start at 80 samples, tolerance 1e-6, and the table's rows): {}",
         coefs
             .iter()
             .zip(&optimum)
@@ -194,6 +213,20 @@ fn table(title: &str, case: &Case) {
             report.evaluations,
             t * 1e3,
             report.stop
+        );
+    }
+    // the goal, stated against this run
+    if let Some((.., e, _, _, t)) = rows
+        .iter()
+        .find(|r| r.0 == default.coefficients && r.1 == default.samples)
+    {
+        let verdict = |ok: bool| if ok { "met" } else { "not met" };
+        let gap = 100.0 * (e - best) / best;
+        println!(
+            "goal: default settings in ≤ 50 ms: {:.1} ms, {}; within 1 % of the table's best: {gap:.2} %, {}",
+            t * 1e3,
+            verdict(*t <= 0.050),
+            verdict(gap <= 1.0)
         );
     }
     println!();
