@@ -139,7 +139,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                      re-made as Rose-et-al. transitions minimising Σ τ² (the root is an input), the paper's Fig. 8 \
                      case (`spacetime::fig8`, the same case `cargo bench --bench spacetime` measures). The knobs are \
                      the free B-spline coefficients per DOF (`coefficients:`), the Gauss points of the torque \
-                     quadrature (`samples:`, at least 6 per B-spline piece) and the solver's tolerance (`tolerance:`: stop when a round of 25 iterations lowers the energy by less than this fraction). Each solution's energy is \
+                     quadrature (`samples:`, at least 6 per B-spline piece) and the solver's tolerance (`tolerance:`: stop when the last 25 iterations lowered the energy by less than this fraction). Each solution's energy is \
                      re-measured with one fine quadrature so the settings compare on the same scale (a coarse \
                      quadrature can hide torque between its nodes); the gap is to the best of the table. The \
                      default ({} coefficients, {} samples, tolerance {:.0e}) is ringed. Fewer coefficients or \

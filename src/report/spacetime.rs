@@ -10,7 +10,7 @@ use crate::spacetime::{Continuity, SolveOptions, TransitionSettings, fig8, solve
 pub struct Row {
     pub coefficients: usize,
     pub samples: usize,
-    /// The solver's stopping tolerance (energy progress per round).
+    /// The solver's stopping tolerance (relative energy progress over the last 25 iterations).
     pub tolerance: f64,
     pub n_vars: usize,
     pub iterations: u64,
