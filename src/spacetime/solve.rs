@@ -545,15 +545,17 @@ mod tests {
         assert!(e_big.report.energy <= e_small.report.energy * (1.0 + 1e-9));
     }
 
+    /// Many coefficients, densely sampled: a problem that takes dozens of iterations.
+    const FINE: TransitionSettings = TransitionSettings {
+        coefficients: 30,
+        samples: 90,
+        continuity: Continuity::C1,
+    };
+
     #[test]
     fn relinearising_restarts_still_descend_to_a_stationary_point() {
         let arm = TwoLinkArm::default();
-        let settings = TransitionSettings {
-            coefficients: 30,
-            samples: 90,
-            continuity: Continuity::C1,
-        };
-        let obj = arm_problem(&arm, &settings, 0.8);
+        let obj = arm_problem(&arm, &FINE, 0.8);
         let plain = solve_group(&obj, &SolveOptions::default()).unwrap().report;
         let opts = SolveOptions {
             relinearise_every: 5,
@@ -572,12 +574,7 @@ mod tests {
     #[test]
     fn stalled_progress_ends_the_solve_inside_a_round() {
         let arm = TwoLinkArm::default();
-        let settings = TransitionSettings {
-            coefficients: 30,
-            samples: 90,
-            continuity: Continuity::C1,
-        };
-        let obj = arm_problem(&arm, &settings, 0.8);
+        let obj = arm_problem(&arm, &FINE, 0.8);
         let opts = SolveOptions {
             relinearise_every: 1000,
             stall_window: 5,
