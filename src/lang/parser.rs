@@ -527,10 +527,18 @@ impl Builder<'_> {
             _ => return self.primary(p),
         }
         let span = self.span(&p);
+        let items = p.into_inner();
+        // Most expressions are a single operand: no stacks needed.
+        let mut single = items.clone();
+        if let (Some(q), None) = (single.next(), single.next())
+            && q.as_rule() == Rule::postfix_expr
+        {
+            return self.postfix(q);
+        }
         let mut operands: Vec<Expr> = Vec::new();
         let mut pending: Vec<(BinOp, u8)> = Vec::new();
         let mut prefixes: Vec<Pair<Rule>> = Vec::new();
-        for q in p.into_inner() {
+        for q in items {
             match q.as_rule() {
                 Rule::neg | Rule::not => prefixes.push(q),
                 Rule::postfix_expr => {
