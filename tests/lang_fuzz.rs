@@ -273,3 +273,23 @@ fn deep_and_long_scripts_never_abort() {
         }
     }
 }
+
+/// miette pads to the error's column with a format width, which panics past
+/// 65,535: errors far right on a long line are rendered by location.
+#[test]
+fn errors_far_right_on_a_long_line_render() {
+    let mut mx = Interpreter::new();
+    mx.capture_output();
+    for (src, at) in [
+        (format!("{}$", "1 + ".repeat(30_000)), "wide.mx:1:120001"),
+        (
+            format!("{}{}", "x + ".repeat(30_000), "(".repeat(2000)),
+            "wide.mx:1:121001",
+        ),
+    ] {
+        let d = mx.eval_named("wide.mx", &src).unwrap_err();
+        let text = d.render_plain();
+        assert!(text.contains(at), "{text}");
+        assert!(d.render(true).contains("line too long to show"));
+    }
+}
