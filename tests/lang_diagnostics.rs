@@ -41,6 +41,14 @@ case!(user_function_arity, "fn f(t) = t\nf(1, 2)");
 case!(division_by_zero, "let a = 3\nlet b = a - 3\nprint(a / b)");
 case!(recursion_too_deep, "fn down(n) = down(n + 1)\ndown(0)");
 case!(
+    nesting_too_deep_brackets,
+    format!("let x = {}1", "[\n".repeat(100_000))
+);
+case!(
+    nesting_too_deep_lambdas,
+    format!("let f = {}x", "fn(x) =\n".repeat(100_000))
+);
+case!(
     step_budget,
     "fn count(n) = if n > 0 { count(n - 1) } else { 0 }\nmap(range(1000), fn(i) = count(100))"
 );

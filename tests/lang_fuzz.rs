@@ -223,3 +223,73 @@ fn ten_thousand_scripts_never_panic_or_hang() {
     // Both paths are exercised: some scripts run, many fail cleanly.
     assert!(ok > 100 && errors > 100, "ok {ok}, errors {errors}");
 }
+
+/// Pathologically deep or long scripts, through the whole interpreter (check,
+/// evaluation, rendering the diagnostic, dropping the tree) on the test
+/// harness's thread: nesting beyond the limit is refused with a diagnostic,
+/// long chains of operators and `else if` run. None may abort the process.
+#[test]
+fn deep_and_long_scripts_never_abort() {
+    let mut base = Interpreter::new();
+    base.capture_output();
+    let n = 100_000;
+    for src in [
+        format!("{}1{}", "(".repeat(n), ")".repeat(n)),
+        format!("[\n{}1", "[\n".repeat(n)),
+        format!("{}1", "{a: ".repeat(n)),
+        format!("let f = {}1", "fn(x) =\n".repeat(n)),
+        format!("if {}true{}", "if ".repeat(n), " { 1 }".repeat(n)),
+        format!("{}1", "if true { ".repeat(n)),
+    ] {
+        let mut mx = base.clone();
+        let _ = mx.check_named("deep.mx", &src);
+        let d = mx.eval_named("deep.mx", &src).unwrap_err();
+        assert!(d.error().message.contains("nesting too deep"), "{}", d);
+        let text = d.render_plain();
+        assert!(text.contains("too deep") && text.contains("help"), "{text}");
+    }
+    for (src, expect) in [
+        (format!("1{}", " + 1".repeat(n)), format!("{}", n + 1)),
+        (
+            format!("let x = 2\n{}x", "-".repeat(n + 1)),
+            "-2".to_string(),
+        ),
+        (format!("{}true", "not ".repeat(n)), "true".to_string()),
+        (
+            format!("let x = {n}\nif x == 0 {{ 0 }}{} else {{ -1 }}", {
+                (1..=n)
+                    .map(|i| format!(" else if x == {i} {{ {i} }}"))
+                    .collect::<String>()
+            }),
+            format!("{n}"),
+        ),
+    ] {
+        let mut mx = base.clone();
+        mx.check_named("long.mx", &src)
+            .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+        match mx.eval_named("long.mx", &src) {
+            Ok(v) => assert_eq!(v.repr(), expect),
+            Err(d) => panic!("{}", d.render_plain()),
+        }
+    }
+}
+
+/// miette pads to the error's column with a format width, which panics past
+/// 65,535: errors far right on a long line are rendered by location.
+#[test]
+fn errors_far_right_on_a_long_line_render() {
+    let mut mx = Interpreter::new();
+    mx.capture_output();
+    for (src, at) in [
+        (format!("{}$", "1 + ".repeat(30_000)), "wide.mx:1:120001"),
+        (
+            format!("{}{}", "x + ".repeat(30_000), "(".repeat(2000)),
+            "wide.mx:1:121001",
+        ),
+    ] {
+        let d = mx.eval_named("wide.mx", &src).unwrap_err();
+        let text = d.render_plain();
+        assert!(text.contains(at), "{text}");
+        assert!(d.render(true).contains("line too long to show"));
+    }
+}

@@ -95,6 +95,66 @@ pub struct Expr {
     pub span: Span,
 }
 
+/// Dropped iteratively: a chain of operators or calls (`a + b + …` with a
+/// million terms, `- - … x`, `f()()…`, a long `else if` chain) is as deep as
+/// it is long, and the derived recursive drop would overflow the stack.
+/// (Brackets, `if` and `fn` nest at most `MAX_NESTING` deep: the parser
+/// refuses more, so the `Vec` and `Block` children may drop recursively.)
+impl Drop for Expr {
+    fn drop(&mut self) {
+        let mut pending = Vec::new();
+        detach_chain(&mut self.kind, &mut pending);
+        while let Some(mut e) = pending.pop() {
+            detach_chain(&mut e.kind, &mut pending);
+        }
+    }
+}
+
+/// Move the boxed operands of `kind` that have boxed operands themselves
+/// into `out`, leaving leaves behind.
+fn detach_chain(kind: &mut ExprKind, out: &mut Vec<Expr>) {
+    let mut take = |e: &mut Box<Expr>| {
+        if has_chain(&e.kind) {
+            let leaf = ExprKind::Bool(false);
+            out.push(Expr {
+                kind: std::mem::replace(&mut e.kind, leaf),
+                span: e.span,
+            });
+        }
+    };
+    match kind {
+        ExprKind::Unary(_, a)
+        | ExprKind::Call(a, _)
+        | ExprKind::Method(a, ..)
+        | ExprKind::Field(a, ..) => take(a),
+        ExprKind::Binary(_, a, b) | ExprKind::Index(a, b) => {
+            take(a);
+            take(b);
+        }
+        ExprKind::If(c, t, e) => {
+            take(c);
+            take(t);
+            if let Some(e) = e {
+                take(e);
+            }
+        }
+        _ => {}
+    }
+}
+
+fn has_chain(kind: &ExprKind) -> bool {
+    matches!(
+        kind,
+        ExprKind::Unary(..)
+            | ExprKind::Call(..)
+            | ExprKind::Method(..)
+            | ExprKind::Field(..)
+            | ExprKind::Binary(..)
+            | ExprKind::Index(..)
+            | ExprKind::If(..)
+    )
+}
+
 /// A call argument: positional (`name == None`) or named (`rate: 30`).
 #[derive(Clone, Debug)]
 pub struct Arg {

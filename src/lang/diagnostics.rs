@@ -133,17 +133,27 @@ struct DiagnosticInner {
 impl Diagnostic {
     pub fn new(error: MxError, source: Option<&Source>) -> Self {
         let mut location = None;
-        let source = source.map(|s| {
+        let mut too_wide = false;
+        let source = source.and_then(|s| {
             if let Some(span) = error.span {
                 let (line, col) = line_col(&s.text, span.start as usize);
                 location = Some(format!("{}:{}:{}", s.name, line, col));
+                too_wide = col.max(line_col(&s.text, span.end as usize).1) > MAX_SNIPPET_COLUMN;
             }
-            NamedSource::new(s.name.clone(), s.text.clone())
+            // miette pads to the column with a format width, which panics
+            // beyond u16::MAX: such lines are named, not drawn.
+            (!too_wide).then(|| NamedSource::new(s.name.clone(), s.text.clone()))
         });
         Diagnostic(Box::new(DiagnosticInner {
             error,
             source,
-            location,
+            location: location.map(|l| {
+                if too_wide {
+                    format!("{l} (line too long to show)")
+                } else {
+                    l
+                }
+            }),
         }))
     }
     pub fn kind(&self) -> ErrorKind {
@@ -157,6 +167,12 @@ impl Diagnostic {
         self.0.location.as_deref()
     }
 
+    fn add_location_if_not_drawn(&self, out: &mut String) {
+        if let (None, Some(loc)) = (&self.0.source, &self.0.location) {
+            out.push_str(&format!("  at {loc}\n"));
+        }
+    }
+
     /// Render without colour or Unicode art: stable for logs and snapshots.
     pub fn render_plain(&self) -> String {
         let mut out = String::new();
@@ -167,6 +183,7 @@ impl Diagnostic {
         if handler.render_report(&mut out, self).is_err() {
             return format!("error: {}", self.0.error.message);
         }
+        self.add_location_if_not_drawn(&mut out);
         out
     }
 
@@ -184,9 +201,13 @@ impl Diagnostic {
         if handler.render_report(&mut out, self).is_err() {
             return format!("error: {}", self.0.error.message);
         }
+        self.add_location_if_not_drawn(&mut out);
         out
     }
 }
+
+/// Spans further right than this are reported by location only.
+const MAX_SNIPPET_COLUMN: usize = 10_000;
 
 /// 1-based line and column (in characters) of a byte offset.
 pub fn line_col(text: &str, offset: usize) -> (usize, usize) {

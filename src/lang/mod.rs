@@ -8,6 +8,7 @@ pub mod diagnostics;
 pub mod env;
 pub mod eval;
 pub mod interpreter;
+pub mod nesting;
 pub mod parser;
 pub mod resolve;
 pub mod timefn;

@@ -1,47 +1,52 @@
 //! Source text → AST. pest does the tokenising and structure
-//! (`grammar/mx.pest`); a Pratt parser applies operator precedence; syntax
+//! (`grammar/mx.pest`); an operator-precedence loop builds the operator
+//! trees; `nesting.rs` bounds pest's recursion before it runs; syntax
 //! errors become [`MxError`]s with the span pest reports and a help line.
 
-use std::sync::{Arc, LazyLock};
+use std::sync::Arc;
 
 use pest::Parser;
 use pest::iterators::Pair;
-use pest::pratt_parser::{Assoc, Op, PrattParser};
 use pest_derive::Parser;
 
 use super::ast::*;
 use super::diagnostics::{ErrorKind, MxError, MxResult};
+pub use super::nesting::MAX_NESTING;
+use super::nesting::check_nesting;
 
 #[derive(Parser)]
 #[grammar = "../grammar/mx.pest"]
 struct MxParser;
 
-/// Operator precedence, lowest first (documented in README.md):
+/// A binary operator and its precedence, lowest first (documented in README.md):
 /// `||` < `&&` < comparisons < `+ -` < `& ∧` < `* / %` < unary `- !` < postfix.
-static PRATT: LazyLock<PrattParser<Rule>> = LazyLock::new(|| {
-    PrattParser::new()
-        .op(Op::infix(Rule::or_op, Assoc::Left))
-        .op(Op::infix(Rule::and_op, Assoc::Left))
-        .op(Op::infix(Rule::eq, Assoc::Left)
-            | Op::infix(Rule::ne, Assoc::Left)
-            | Op::infix(Rule::lt, Assoc::Left)
-            | Op::infix(Rule::le, Assoc::Left)
-            | Op::infix(Rule::gt, Assoc::Left)
-            | Op::infix(Rule::ge, Assoc::Left))
-        .op(Op::infix(Rule::add, Assoc::Left) | Op::infix(Rule::sub, Assoc::Left))
-        .op(Op::infix(Rule::meet, Assoc::Left))
-        .op(Op::infix(Rule::mul, Assoc::Left)
-            | Op::infix(Rule::div, Assoc::Left)
-            | Op::infix(Rule::rem, Assoc::Left))
-        .op(Op::prefix(Rule::neg) | Op::prefix(Rule::not))
-});
+/// All binary operators are left-associative.
+fn binary_op(rule: Rule) -> Option<(BinOp, u8)> {
+    Some(match rule {
+        Rule::or_op => (BinOp::Or, 1),
+        Rule::and_op => (BinOp::And, 2),
+        Rule::eq => (BinOp::Eq, 3),
+        Rule::ne => (BinOp::Ne, 3),
+        Rule::lt => (BinOp::Lt, 3),
+        Rule::le => (BinOp::Le, 3),
+        Rule::gt => (BinOp::Gt, 3),
+        Rule::ge => (BinOp::Ge, 3),
+        Rule::add => (BinOp::Add, 4),
+        Rule::sub => (BinOp::Sub, 4),
+        Rule::meet => (BinOp::Meet, 5),
+        Rule::mul => (BinOp::Mul, 6),
+        Rule::div => (BinOp::Div, 6),
+        Rule::rem => (BinOp::Rem, 6),
+        _ => return None,
+    })
+}
 
 /// Parse a whole program from source `file`.
 pub fn parse_program(src: &str, file: SourceId) -> MxResult<Program> {
     check_nesting(src, file)?;
-    // pest and its Pratt parser recurse once per nesting level / prefix
-    // operator; run them on a generous stack (reserved, not committed) so
-    // deep input fits whatever thread we are on (test threads have 2 MB).
+    // pest recurses once per nesting level, which `check_nesting` bounds;
+    // run it on a stack of known size (reserved, not committed) so that
+    // bound fits whatever thread we are on (test threads have 2 MB).
     stacker::grow(PARSE_STACK, || parse_program_inner(src, file))
 }
 
@@ -61,45 +66,10 @@ fn parse_program_inner(src: &str, file: SourceId) -> MxResult<Program> {
     Ok(Program { stmts })
 }
 
-/// Brackets nested deeper than this are refused up front with a clear
-/// message (pest's own guard would report a confusing syntax error).
-pub const MAX_NESTING: usize = 1000;
+/// Reserved (not committed) for pest's recursion: [`MAX_NESTING`] levels of
+/// the deepest construct took under 1 MB (measured, release and dev), so
+/// the bound leaves a wide margin.
 const PARSE_STACK: usize = 256 * 1024 * 1024;
-
-fn check_nesting(src: &str, file: SourceId) -> MxResult<()> {
-    let mut depth = 0usize;
-    let mut in_str = false;
-    let mut escaped = false;
-    for (i, c) in src.char_indices() {
-        if in_str {
-            match (escaped, c) {
-                (true, _) => escaped = false,
-                (false, '\\') => escaped = true,
-                (false, '"') | (false, '\n') => in_str = false,
-                _ => {}
-            }
-            continue;
-        }
-        match c {
-            '"' => in_str = true,
-            '(' | '[' | '{' => {
-                depth += 1;
-                if depth > MAX_NESTING {
-                    return Err(MxError::new(
-                        ErrorKind::Syntax,
-                        format!("brackets nested more than {MAX_NESTING} deep"),
-                    )
-                    .at(Span::new(file, i, i + 1))
-                    .label("too deep")
-                    .help("split the expression with `let` bindings"));
-                }
-            }
-            ')' | ']' | '}' => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-    }
-    Ok(())
-}
 
 /// Parse a single expression (REPL `:type`, `mx eval`).
 pub fn parse_expr(src: &str, file: SourceId) -> MxResult<Expr> {
@@ -547,61 +517,75 @@ impl Builder<'_> {
         stacker::maybe_grow(64 * 1024, 1024 * 1024, || self.expr_inner(p))
     }
 
+    /// A flat chain `prefix* operand (infix prefix* operand)*` → a tree, by
+    /// operator precedence with explicit stacks: no recursion, so long
+    /// chains of operators (`- - - x`, `a + b + …`) need no deep stack.
     fn expr_inner(&self, p: Pair<Rule>) -> MxResult<Expr> {
         match p.as_rule() {
             Rule::expr => {}
             Rule::postfix_expr => return self.postfix(p),
             _ => return self.primary(p),
         }
-        let file = self.file;
-        PRATT
-            .map_primary(|q| self.postfix(q))
-            .map_prefix(|op, rhs| {
-                let rhs = rhs?;
-                let s = op.as_span();
-                let span = Span::new(file, s.start(), s.end()).to(rhs.span);
-                let op = if op.as_rule() == Rule::neg {
-                    UnOp::Neg
-                } else {
-                    UnOp::Not
-                };
-                // Fold `-2s` into a literal so it prints and compares as one.
-                if let (UnOp::Neg, ExprKind::Number(x)) = (op, &rhs.kind) {
-                    return Ok(Expr {
-                        kind: ExprKind::Number(-x),
-                        span,
-                    });
+        let span = self.span(&p);
+        let items = p.into_inner();
+        // Most expressions are a single operand: no stacks needed.
+        let mut single = items.clone();
+        if let (Some(q), None) = (single.next(), single.next())
+            && q.as_rule() == Rule::postfix_expr
+        {
+            return self.postfix(q);
+        }
+        let mut operands: Vec<Expr> = Vec::new();
+        let mut pending: Vec<(BinOp, u8)> = Vec::new();
+        let mut prefixes: Vec<Pair<Rule>> = Vec::new();
+        for q in items {
+            match q.as_rule() {
+                Rule::neg | Rule::not => prefixes.push(q),
+                Rule::postfix_expr => {
+                    let mut e = self.postfix(q)?;
+                    // The operator nearest the operand applies first.
+                    while let Some(op) = prefixes.pop() {
+                        e = self.unary(&op, e);
+                    }
+                    operands.push(e);
                 }
-                Ok(Expr {
-                    kind: ExprKind::Unary(op, Box::new(rhs)),
-                    span,
-                })
-            })
-            .map_infix(|lhs, op, rhs| {
-                let (lhs, rhs) = (lhs?, rhs?);
-                let op = match op.as_rule() {
-                    Rule::or_op => BinOp::Or,
-                    Rule::and_op => BinOp::And,
-                    Rule::eq => BinOp::Eq,
-                    Rule::ne => BinOp::Ne,
-                    Rule::lt => BinOp::Lt,
-                    Rule::le => BinOp::Le,
-                    Rule::gt => BinOp::Gt,
-                    Rule::ge => BinOp::Ge,
-                    Rule::add => BinOp::Add,
-                    Rule::sub => BinOp::Sub,
-                    Rule::meet => BinOp::Meet,
-                    Rule::mul => BinOp::Mul,
-                    Rule::div => BinOp::Div,
-                    _ => BinOp::Rem,
-                };
-                let span = lhs.span.to(rhs.span);
-                Ok(Expr {
-                    kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
-                    span,
-                })
-            })
-            .parse(p.into_inner())
+                rule => {
+                    let (op, prec) = binary_op(rule).ok_or_else(|| internal(span))?;
+                    while let Some(&(top, _)) = pending.last().filter(|(_, p)| *p >= prec) {
+                        pending.pop();
+                        reduce(&mut operands, top).ok_or_else(|| internal(span))?;
+                    }
+                    pending.push((op, prec));
+                }
+            }
+        }
+        while let Some((op, _)) = pending.pop() {
+            reduce(&mut operands, op).ok_or_else(|| internal(span))?;
+        }
+        match (operands.pop(), operands.is_empty()) {
+            (Some(e), true) => Ok(e),
+            _ => Err(internal(span)),
+        }
+    }
+
+    fn unary(&self, op: &Pair<Rule>, rhs: Expr) -> Expr {
+        let span = self.span(op).to(rhs.span);
+        let op = if op.as_rule() == Rule::neg {
+            UnOp::Neg
+        } else {
+            UnOp::Not
+        };
+        // Fold `-2s` into a literal so it prints and compares as one.
+        if let (UnOp::Neg, ExprKind::Number(x)) = (op, &rhs.kind) {
+            return Expr {
+                kind: ExprKind::Number(-x),
+                span,
+            };
+        }
+        Expr {
+            kind: ExprKind::Unary(op, Box::new(rhs)),
+            span,
+        }
     }
 
     fn args(&self, p: Pair<Rule>) -> MxResult<Vec<Arg>> {
@@ -676,6 +660,38 @@ impl Builder<'_> {
         Ok(e)
     }
 
+    /// `if c {…} else if c2 {…} … else {…}`. The grammar reads the `else if`
+    /// branches as a loop (so a long chain needs no deep stack); here they
+    /// become nested `If`s, each spanning from its `if` to the end of the chain.
+    fn if_chain(&self, p: Pair<Rule>, span: Span) -> MxResult<Expr> {
+        let mut starts = vec![span.start];
+        let mut branches: Vec<(Expr, Expr)> = Vec::new();
+        let mut cond = None;
+        let mut els = None;
+        for q in p.into_inner() {
+            match q.as_rule() {
+                Rule::kw_else => {}
+                Rule::kw_elif => starts.push(q.as_span().start() as u32),
+                Rule::expr => cond = Some(self.expr(q)?),
+                Rule::block => match cond.take() {
+                    Some(c) => branches.push((c, self.block(q)?)),
+                    None => els = Some(Box::new(self.block(q)?)),
+                },
+                _ => return Err(internal(span)),
+            }
+        }
+        if branches.is_empty() || starts.len() != branches.len() || cond.is_some() {
+            return Err(internal(span));
+        }
+        while let (Some((cond, then)), Some(start)) = (branches.pop(), starts.pop()) {
+            els = Some(Box::new(Expr {
+                kind: ExprKind::If(Box::new(cond), Box::new(then), els),
+                span: Span { start, ..span },
+            }));
+        }
+        els.map(|e| *e).ok_or_else(|| internal(span))
+    }
+
     fn primary(&self, p: Pair<Rule>) -> MxResult<Expr> {
         let span = self.span(&p);
         let kind = match p.as_rule() {
@@ -714,10 +730,9 @@ impl Builder<'_> {
             Rule::ident => ExprKind::Ident(p.as_str().to_string()),
             Rule::paren => {
                 let inner = p.into_inner().next().ok_or_else(|| internal(span))?;
-                return Ok(Expr {
-                    span,
-                    ..self.expr(inner)?
-                });
+                let mut e = self.expr(inner)?;
+                e.span = span;
+                return Ok(e);
             }
             Rule::list => ExprKind::List(
                 p.into_inner()
@@ -755,17 +770,7 @@ impl Builder<'_> {
                 ExprKind::Record(fields)
             }
             Rule::block => return self.block(p),
-            Rule::if_expr => {
-                let mut it = p.into_inner().filter(|q| q.as_rule() != Rule::kw_else);
-                let cond = self.expr(it.next().ok_or_else(|| internal(span))?)?;
-                let then = self.block(it.next().ok_or_else(|| internal(span))?)?;
-                let els = match it.next() {
-                    Some(q) if q.as_rule() == Rule::if_expr => Some(Box::new(self.primary(q)?)),
-                    Some(q) => Some(Box::new(self.block(q)?)),
-                    None => None,
-                };
-                ExprKind::If(Box::new(cond), Box::new(then), els)
-            }
+            Rule::if_expr => return self.if_chain(p, span),
             Rule::lambda => {
                 let mut it = p.into_inner();
                 let params = self.params(it.next().ok_or_else(|| internal(span))?)?;
@@ -796,6 +801,18 @@ impl Builder<'_> {
         };
         Ok(Expr { kind, span })
     }
+}
+
+/// Replace the top two operands by `a op b` (`None` if there are fewer).
+fn reduce(operands: &mut Vec<Expr>, op: BinOp) -> Option<()> {
+    let rhs = operands.pop()?;
+    let lhs = operands.pop()?;
+    let span = lhs.span.to(rhs.span);
+    operands.push(Expr {
+        kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
+        span,
+    });
+    Some(())
 }
 
 fn internal(span: Span) -> MxError {
@@ -906,20 +923,110 @@ mod tests {
         assert!(parse_program("{a: 1, a: 2}", 0).is_err());
     }
 
+    /// Runs on the test harness's thread (2 MB stack): deep input must give
+    /// the nesting diagnostic, not overflow the stack.
     #[test]
-    fn deep_nesting_does_not_overflow() {
-        let src = format!("{}1{}", "(".repeat(5000), ")".repeat(5000));
-        let e = parse_program(&src, 0).unwrap_err();
-        assert!(e.message.contains("nested"), "{}", e.message);
-        for n in [100, MAX_NESTING] {
-            let src = format!("{}1{}", "(".repeat(n), ")".repeat(n));
-            match parse_program(&src, 0) {
-                Ok(_) => {}
-                Err(e) => panic!("{n}: {e} {:?} {:?}", e.span, e.help),
+    fn deep_nesting_is_refused_with_a_diagnostic() {
+        let n = 100_000;
+        for src in [
+            format!("{}1{}", "(".repeat(n), ")".repeat(n)),
+            format!("{}1", "[".repeat(n)),
+            format!("{}1", "{a: ".repeat(n)),
+            format!("{}1", "{ ".repeat(n)),
+            format!("{}1", "f(".repeat(n)),
+            format!("let f = {}1", "fn(x) = ".repeat(n)),
+            format!("fn f(x = {}1) = x", "fn(y = ".repeat(n)),
+            format!("{}true{}", "if ".repeat(n), " { 1 }".repeat(n)),
+            format!("if a {{ {}1", "if b { ".repeat(n)),
+        ] {
+            let e = parse_program(&src, 0).unwrap_err();
+            assert!(e.message.contains("nesting too deep"), "{}", e.message);
+            let span = e.span.expect("a span");
+            assert!(span.start > 0 && (span.start as usize) < src.len() / 2);
+            assert!(e.help.is_some());
+        }
+    }
+
+    /// At the limit every recursive construct still parses (on the parse
+    /// stack, from the harness's 2 MB thread).
+    #[test]
+    fn nesting_up_to_the_limit_parses() {
+        let n = MAX_NESTING;
+        for src in [
+            format!("{}1{}", "(".repeat(n), ")".repeat(n)),
+            format!("{}1{}", "[".repeat(n), "]".repeat(n)),
+            format!("{}1{}", "{a: ".repeat(n), "}".repeat(n)),
+            format!("{}1{}", "f(".repeat(n), ")".repeat(n)),
+            // The last `fn`'s parameter list, the blocks after the last
+            // `if`, open one level more.
+            format!("{}1", "fn(x) = ".repeat(n - 1)),
+            format!("{}true{}", "if ".repeat(n - 1), " { 1 }".repeat(n - 1)),
+            format!("{}1{}", "if b { ".repeat(n / 2), " }".repeat(n / 2)),
+            format!(
+                "{}1{}",
+                "-[fn(x) = if x { ".repeat(n / 4),
+                " }]".repeat(n / 4)
+            ),
+        ] {
+            if let Err(e) = parse_program(&src, 0) {
+                panic!("{}: {e} {:?}", &src[..20], e.span);
             }
         }
-        let src = format!("{}1", "-".repeat(5000));
-        let _ = parse_program(&src, 0);
+    }
+
+    /// Chains of operators, calls and `else if` are loops in the grammar and
+    /// in the precedence parser, and the tree drops iteratively: they have
+    /// no depth limit.
+    #[test]
+    fn long_chains_parse_and_drop() {
+        let n = 1_000_000;
+        let chains = [
+            format!("{}x", "-".repeat(n)),
+            format!("{}x", "not ".repeat(n)),
+            format!("x{}", " + x".repeat(n)),
+            format!("x{}", " * -x".repeat(n)),
+            format!("f{}", "()".repeat(n)),
+            format!("r{}", ".a".repeat(n)),
+            format!(
+                "if a {{ 1 }}{} else {{ 3 }}",
+                " else if b { 2 }".repeat(n / 10)
+            ),
+        ];
+        for src in chains {
+            let prog = match parse_program(&src, 0) {
+                Ok(p) => p,
+                Err(e) => panic!("{}: {e}", &src[..20]),
+            };
+            assert_eq!(prog.stmts.len(), 1);
+        }
+    }
+
+    #[test]
+    fn else_if_chains_nest_from_each_if() {
+        let src = "if a { 1 } else if b { 2 } else if c { 3 } else { 4 }";
+        let [Stmt::Expr(e)] = &p(src).stmts[..] else {
+            panic!()
+        };
+        let mut node = e;
+        for (start, cond) in [(0, "a"), (16, "b"), (32, "c")] {
+            let ExprKind::If(c, _, Some(els)) = &node.kind else {
+                panic!("{node:?}")
+            };
+            assert_eq!(
+                (node.span.start, node.span.end as usize),
+                (start, src.len())
+            );
+            assert_eq!(show(c), cond);
+            node = els;
+        }
+        assert!(matches!(node.kind, ExprKind::Block(_)));
+        let [Stmt::Expr(e)] = &p("if a { 1 } else if b { 2 }").stmts[..] else {
+            panic!()
+        };
+        let ExprKind::If(_, _, Some(inner)) = &e.kind else {
+            panic!()
+        };
+        assert!(matches!(inner.kind, ExprKind::If(_, _, None)));
     }
 
     #[test]

@@ -152,6 +152,11 @@ fn note(name: &str, bound: &[HashSet<String>], free: &mut Vec<String>) {
 }
 
 fn free_in(e: &Expr, bound: &mut Vec<HashSet<String>>, free: &mut Vec<String>) {
+    // Operator chains make deep trees: grow the stack rather than overflow.
+    stacker::maybe_grow(64 * 1024, 1024 * 1024, || free_in_node(e, bound, free))
+}
+
+fn free_in_node(e: &Expr, bound: &mut Vec<HashSet<String>>, free: &mut Vec<String>) {
     match &e.kind {
         ExprKind::Number(_) | ExprKind::Str(_) | ExprKind::Bool(_) => {}
         ExprKind::Ident(n) => note(n, bound, free),
