@@ -993,11 +993,15 @@ mod tests {
             ),
         ];
         for src in chains {
-            let prog = match parse_program(&src, 0) {
-                Ok(p) => p,
-                Err(e) => panic!("{}: {e}", &src[..20]),
-            };
-            assert_eq!(prog.stmts.len(), 1);
+            assert_one_statement(&src);
+        }
+    }
+
+    /// `src` parses to exactly one statement (long inputs: the error names its start).
+    fn assert_one_statement(src: &str) {
+        match parse_program(src, 0) {
+            Ok(p) => assert_eq!(p.stmts.len(), 1),
+            Err(e) => panic!("{}: {e}", &src[..20.min(src.len())]),
         }
     }
 
@@ -1040,11 +1044,7 @@ mod tests {
             format!("1{}+ 1", "/**/".repeat(n)),
             format!("{}1", "- ".repeat(n)),
         ] {
-            let prog = match parse_program(&src, 0) {
-                Ok(p) => p,
-                Err(e) => panic!("{}: {e}", &src[..20]),
-            };
-            assert_eq!(prog.stmts.len(), 1);
+            assert_one_statement(&src);
         }
     }
 
