@@ -93,7 +93,7 @@ fn malformed_bvh_is_a_diagnostic_with_the_line() {
     let d = i.eval_str(&format!("load({})", quote(&bad))).unwrap_err();
     let text = d.render_plain();
     assert!(
-        text.contains("line 11") && text.contains("not a finite number"),
+        text.contains("line 11, column 1") && text.contains("`x` is not a number"),
         "{text}"
     );
 }

@@ -4,6 +4,7 @@
 mod common;
 
 use mx::lie::{Se3, Twist, exp_se3};
+use mx::model::Joint;
 use mx::model::joints::*;
 use mx::report::fit;
 use std::time::Instant;
@@ -194,4 +195,79 @@ fn fitting_rejects_bad_requests() {
     );
     // repeated q
     assert!(JointSamples::new(vec![0.0, 0.0], vec![Se3::identity(); 2]).is_err());
+}
+
+/// Samples of the repository's own knee (`examples/data/knee_r.osim`) at 121
+/// angles over its range: the second knee beside the shared gait2392 one.
+fn example_knee_samples() -> JointSamples {
+    let osim = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/knee_r.osim");
+    let joint = FunctionJoint::from_osim_file(&osim, "knee_r").unwrap();
+    let lim = joint.limits()[0];
+    let mut k = mx::model::JointKinematics::default();
+    let (q, g): (Vec<f64>, Vec<Se3>) = (0..=120)
+        .map(|i| {
+            let q = lim.lower + (lim.upper - lim.lower) * i as f64 / 120.0;
+            joint.kinematics(&[q], mx::model::Derivatives::Transform, &mut k);
+            (q, k.transform)
+        })
+        .unzip();
+    JointSamples::new(q, g).unwrap()
+}
+
+#[test]
+fn automatic_smoothing_by_gcv_is_never_worse_than_none_on_noisy_samples_of_both_knees() {
+    let mut knees: Vec<(String, JointSamples)> = common::shared_files("opensim", "_samples.json")
+        .into_iter()
+        .map(|p| (p.display().to_string(), JointSamples::load(&p).unwrap()))
+        .collect();
+    knees.push(("examples/data/knee_r.osim".into(), example_knee_samples()));
+    assert!(knees.len() >= 2 || common::shared_dir().is_none());
+    for (name, clean) in knees {
+        for seed in [fit::NOISE_SEED, 7] {
+            let noisy = clean.with_noise(fit::NOISE_M, fit::NOISE_DEG.to_radians(), seed);
+            let opt = FitOptions {
+                frames: 16,
+                ..Default::default()
+            };
+            let (auto, w, scores) = fit_spline_joint_auto(&noisy, &opt).unwrap();
+            let none = fit_spline_joint(&noisy, &opt).unwrap();
+            let (ea, e0) = (
+                joint_error(&auto.joint, &clean).unwrap(),
+                joint_error(&none.joint, &clean).unwrap(),
+            );
+            println!(
+                "{name} (seed {seed}): GCV chose w = {w:e} from {scores:?}; error to clean data rms {:.4} mm {:.4}° (w = 0: {:.4} mm {:.4}°)",
+                ea.rms_mm, ea.rms_deg, e0.rms_mm, e0.rms_deg
+            );
+            assert_eq!(scores.len(), AUTO_WEIGHTS.len());
+            assert!(scores.iter().all(|(_, v)| v.is_finite() && *v > 0.0));
+            // Never worse than no smoothing (a hair of slack for the iteration's stopping rule).
+            assert!(
+                ea.rms_mm <= e0.rms_mm * (1.0 + 1e-6) && ea.rms_deg <= e0.rms_deg * (1.0 + 1e-6),
+                "{name}: auto {ea:?} vs w = 0 {e0:?}"
+            );
+            // and noise is there to remove: GCV does smooth.
+            assert!(w > 0.0, "{name}: GCV kept w = 0 on noisy data");
+        }
+    }
+}
+
+#[test]
+fn smooth_auto_in_the_language() {
+    for path in common::shared_files("opensim", "_samples.json") {
+        let p = path.display().to_string();
+        let mut mx = mx::Interpreter::new();
+        let v = mx
+            .eval_str(&format!(
+                "{{ let s = load_samples({p:?}); joint_error(fit_spline_joint(s, frames: 8, smooth: \"auto\"), s).rms_mm < 1 }}"
+            ))
+            .unwrap();
+        assert_eq!(v.to_string(), "true");
+        let e = mx
+            .eval_str(&format!(
+                "fit_spline_joint(load_samples({p:?}), smooth: \"often\")"
+            ))
+            .unwrap_err();
+        assert!(format!("{e:?}").contains("\\\"auto\\\""), "{e:?}");
+    }
 }

@@ -13,26 +13,14 @@ use nalgebra::{DMatrix, Vector3};
 use serde_json::Value;
 
 fn vecf(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("array")
-        .iter()
-        .map(|x| x.as_f64().expect("number"))
-        .collect()
+    common::json_f64s(v)
 }
 
 fn mat(v: &Value) -> Vec<Vec<f64>> {
     v.as_array().expect("rows").iter().map(vecf).collect()
 }
 
-/// `max|x − ref| / max(1, max|ref|)`.
-fn err(x: &[f64], r: &[f64]) -> f64 {
-    let scale = r.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-    x.iter()
-        .zip(r)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max)
-        / scale
-}
+use common::rel_err as err;
 
 struct Case {
     model: Model,

@@ -14,6 +14,7 @@
 
 mod aba;
 mod adjoint;
+mod coupled;
 mod crba;
 mod derivatives;
 mod driven;
@@ -25,6 +26,7 @@ mod workspace;
 
 pub use aba::{forward_dynamics, forward_dynamics_ext};
 pub use adjoint::torque_sq_gradient;
+pub use coupled::{coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix};
 pub use crba::mass_matrix;
 pub use derivatives::rnea_derivatives;
 pub use driven::{Driven, driven_accelerations};

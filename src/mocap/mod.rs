@@ -16,5 +16,5 @@ pub mod to_motion;
 
 pub use body_of::body_of;
 pub use error::MocapError;
-pub use positions::{Missing, Positions, positions};
+pub use positions::{Missing, Positions, positions, positions_at};
 pub use to_motion::{Clip, from_bvh, load};

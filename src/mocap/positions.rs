@@ -25,6 +25,9 @@ pub struct Positions {
     pub times: Vec<f64>,
     /// `points[k][j]`: world position (metres) of point `j` at `times[k]`.
     pub points: Vec<Vec<Vector3<f64>>>,
+    /// `undefined[k]`: some coordinate the motion names was undefined at
+    /// `times[k]` and held its last value (only with [`Missing::Hold`]).
+    pub undefined: Vec<bool>,
 }
 
 /// What to do with body coordinates the motion does not define.
@@ -93,6 +96,16 @@ pub fn positions(
     if times.is_empty() {
         times.push(span.0);
     }
+    positions_at(mu, body, times, missing)
+}
+
+/// Forward kinematics of `body` driven by `mu` at the given times.
+pub fn positions_at(
+    mu: &Mu,
+    body: &Model,
+    times: Vec<f64>,
+    missing: Missing,
+) -> Result<Positions, MocapError> {
     let coords = body.coordinate_names();
     let lacking: Vec<&str> = coords
         .iter()
@@ -113,12 +126,14 @@ pub fn positions(
     let mut q = vec![0.0; coords.len()];
     let mut poses: Vec<Se3> = Vec::with_capacity(body.num_links());
     let mut points = Vec::with_capacity(times.len());
+    let mut undefined = Vec::with_capacity(times.len());
     for &t in &times {
+        let mut held = false;
         for (k, name) in coords.iter().enumerate() {
             let Some(dof) = mu.get(name) else { continue };
             match dof.sample_value(name, t)? {
                 Some(v) => q[k] = v,
-                None if missing == Missing::Hold => {}
+                None if missing == Missing::Hold => held = true,
                 None => {
                     return Err(MocapError::invalid(format!(
                         "DOF `{name}` is undefined at t = {t:.4} s; fill the gap (SP) or clip the motion first"
@@ -128,6 +143,7 @@ pub fn positions(
         }
         body.forward_kinematics(&q, &mut poses)?;
         points.push(links.iter().map(|&l| poses[l].p).collect());
+        undefined.push(held);
     }
     Ok(Positions {
         names: links.iter().map(|&l| body.link(l).name.clone()).collect(),
@@ -135,5 +151,6 @@ pub fn positions(
         links,
         times,
         points,
+        undefined,
     })
 }

@@ -23,6 +23,8 @@ pub struct Clip {
     pub frames: usize,
     /// How many ±360° wraps were removed from rotation channels.
     pub wraps_removed: usize,
+    /// What the reader tolerated in a loose file (see `bvh::parse_with_warnings`).
+    pub warnings: Vec<bvh::BvhWarning>,
 }
 
 impl Clip {
@@ -41,10 +43,12 @@ impl Clip {
     }
 }
 
-/// Reads a BVH file into a [`Clip`].
+/// Reads a BVH file into a [`Clip`], keeping the reader's warnings in it.
 pub fn load(path: &Path, units: Units) -> Result<Clip, MocapError> {
-    let file = bvh::read_file(path)?;
-    from_bvh(&file, units)
+    let (file, warnings) = bvh::read_file_with_warnings(path)?;
+    let mut clip = from_bvh(&file, units)?;
+    clip.warnings = warnings;
+    Ok(clip)
 }
 
 /// Converts parsed BVH data into a [`Clip`].
@@ -94,6 +98,7 @@ pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
         frame_time: dt,
         frames,
         wraps_removed,
+        warnings: Vec::new(),
     })
 }
 

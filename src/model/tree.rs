@@ -207,6 +207,28 @@ impl Model {
         &self.coordinate_names
     }
 
+    /// Renames every coordinate (e.g. to an OpenSim model's coordinate names):
+    /// one name per coordinate, all distinct and non-empty.
+    pub fn set_coordinate_names(&mut self, names: Vec<String>) -> Result<(), ModelError> {
+        if names.len() != self.nq {
+            return Err(ModelError::Invalid(format!(
+                "{} coordinate names for a model with {} coordinates",
+                names.len(),
+                self.nq
+            )));
+        }
+        let mut seen = std::collections::HashSet::new();
+        for n in &names {
+            if n.is_empty() || !seen.insert(n.as_str()) {
+                return Err(ModelError::Invalid(format!(
+                    "coordinate name `{n}` is empty or used twice; coordinate names must be unique"
+                )));
+            }
+        }
+        self.coordinate_names = names;
+        Ok(())
+    }
+
     /// The coordinate before coordinate `k` on its path to the root, if any
     /// (coordinates of one joint follow each other, then the nearest ancestor
     /// joint's last coordinate).

@@ -3,15 +3,26 @@
 //! Follows Pinocchio's conventions so results can be compared directly:
 //! the root link is welded to the world; fixed joints are merged (their child's
 //! inertia is added to the moving body they hang from and their origins are
-//! folded into the offsets below them); `<mimic>` is ignored (a mimic joint is
-//! an independent coordinate); the coordinate order is depth-first with the
+//! folded into the offsets below them); `<mimic>` is ignored by default (a
+//! mimic joint is an independent coordinate, as in Pinocchio's plain
+//! `buildModel`) and with [`UrdfOptions::mimic`] becomes a coupled coordinate
+//! (`model::Coupling`, Pinocchio's `buildModel(…, mimic=True)`); the
+//! coordinate order is depth-first with the
 //! child joints of every link sorted by joint name (urdfdom keeps joints in a
 //! name-sorted map). Gravity defaults to `[0, 0, −9.81]`, Pinocchio's default.
 //! A `continuous` joint is an unlimited revolute joint with one coordinate (the
 //! angle; Pinocchio stores (cos, sin) instead).
+//!
+//! Broken files are errors that name what is wrong, never a silently wrong
+//! model: several roots, a cycle, a link or joint defined twice, a joint
+//! naming a missing link, a mimic naming a missing joint (in either mode), a
+//! negative mass, an inertia that is not positive semi-definite or breaks the
+//! triangle inequality, a revolute or prismatic joint without `<limit>`
+//! (urdfdom's rule).
 
 use crate::lie::Se3;
 use crate::model::body::Inertia;
+use crate::model::coupling::{Coupling, Follower};
 use crate::model::joint::{Joint, Limit};
 use crate::model::joints::{Prismatic, Revolute};
 use crate::model::tree::{Model, ModelError};
@@ -33,7 +44,17 @@ fn link_inertia(l: &urdf_rs::Link) -> Result<Inertia, ModelError> {
         return Ok(Inertia::zero());
     }
     let t = pose(&i.origin);
-    let ic = Matrix3::new(
+    let ic = inertia_matrix(l);
+    // The inertia is given about the com in the <inertial><origin> frame.
+    let local = Inertia::from_com(i.mass.value, Vector3::zeros(), ic)
+        .map_err(|e| ModelError::Urdf(format!("link `{}`: {e}", l.name)))?;
+    Ok(local.transformed(&t))
+}
+
+/// The rotational inertia of a URDF link about its centre of mass.
+fn inertia_matrix(l: &urdf_rs::Link) -> Matrix3<f64> {
+    let i = &l.inertial;
+    Matrix3::new(
         i.inertia.ixx,
         i.inertia.ixy,
         i.inertia.ixz,
@@ -43,37 +64,179 @@ fn link_inertia(l: &urdf_rs::Link) -> Result<Inertia, ModelError> {
         i.inertia.ixz,
         i.inertia.iyz,
         i.inertia.izz,
-    );
-    // The inertia is given about the com in the <inertial><origin> frame.
-    let local = Inertia::from_com(i.mass.value, Vector3::zeros(), ic)
-        .map_err(|e| ModelError::Urdf(format!("link `{}`: {e}", l.name)))?;
-    Ok(local.transformed(&t))
+    )
+}
+
+/// A rotational inertia about the centre of mass that a rigid body can have:
+/// symmetric (checked by `Inertia::from_com`), principal moments ≥ 0 and each
+/// at most the sum of the other two (a tolerance of 1e-9 of the largest).
+fn check_inertia(link: &str, mass: f64, ic: &Matrix3<f64>) -> Result<(), ModelError> {
+    if !(mass.is_finite() && mass >= 0.0) {
+        return Err(ModelError::Urdf(format!(
+            "link `{link}` has mass {mass}; a mass must be a finite number ≥ 0"
+        )));
+    }
+    if !ic.iter().all(|x| x.is_finite()) {
+        return Err(ModelError::Urdf(format!(
+            "link `{link}`: the inertia has a non-finite entry"
+        )));
+    }
+    let sym = (ic + ic.transpose()) * 0.5;
+    let mut e: Vec<f64> = sym.symmetric_eigenvalues().iter().copied().collect();
+    e.sort_by(f64::total_cmp);
+    let tol = 1e-9 * e[2].abs().max(f64::MIN_POSITIVE);
+    if e[0] < -tol {
+        return Err(ModelError::Urdf(format!(
+            "link `{link}`: the inertia is not positive definite (principal moments {:.3e}, {:.3e}, {:.3e}); \
+             check the signs of ixx, iyy, izz and the size of the products ixy, ixz, iyz",
+            e[0], e[1], e[2]
+        )));
+    }
+    if e[2] > e[0] + e[1] + tol {
+        return Err(ModelError::Urdf(format!(
+            "link `{link}`: the principal moments {:.3e}, {:.3e}, {:.3e} break the triangle inequality \
+             (the largest exceeds the sum of the others), which no rigid body has",
+            e[0], e[1], e[2]
+        )));
+    }
+    Ok(())
+}
+
+/// How to read a URDF.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct UrdfOptions {
+    /// `<mimic>` joints become coupled coordinates (q = multiplier·q_source + offset).
+    pub mimic: bool,
 }
 
 impl Model {
-    /// Parses a URDF document.
+    /// Parses a URDF document (mimic joints are free coordinates).
     pub fn from_urdf_str(text: &str) -> Result<Model, ModelError> {
+        Ok(Self::from_urdf_str_with(text, UrdfOptions::default())?.0)
+    }
+
+    /// Parses a URDF document; with `mimic`, also the coupling of its mimic
+    /// joints (`None` when it has none or `mimic` is off).
+    pub fn from_urdf_str_with(
+        text: &str,
+        options: UrdfOptions,
+    ) -> Result<(Model, Option<Coupling>), ModelError> {
         let robot = urdf_rs::read_from_string(text).map_err(|e| {
             ModelError::Urdf(format!("could not parse the URDF ({e}); check that it is well-formed XML with a <robot> root"))
         })?;
-        build(&robot)
+        check_limits(text)?;
+        let model = build(&robot)?;
+        let coupling = mimic_coupling(&robot, &model, options.mimic)?;
+        Ok((model, coupling))
     }
 
-    /// Reads and parses a URDF file.
+    /// Reads and parses a URDF file (mimic joints are free coordinates).
     pub fn from_urdf_file(path: impl AsRef<std::path::Path>) -> Result<Model, ModelError> {
+        Ok(Self::from_urdf_file_with(path, UrdfOptions::default())?.0)
+    }
+
+    /// Reads and parses a URDF file with options (see [`Model::from_urdf_str_with`]).
+    pub fn from_urdf_file_with(
+        path: impl AsRef<std::path::Path>,
+        options: UrdfOptions,
+    ) -> Result<(Model, Option<Coupling>), ModelError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path)
             .map_err(|e| ModelError::Urdf(format!("cannot read `{}`: {e}", path.display())))?;
-        Self::from_urdf_str(&text).map_err(|e| match e {
+        Self::from_urdf_str_with(&text, options).map_err(|e| match e {
             ModelError::Urdf(m) => ModelError::Urdf(format!("{}: {m}", path.display())),
             other => other,
         })
     }
 }
 
+/// urdfdom's rule: a revolute or prismatic joint states its `<limit>`
+/// (urdf-rs would fill in zeros silently).
+fn check_limits(text: &str) -> Result<(), ModelError> {
+    let doc = roxmltree::Document::parse(text)
+        .map_err(|e| ModelError::Urdf(format!("could not parse the URDF XML: {e}")))?;
+    let robot = doc.root_element();
+    for j in robot.children().filter(|n| n.has_tag_name("joint")) {
+        let kind = j.attribute("type").unwrap_or("");
+        if matches!(kind, "revolute" | "prismatic")
+            && !j.children().any(|c| c.has_tag_name("limit"))
+        {
+            let (line, _) = {
+                let p = doc.text_pos_at(j.range().start);
+                (p.row, p.col)
+            };
+            return Err(ModelError::Urdf(format!(
+                "line {line}: {kind} joint `{}` has no <limit>; add <limit lower=\"…\" upper=\"…\" effort=\"…\" velocity=\"…\"/> \
+                 (or make it `continuous` if it has no range)",
+                j.attribute("name").unwrap_or("?")
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The coupling of the mimic joints (checked in either mode: a mimic naming
+/// a joint that does not exist is a broken file).
+fn mimic_coupling(
+    robot: &urdf_rs::Robot,
+    model: &Model,
+    mimic: bool,
+) -> Result<Option<Coupling>, ModelError> {
+    let mut followers = Vec::new();
+    for j in &robot.joints {
+        let Some(m) = &j.mimic else { continue };
+        let Some(src) = robot.joints.iter().find(|s| s.name == m.joint) else {
+            return Err(ModelError::Urdf(format!(
+                "joint `{}` mimics `{}`, which is not a joint of this robot",
+                j.name, m.joint
+            )));
+        };
+        let (Some(k), Some(s)) = (
+            model.coordinate_index(&j.name),
+            model.coordinate_index(&src.name),
+        ) else {
+            return Err(ModelError::Urdf(format!(
+                "joint `{}` mimics `{}`, but mimic joints must both move (one coordinate each; \
+                 a fixed joint has none)",
+                j.name, m.joint
+            )));
+        };
+        followers.push(Follower {
+            coordinate: k,
+            source: s,
+            multiplier: m.multiplier.unwrap_or(1.0),
+            offset: m.offset.unwrap_or(0.0),
+        });
+    }
+    if !mimic || followers.is_empty() {
+        return Ok(None);
+    }
+    Coupling::new(model, &followers)
+        .map(Some)
+        .map_err(|e| ModelError::Urdf(e.to_string()))
+}
+
 fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
-    let links: HashMap<&str, &urdf_rs::Link> =
-        robot.links.iter().map(|l| (l.name.as_str(), l)).collect();
+    let mut links: HashMap<&str, &urdf_rs::Link> = HashMap::new();
+    for l in &robot.links {
+        if links.insert(l.name.as_str(), l).is_some() {
+            return Err(ModelError::Urdf(format!(
+                "link `{}` is defined twice; link names must be unique",
+                l.name
+            )));
+        }
+        // Every link, the root's too (welded to the world, but a broken file).
+        check_inertia(&l.name, l.inertial.mass.value, &inertia_matrix(l))?;
+    }
+    let mut joint_names = std::collections::HashSet::new();
+    for j in &robot.joints {
+        if !joint_names.insert(j.name.as_str()) {
+            return Err(ModelError::Urdf(format!(
+                "joint `{}` is defined twice; joint names must be unique",
+                j.name
+            )));
+        }
+    }
     let mut children: HashMap<&str, Vec<&urdf_rs::Joint>> = HashMap::new();
     let mut is_child: HashMap<&str, &str> = HashMap::new();
     for j in &robot.joints {
@@ -186,6 +349,30 @@ fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
         )?;
         inertias.push(link_inertia(child)?);
         push_children(&mut stack, child.name.as_str(), Some(idx), Se3::identity());
+    }
+    if visited < robot.joints.len() {
+        // Every link has one parent, so joints the root cannot reach hang in a cycle.
+        let mut reached = std::collections::HashSet::from([root]);
+        let mut grew = true;
+        while grew {
+            grew = false;
+            for j in &robot.joints {
+                if reached.contains(j.parent.link.as_str()) && reached.insert(j.child.link.as_str())
+                {
+                    grew = true;
+                }
+            }
+        }
+        let stray: Vec<&str> = robot
+            .joints
+            .iter()
+            .filter(|j| !reached.contains(j.child.link.as_str()))
+            .map(|j| j.name.as_str())
+            .collect();
+        return Err(ModelError::Urdf(format!(
+            "the joints {} form a cycle not connected to the root link `{root}`",
+            stray.join(", ")
+        )));
     }
     for (i, inertia) in inertias.into_iter().enumerate() {
         model.set_inertia(i, inertia)?;

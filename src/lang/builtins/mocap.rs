@@ -40,6 +40,11 @@ fn mu_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Mu> {
 
 fn body_of_arg(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Body> {
     match arg.value.as_object::<Body>() {
+        Some(b) if b.coupling.is_some() => Err(MxError::new(
+            ErrorKind::Value,
+            b.free_model(&format!("`{}`", a.name())).unwrap_err(),
+        )
+        .at(arg.span)),
         Some(b) => Ok(b.clone()),
         None => Err(a.type_error(name, "a body, e.g. body_of(clip, mass: 70)", arg)),
     }
@@ -76,6 +81,10 @@ pub fn register(reg: &mut Registry) {
         |path, a, _| {
             let units = units_arg(a)?;
             let clip = to_motion::load(path, units).map_err(|e| mocap_error(e, a.call_span()))?;
+            // One line per kind of looseness, on stderr: stdout carries only `print` output.
+            for w in &clip.warnings {
+                eprintln!("warning: {}: {w}", path.display());
+            }
             registry::remember(&clip.skeleton, clip.units.metres_per_unit, clip.frame_time);
             Ok(Value::object(Motion::Mu(clip.mu)))
         },
@@ -115,7 +124,7 @@ pub fn register(reg: &mut Registry) {
     );
     reg.add(
         "bvh_info(path, unit: auto)",
-        "What load(path) would read: a record {frames, frame_time, joints, dofs, metres_per_unit, units, reason, wraps}.",
+        "What load(path) would read: a record {frames, frame_time, joints, dofs, metres_per_unit, units, reason, wraps, warnings} (warnings: what the reader tolerated, one `line N: …` string each).",
         |a, ev| {
             let arg = a.arg("path")?;
             let Value::Str(p) = &arg.value else { return Err(a.type_error("path", "a file name string", &arg)) };
@@ -131,6 +140,7 @@ pub fn register(reg: &mut Registry) {
             r.insert("units".into(), Value::str(&clip.units.name));
             r.insert("reason".into(), Value::str(&clip.units.reason));
             r.insert("wraps".into(), Value::Number(clip.wraps_removed as f64));
+            r.insert("warnings".into(), Value::list(clip.warnings.iter().map(|w| Value::str(w.to_string())).collect()));
             Ok(Value::record(r))
         },
     );
@@ -147,6 +157,8 @@ pub fn register(reg: &mut Registry) {
                 model: Arc::new(model),
                 skeleton: Some((k.skeleton, k.metres_per_unit)),
                 human: None,
+                coupling: None,
+                osim: None,
             }))
         },
     );
@@ -163,6 +175,8 @@ pub fn register(reg: &mut Registry) {
                 model: Arc::new(h.model.clone()),
                 skeleton: Some((k.skeleton, k.metres_per_unit)),
                 human: Some(Arc::new(h)),
+                coupling: None,
+                osim: None,
             }))
         },
     );
@@ -224,18 +238,47 @@ pub fn register(reg: &mut Registry) {
         },
     );
     reg.add(
-        "view(m, body, path)",
-        "Write a self-contained HTML viewer of m played on body (3D figure, play/pause, slider, orbit; DOF curves below).",
+        "view(m, body, path, labels: [...])",
+        "Write a self-contained HTML viewer of m played on body (3D figure, play/pause, slider, orbit; DOF curves below) over m's own span. \
+         m may be a list of motions of one body: they share the stage and one clock, each in its own colour, named in a legend by `labels` \
+         (default \"motion 1\", …). Undefined stretches are gaps in the curves and hold the last pose, marked undefined.",
         |a, ev| {
             let marg = a.arg("m")?;
-            let m = mu_of(a, "m", &marg)?;
+            let mus: Vec<Mu> = match &marg.value {
+                Value::List(items) => {
+                    if items.is_empty() {
+                        return Err(a.type_error("m", "a motion unit (Mu) or a non-empty list of them", &marg));
+                    }
+                    items
+                        .iter()
+                        .map(|v| match v.as_object::<Motion>() {
+                            Some(Motion::Mu(m)) => Ok(m.clone()),
+                            _ => Err(a.type_error("m", "a list of motion units (Mu)", &marg)),
+                        })
+                        .collect::<MxResult<_>>()?
+                }
+                _ => vec![mu_of(a, "m", &marg)?],
+            };
             let barg = a.arg("body")?;
             let body = body_of_arg(a, "body", &barg)?;
             let parg = a.arg("path")?;
             let Value::Str(p) = &parg.value else { return Err(a.type_error("path", "an .html file name", &parg)) };
             let path = ev.resolve_path(p, parg.span)?;
             let title = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
-            let data = crate::io::viewer::from_motion(&m, &body.model, &title, &[])
+            let labels: Vec<String> = match a.opt_named("labels") {
+                None if mus.len() == 1 => vec![title.clone()],
+                None => (1..=mus.len()).map(|k| format!("motion {k}")).collect(),
+                Some(l) => {
+                    let bad = |a: &Args| a.type_error("labels", &format!("a list of {} strings, one per motion", mus.len()), &l);
+                    let Value::List(items) = &l.value else { return Err(bad(a)) };
+                    if items.len() != mus.len() {
+                        return Err(bad(a));
+                    }
+                    items.iter().map(|v| match v { Value::Str(s) => Ok(s.to_string()), _ => Err(bad(a)) }).collect::<MxResult<_>>()?
+                }
+            };
+            let tracks: Vec<(&str, &Mu)> = labels.iter().map(String::as_str).zip(mus.iter()).collect();
+            let data = crate::io::viewer::overlay(&body.model, &tracks, &title, &[])
                 .map_err(|e| MxError::new(ErrorKind::Value, e.to_string()).at(a.call_span()))?;
             crate::io::viewer::write_html(&data, &path).map_err(|e| MxError::new(ErrorKind::Io, e.to_string()).at(parg.span))?;
             Ok(Value::Nil)

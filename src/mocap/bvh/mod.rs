@@ -12,9 +12,9 @@ mod units;
 mod unwrap;
 mod write;
 
-pub use error::BvhError;
+pub use error::{BvhError, BvhWarning};
 pub use euler::{channel_rotation, joint_local_transform};
-pub use read::{parse, read_file};
+pub use read::{parse, parse_with_warnings, read_file, read_file_with_warnings};
 pub use units::{CMU_UNIT, UnitChoice, Units, detect_units, resolve as resolve_units};
 pub use unwrap::{unwrap_degrees, unwrap_degrees_in};
 pub use write::{to_string, write_file};

@@ -1,20 +1,36 @@
-//! The BVH reader: HIERARCHY (any channel order, 0–6 channels per joint, End
-//! Sites, several roots), MOTION header and the frame table. CRLF, tabs, `-0`
-//! and exponents are accepted. Every malformed input is a [`BvhError`] naming
-//! the line; nothing panics and nothing allocates more than the text can hold.
+//! The BVH reader: HIERARCHY (each joint its own channel order, 0–6 channels
+//! per joint, `End Site` in any case, several roots), MOTION header and the
+//! frame table. CRLF, tabs, trailing blanks, `-0`, `.5` and exponents are
+//! accepted as they are. Loose frame tables that still lose nothing are read
+//! with a [`BvhWarning`] each (more or fewer rows than `Frames:` declares, a
+//! cut-short last row dropped, blank lines among the rows skipped). Every
+//! malformed input is a [`BvhError`] naming the line (and the column of the
+//! word to blame); nothing panics and nothing allocates more than the text
+//! can hold.
 
-use super::{BvhError, BvhFile, BvhJoint, Channel, Skeleton};
+use super::{BvhError, BvhFile, BvhJoint, BvhWarning, Channel, Skeleton};
 use nalgebra::Vector3;
 use std::path::Path;
 
-/// Reads and parses a BVH file.
+/// Reads and parses a BVH file (warnings dropped: see [`read_file_with_warnings`]).
 pub fn read_file(path: &Path) -> Result<BvhFile, BvhError> {
+    read_file_with_warnings(path).map(|(f, _)| f)
+}
+
+/// Reads and parses a BVH file, with what the reader tolerated.
+pub fn read_file_with_warnings(path: &Path) -> Result<(BvhFile, Vec<BvhWarning>), BvhError> {
     let bytes = std::fs::read(path).map_err(|source| BvhError::Io {
         path: path.to_path_buf(),
         source,
     })?;
     let text = String::from_utf8_lossy(&bytes);
-    parse(&text)
+    parse_with_warnings(&text)
+}
+
+/// The 1-based column (in characters) of `word`, a slice of `line`.
+fn column_of(line: &str, word: &str) -> usize {
+    let off = (word.as_ptr() as usize).saturating_sub(line.as_ptr() as usize);
+    line.get(..off).map_or(off, |p| p.chars().count()) + 1
 }
 
 /// One whitespace-separated word with its 1-based line number. Braces are
@@ -22,6 +38,7 @@ pub fn read_file(path: &Path) -> Result<BvhFile, BvhError> {
 #[derive(Clone, Copy, Debug)]
 struct Tok<'a> {
     line: usize,
+    col: usize,
     text: &'a str,
 }
 
@@ -30,29 +47,17 @@ fn words<'a>(line_no: usize, line: &'a str, out: &mut Vec<Tok<'a>>) {
     for w in line.split_whitespace() {
         let mut rest = w;
         while !rest.is_empty() {
-            match rest.find(['{', '}']) {
-                Some(0) => {
-                    out.push(Tok {
-                        line: line_no,
-                        text: &rest[..1],
-                    });
-                    rest = &rest[1..];
-                }
-                Some(i) => {
-                    out.push(Tok {
-                        line: line_no,
-                        text: &rest[..i],
-                    });
-                    rest = &rest[i..];
-                }
-                None => {
-                    out.push(Tok {
-                        line: line_no,
-                        text: rest,
-                    });
-                    rest = "";
-                }
-            }
+            let cut = match rest.find(['{', '}']) {
+                Some(0) => 1,
+                Some(i) => i,
+                None => rest.len(),
+            };
+            out.push(Tok {
+                line: line_no,
+                col: column_of(line, rest),
+                text: &rest[..cut],
+            });
+            rest = &rest[cut..];
         }
     }
 }
@@ -78,8 +83,9 @@ impl<'a> Cursor<'a> {
     fn expect(&mut self, word: &str) -> Result<Tok<'a>, BvhError> {
         let t = self.next(&format!("`{word}`"))?;
         if !t.text.eq_ignore_ascii_case(word) {
-            return Err(BvhError::at(
+            return Err(BvhError::at_col(
                 t.line,
+                t.col,
                 format!("expected `{word}`, found `{}`", t.text),
             ));
         }
@@ -88,9 +94,10 @@ impl<'a> Cursor<'a> {
     fn number(&mut self, what: &str) -> Result<f64, BvhError> {
         let t = self.next(what)?;
         parse_number(t.text).ok_or_else(|| {
-            BvhError::at(
+            BvhError::at_col(
                 t.line,
-                format!("expected {what} (a number), found `{}`", t.text),
+                t.col,
+                format!("expected {what} (a finite number), found `{}`", t.text),
             )
         })
     }
@@ -132,8 +139,14 @@ enum Open {
     EndSite,
 }
 
-/// Parses the text of a BVH file.
+/// Parses the text of a BVH file (warnings dropped: see [`parse_with_warnings`]).
 pub fn parse(text: &str) -> Result<BvhFile, BvhError> {
+    parse_with_warnings(text).map(|(f, _)| f)
+}
+
+/// Parses the text of a BVH file, with one warning per kind of looseness the
+/// reader tolerated.
+pub fn parse_with_warnings(text: &str) -> Result<(BvhFile, Vec<BvhWarning>), BvhError> {
     // Locate the MOTION line; the hierarchy is everything before it.
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let mut toks = Vec::new();
@@ -178,70 +191,138 @@ pub fn parse(text: &str) -> Result<BvhFile, BvhError> {
         }
     }
     let (frames, frames_line, frame_time) = parse_motion_header(&header, data_start)?;
-    if nch == 0 && frames > 0 {
+    let (values, rows, warnings) = parse_rows(lines, nch, frames, frames_line, text.len())?;
+    if nch == 0 && rows > 0 {
         return Err(BvhError::at(
             frames_line,
             "the skeleton has no CHANNELS, so frames cannot hold values",
         ));
     }
+    let file = BvhFile {
+        skeleton,
+        frame_time,
+        values,
+    };
+    Ok((file, warnings))
+}
 
+/// The frame table: every row there is, whatever `Frames:` says (with a
+/// warning when the count differs), blank lines among the rows skipped (one
+/// warning), a cut-short last row dropped (one warning). Any other row with a
+/// wrong number of values, and any word that is not a finite number, is an
+/// error at its line and column. Returns (values, rows, warnings).
+fn parse_rows<'a>(
+    lines: impl Iterator<Item = (usize, &'a str)>,
+    nch: usize,
+    frames: usize,
+    frames_line: usize,
+    text_len: usize,
+) -> Result<(Vec<f64>, usize, Vec<BvhWarning>), BvhError> {
+    // Frame rows are ASCII: the ASCII splitter skips Unicode tables.
+    let rest: Vec<(usize, &str)> = lines.collect();
+    let last_row = rest
+        .iter()
+        .rposition(|(_, l)| !l.trim_ascii().is_empty())
+        .map(|i| rest[i].0);
     // Never trust the count for allocation: a row needs at least 2 bytes per value.
-    let cap = frames.saturating_mul(nch).min(text.len() / 2 + 1);
+    let cap = frames.saturating_mul(nch).min(text_len / 2 + 1);
     let mut values = Vec::with_capacity(cap);
+    let mut warnings = Vec::new();
     let mut rows = 0usize;
-    let mut last_data_line = data_start;
-    for (no, line) in lines {
-        // Frame rows are ASCII: the ASCII splitter skips Unicode tables.
+    let mut blank: Option<(usize, usize)> = None; // (first line, count) among rows
+    let mut first_extra = None; // the first row past the declared count
+    for &(no, line) in &rest {
         if line.trim_ascii().is_empty() {
+            if rows > 0 && Some(no) < last_row {
+                blank.get_or_insert((no, 0)).1 += 1;
+            }
             continue;
         }
-        if rows == frames {
-            return Err(BvhError::at(
-                no,
-                format!(
-                    "more frame rows than `Frames: {frames}` (line {frames_line}) declares; fix the count or remove the extra rows"
-                ),
-            ));
-        }
         let before = values.len();
-        for w in line.split_ascii_whitespace() {
+        let mut words = line.split_ascii_whitespace().peekable();
+        while let Some(w) = words.next() {
             if values.len() - before == nch {
-                return Err(BvhError::at(
+                return Err(BvhError::at_col(
                     no,
+                    column_of(line, w),
                     format!(
-                        "frame {} has more than {nch} values (the skeleton declares {nch} channels)",
-                        rows
+                        "frame {rows} has more than {nch} values (the skeleton declares {nch} channels)"
                     ),
                 ));
             }
-            let v = parse_number(w).ok_or_else(|| {
-                BvhError::at(no, format!("frame {rows}: `{w}` is not a finite number"))
-            })?;
-            values.push(v);
+            let is_last_word = Some(no) == last_row && words.peek().is_none();
+            match parse_word(w) {
+                Ok(v) => values.push(v),
+                // A number cut in half at the very end of the file (`12.`, `-`,
+                // `1e`): the row is short anyway and is dropped below.
+                Err(_) if is_last_word && values.len() - before + 1 < nch => break,
+                Err(why) => {
+                    return Err(BvhError::at_col(
+                        no,
+                        column_of(line, w),
+                        format!("frame {rows}: `{w}` {why}"),
+                    ));
+                }
+            }
         }
         let got = values.len() - before;
         if got != nch {
+            if Some(no) == last_row && got < nch {
+                values.truncate(before);
+                warnings.push(BvhWarning {
+                    line: no,
+                    message: format!(
+                        "the last frame row is cut short ({got} of {nch} values): dropped it"
+                    ),
+                });
+                break;
+            }
             return Err(BvhError::at(
                 no,
                 format!("frame {rows} has {got} values but the skeleton declares {nch} channels"),
             ));
         }
         rows += 1;
-        last_data_line = no;
+        if Some(rows) == frames.checked_add(1) {
+            first_extra = Some(no);
+        }
+    }
+    if let Some((first, n)) = blank {
+        warnings.push(BvhWarning {
+            line: first,
+            message: format!(
+                "{n} blank line{} among the frame rows: skipped",
+                if n == 1 { "" } else { "s" }
+            ),
+        });
+    }
+    if let Some(line) = first_extra {
+        warnings.push(BvhWarning {
+            line,
+            message: format!(
+                "{rows} frame rows but `Frames: {frames}` (line {frames_line}) declares {frames}: read all {rows}"
+            ),
+        });
     }
     if rows < frames {
-        return Err(BvhError::at(
-            last_data_line,
-            format!(
-                "truncated: `Frames: {frames}` (line {frames_line}) but only {rows} frame rows follow"
+        warnings.push(BvhWarning {
+            line: frames_line,
+            message: format!(
+                "`Frames: {frames}` declares {frames} rows but only {rows} follow (a truncated export?): read {rows}"
             ),
-        ));
+        });
     }
-    Ok(BvhFile {
-        skeleton,
-        frame_time,
-        values,
-    })
+    warnings.sort_by_key(|w| w.line);
+    Ok((values, rows, warnings))
+}
+
+/// A frame value, or why the word is not one.
+fn parse_word(w: &str) -> Result<f64, &'static str> {
+    match w.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err("is not a finite number (NaN and infinities are refused)"),
+        Err(_) => Err("is not a number"),
+    }
 }
 
 fn parse_hierarchy(mut c: Cursor<'_>) -> Result<Skeleton, BvhError> {
@@ -374,6 +455,7 @@ fn parse_motion_header(h: &[Tok<'_>], end_line: usize) -> Result<(usize, usize, 
     let mut it = h.iter().flat_map(|t| {
         t.text.split_inclusive(':').map(move |p| Tok {
             line: t.line,
+            col: t.col + column_of(t.text, p) - 1,
             text: p,
         })
     });
@@ -428,8 +510,9 @@ fn parse_motion_header(h: &[Tok<'_>], end_line: usize) -> Result<(usize, usize, 
     }
     let v = take("the frame time")?;
     let dt = parse_number(v.text).filter(|d| *d > 0.0).ok_or_else(|| {
-        BvhError::at(
+        BvhError::at_col(
             v.line,
+            v.col,
             format!(
                 "frame time must be a positive number of seconds, found `{}`",
                 v.text

@@ -248,6 +248,23 @@ fn solve_step(
     s: &JointSamples,
     opt: &FitOptions,
 ) -> Result<Vec<Twist>, JointSpecError> {
+    let (chol, rhs, _) = normal_equations(joint, s, opt)?;
+    let n = joint.basis().n_coeffs();
+    let x = chol.solve(&rhs);
+    Ok((0..n)
+        .map(|j| Twist::from_iterator(x.rows(6 * j, 6).iter().copied()))
+        .collect())
+}
+
+type Factor = nalgebra::linalg::Cholesky<f64, nalgebra::Dyn>;
+
+/// The factored system ((1−w) MᵀM + w NᵀN) ǔ = rhs of one step, and its
+/// data part (1−w) MᵀM (for the trace of the influence matrix).
+fn normal_equations(
+    joint: &SplineCurveJoint,
+    s: &JointSamples,
+    opt: &FitOptions,
+) -> Result<(Factor, DVector<f64>, DMatrix<f64>), JointSpecError> {
     let basis = joint.basis();
     let p = basis.degree();
     let n = basis.n_coeffs();
@@ -292,6 +309,7 @@ fn solve_step(
             }
         }
     }
+    let data_part = a.clone();
     if w > 0.0 {
         add_smoothing(joint, s, opt, &mut a, &mut rhs)?;
     }
@@ -308,10 +326,62 @@ fn solve_step(
             "fitting system is singular: use fewer control frames or more samples".into(),
         )
     })?;
-    let x = chol.solve(&rhs);
-    Ok((0..n)
-        .map(|j| Twist::from_iterator(x.rows(6 * j, 6).iter().copied()))
-        .collect())
+    Ok((chol, rhs, data_part))
+}
+
+/// The smoothing weights `smooth: "auto"` chooses among: none, and the
+/// useful range 1e-6…1e-2 (heavier weights trade translation accuracy for
+/// rotation smoothness, which the twist residual, dominated by its radians,
+/// would let cross-validation accept).
+pub const AUTO_WEIGHTS: [f64; 6] = [0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2];
+
+/// Generalised cross-validation of a fit (Craven & Wahba 1979) on the
+/// problem linearised at the fitted joint: V = m·RSS / (m − tr H)², with m
+/// the residual components (6 per sample), RSS = Σ‖log(G⁻¹G_d)‖² and
+/// H = (1−w) M ((1−w) MᵀM + w NᵀN)⁻¹ Mᵀ the influence matrix, whose trace
+/// is the fit's effective number of parameters.
+pub fn gcv_score(
+    joint: &SplineCurveJoint,
+    samples: &JointSamples,
+    opt: &FitOptions,
+) -> Result<f64, JointSpecError> {
+    let (chol, _, data_part) = normal_equations(joint, samples, opt)?;
+    let trace = chol.solve(&data_part).trace();
+    let m = 6.0 * samples.len() as f64;
+    let rss = data_residual(joint, samples);
+    let dof = m - trace;
+    if dof <= 0.0 {
+        return Ok(f64::INFINITY);
+    }
+    Ok(m * rss / (dof * dof))
+}
+
+/// What [`fit_spline_joint_auto`] returns: the fit, its weight and every
+/// (weight, score) tried.
+pub type AutoFit = (FitReport, f64, Vec<(f64, f64)>);
+
+/// Fits with each weight of [`AUTO_WEIGHTS`] and keeps the one of least
+/// generalised cross-validation score (`smooth: "auto"`).
+pub fn fit_spline_joint_auto(
+    samples: &JointSamples,
+    opt: &FitOptions,
+) -> Result<AutoFit, JointSpecError> {
+    let mut best: Option<(FitReport, f64, f64)> = None;
+    let mut scores = Vec::new();
+    for w in AUTO_WEIGHTS {
+        let o = FitOptions {
+            smooth: w,
+            ..opt.clone()
+        };
+        let r = fit_spline_joint(samples, &o)?;
+        let v = gcv_score(&r.joint, samples, &o)?;
+        scores.push((w, v));
+        if best.as_ref().is_none_or(|b| v < b.2) {
+            best = Some((r, w, v));
+        }
+    }
+    let (r, w, _) = best.ok_or_else(|| JointSpecError("no smoothing weight to try".into()))?;
+    Ok((r, w, scores))
 }
 
 /// Adds w NᵀN and −c w Nᵀh, N = ∂h/∂ǔ by central differences.
