@@ -82,8 +82,6 @@ pub fn load_csv(path: impl AsRef<Path>) -> Result<Mu, FileError> {
 
 /// Parse motion CSV text; the error says which line and what is wrong.
 pub fn from_csv_str(text: &str) -> Result<Mu, String> {
-    use crate::motion::{Curve, Dof, Interval};
-
     let mut lines = text
         .lines()
         .enumerate()
@@ -125,6 +123,31 @@ pub fn from_csv_str(text: &str) -> Result<Mu, String> {
                 Some(num(cell, &names[c])?)
             });
         }
+    }
+    mu_from_grid(names, &times, &cols)
+}
+
+/// A motion unit from columns sampled on one uniform time grid (to 1e-6 of
+/// the step; `None`: undefined there): each run of at least two defined
+/// samples becomes a C² sampled curve. Shared by CSV and OpenSim Storage
+/// loading and the Python bindings' `Motion.from_array`.
+pub fn mu_from_grid(
+    names: &[String],
+    times: &[f64],
+    cols: &[Vec<Option<f64>>],
+) -> Result<Mu, String> {
+    use crate::motion::{Curve, Dof, Interval};
+
+    if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+        return Err(format!("time {k} is {}, not a finite number", times[k]));
+    }
+    if cols.len() != names.len() || cols.iter().any(|c| c.len() != times.len()) {
+        return Err(format!(
+            "{} names and {} columns of {} times do not match",
+            names.len(),
+            cols.len(),
+            times.len()
+        ));
     }
     // Uniform time grid (as saved: k/R).
     let dt = match times.len() {

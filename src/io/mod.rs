@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod csv;
 pub mod motion_json;
 pub mod plot;
+pub mod storage;
 pub mod viewer;
 
 use std::path::{Path, PathBuf};

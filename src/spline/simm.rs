@@ -12,6 +12,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "SimmRepr", into = "SimmRepr")]
 pub struct SimmSpline {
+    /// OpenSim's `NaturalCubicSpline` (s'' = 0 at both ends) instead of FMM's end conditions.
+    natural: bool,
     x: Vec<f64>,
     y: Vec<f64>,
     b: Vec<f64>,
@@ -21,6 +23,8 @@ pub struct SimmSpline {
 
 #[derive(Serialize, Deserialize)]
 struct SimmRepr {
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    natural: bool,
     x: Vec<f64>,
     y: Vec<f64>,
 }
@@ -28,49 +32,42 @@ struct SimmRepr {
 impl TryFrom<SimmRepr> for SimmSpline {
     type Error = SplineError;
     fn try_from(r: SimmRepr) -> Result<Self, SplineError> {
-        SimmSpline::new(r.x, r.y)
+        if r.natural {
+            SimmSpline::natural(r.x, r.y)
+        } else {
+            SimmSpline::new(r.x, r.y)
+        }
     }
 }
 impl From<SimmSpline> for SimmRepr {
     fn from(s: SimmSpline) -> Self {
-        SimmRepr { x: s.x, y: s.y }
+        SimmRepr {
+            natural: s.natural,
+            x: s.x,
+            y: s.y,
+        }
     }
 }
 
 impl SimmSpline {
     /// Interpolant through (x[i], y[i]); x strictly increasing, at least 2 points.
     pub fn new(x: Vec<f64>, y: Vec<f64>) -> Result<Self, SplineError> {
+        check_points("SimmSpline", &x, &y)?;
         let n = x.len();
-        if n != y.len() {
-            return Err(SplineError::Fit(format!(
-                "SimmSpline has {} x values but {} y values",
-                n,
-                y.len()
-            )));
-        }
-        if n < 2 {
-            return Err(SplineError::Fit(
-                "SimmSpline needs at least 2 points".into(),
-            ));
-        }
-        if x.iter().chain(&y).any(|v| !v.is_finite()) {
-            return Err(SplineError::Fit("SimmSpline points must be finite".into()));
-        }
-        if let Some(i) = (1..n).find(|&i| x[i] <= x[i - 1]) {
-            return Err(SplineError::Fit(format!(
-                "SimmSpline x values must be strictly increasing: x[{}] = {} follows {}",
-                i,
-                x[i],
-                x[i - 1]
-            )));
-        }
         let mut b = vec![0.0; n];
         let mut c = vec![0.0; n];
         let mut d = vec![0.0; n];
         if n == 2 {
             b[0] = (y[1] - y[0]) / (x[1] - x[0]);
             b[1] = b[0];
-            return Ok(SimmSpline { x, y, b, c, d });
+            return Ok(SimmSpline {
+                natural: false,
+                x,
+                y,
+                b,
+                c,
+                d,
+            });
         }
         let nm1 = n - 1;
         // Tridiagonal system for σ_i = s''(x_i)/6 (stored in c), diagonal b, off-diagonal d.
@@ -110,7 +107,67 @@ impl SimmSpline {
         }
         c[nm1] *= 3.0;
         d[nm1] = d[n - 2];
-        Ok(SimmSpline { x, y, b, c, d })
+        Ok(SimmSpline {
+            natural: false,
+            x,
+            y,
+            b,
+            c,
+            d,
+        })
+    }
+
+    /// OpenSim's `NaturalCubicSpline`: the C² cubic interpolant with s'' = 0 at
+    /// both ends (n = 2 gives a line), extended linearly outside the knots.
+    pub fn natural(x: Vec<f64>, y: Vec<f64>) -> Result<Self, SplineError> {
+        check_points("NaturalCubicSpline", &x, &y)?;
+        let n = x.len();
+        let h: Vec<f64> = (0..n - 1).map(|i| x[i + 1] - x[i]).collect();
+        // Second derivatives m (m[0] = m[n-1] = 0) by the Thomas algorithm.
+        let mut m = vec![0.0; n];
+        if n > 2 {
+            let k = n - 2;
+            let mut diag = vec![0.0; k];
+            let mut rhs = vec![0.0; k];
+            for j in 0..k {
+                let i = j + 1;
+                diag[j] = 2.0 * (h[i - 1] + h[i]);
+                rhs[j] = 6.0 * ((y[i + 1] - y[i]) / h[i] - (y[i] - y[i - 1]) / h[i - 1]);
+            }
+            for j in 1..k {
+                let w = h[j] / diag[j - 1];
+                diag[j] -= w * h[j];
+                rhs[j] -= w * rhs[j - 1];
+            }
+            m[k] = rhs[k - 1] / diag[k - 1];
+            for j in (0..k - 1).rev() {
+                m[j + 1] = (rhs[j] - h[j + 1] * m[j + 2]) / diag[j];
+            }
+        }
+        let mut b = vec![0.0; n];
+        let mut c = vec![0.0; n];
+        let mut d = vec![0.0; n];
+        for i in 0..n - 1 {
+            b[i] = (y[i + 1] - y[i]) / h[i] - h[i] * (2.0 * m[i] + m[i + 1]) / 6.0;
+            c[i] = m[i] / 2.0;
+            d[i] = (m[i + 1] - m[i]) / (6.0 * h[i]);
+        }
+        let l = n - 2;
+        b[n - 1] = b[l] + h[l] * (2.0 * c[l] + 3.0 * h[l] * d[l]);
+        d[n - 1] = d[l];
+        Ok(SimmSpline {
+            natural: true,
+            x,
+            y,
+            b,
+            c,
+            d,
+        })
+    }
+
+    /// True for a `NaturalCubicSpline`.
+    pub fn is_natural(&self) -> bool {
+        self.natural
     }
 
     pub fn x(&self) -> &[f64] {
@@ -158,6 +215,32 @@ impl SimmSpline {
     }
 }
 
+fn check_points(what: &str, x: &[f64], y: &[f64]) -> Result<(), SplineError> {
+    let n = x.len();
+    if n != y.len() {
+        return Err(SplineError::Fit(format!(
+            "{what} has {} x values but {} y values",
+            n,
+            y.len()
+        )));
+    }
+    if n < 2 {
+        return Err(SplineError::Fit(format!("{what} needs at least 2 points")));
+    }
+    if x.iter().chain(y).any(|v| !v.is_finite()) {
+        return Err(SplineError::Fit(format!("{what} points must be finite")));
+    }
+    if let Some(i) = (1..n).find(|&i| x[i] <= x[i - 1]) {
+        return Err(SplineError::Fit(format!(
+            "{what} x values must be strictly increasing: x[{}] = {} follows {}",
+            i,
+            x[i],
+            x[i - 1]
+        )));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,6 +266,28 @@ mod tests {
         let v = s.eval(3.0);
         let e = s.eval(2.0);
         assert!((v[0] - (e[0] + e[1])).abs() < 1e-13 && v[2] == 0.0);
+    }
+
+    #[test]
+    fn natural_spline_has_zero_end_curvature_and_interpolates() {
+        let x = vec![-1.0, -0.2, 0.5, 1.1, 2.0];
+        let y = vec![0.3, -0.4, 0.9, 0.2, 1.5];
+        let s = SimmSpline::natural(x.clone(), y.clone()).unwrap();
+        for (xi, yi) in x.iter().zip(&y) {
+            assert!((s.eval(*xi)[0] - yi).abs() < 1e-14);
+        }
+        assert!(s.eval(-1.0)[2].abs() < 1e-12 && s.eval(2.0)[2].abs() < 1e-12);
+        // C² at interior knots
+        for xi in &x[1..4] {
+            let (l, r) = (s.eval(xi - 1e-9), s.eval(xi + 1e-9));
+            assert!((l[1] - r[1]).abs() < 1e-7 && (l[2] - r[2]).abs() < 1e-6);
+        }
+        // linear continuation with the end slope
+        let e = s.eval(2.0);
+        assert!((s.eval(3.0)[0] - (e[0] + e[1])).abs() < 1e-13);
+        let back: SimmSpline = serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
+        assert_eq!(back, s);
+        assert!(SimmSpline::natural(vec![0.0, 1.0, 0.5], vec![0.0; 3]).is_err());
     }
 
     #[test]

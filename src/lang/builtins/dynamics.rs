@@ -13,13 +13,15 @@ use super::body::Body;
 use super::{ArgValue, Args, Registry};
 use crate::dynamics::{
     DynamicsError, ExternalForce, Integrator, LimitPenalty, Scene, Spring, State, Workspace,
-    forward_dynamics, inverse_dynamics, mass_matrix, simulate,
+    coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix, forward_dynamics,
+    inverse_dynamics, mass_matrix, simulate,
 };
 use crate::lang::builtins::motion::Motion;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
 use crate::lang::value::{HostObject, Value};
 use crate::model::Model;
+use crate::model::urdf::UrdfOptions;
 use crate::motion::{Curve, Dof, Interval, Mu};
 
 /// A scene: a body and the effects it declares.
@@ -100,28 +102,44 @@ pub(crate) fn dyn_error(e: DynamicsError, a: &Args) -> MxError {
         .help(format!("usage: {}", a.signature()))
 }
 
+/// The `body` argument as a body with every coordinate free (scenes).
 fn body(a: &mut Args) -> MxResult<Arc<Model>> {
+    let b = dyn_body(a)?;
+    match b.coupling {
+        None => Ok(b.model),
+        Some(_) => Err(
+            MxError::value(b.free_model(&format!("`{}`", a.name())).unwrap_err()).at(a.call_span()),
+        ),
+    }
+}
+
+/// The `body` argument, coupled coordinates included.
+fn dyn_body(a: &mut Args) -> MxResult<Body> {
     let arg = a.arg("body")?;
     if let Some(b) = arg.value.as_object::<Body>() {
-        return Ok(b.model.clone());
+        return Ok(b.clone());
     }
     if let Some(s) = arg.value.as_object::<SceneValue>() {
-        return Ok(s.scene.model.clone());
+        return Ok(Body::from_model(s.scene.model.clone()));
     }
     Err(a.type_error("body", "a body (e.g. `load(\"robot.urdf\")`)", &arg))
 }
 
-/// A list of `n` numbers named `name` (the body's coordinates in order).
-fn coords(a: &mut Args, m: &Model, name: &str) -> MxResult<Vec<f64>> {
+/// A list of numbers named `name`, one per coordinate of `b` in order.
+fn coords(a: &mut Args, b: &Body, name: &str) -> MxResult<Vec<f64>> {
     let arg = a.arg(name)?;
-    list_n(a, &arg, name, m)
+    list_of(a, &arg, name, b.coordinate_names())
 }
 
 fn list_n(a: &Args, arg: &ArgValue, name: &str, m: &Model) -> MxResult<Vec<f64>> {
+    list_of(a, arg, name, m.coordinate_names())
+}
+
+fn list_of(a: &Args, arg: &ArgValue, name: &str, names: &[String]) -> MxResult<Vec<f64>> {
     let Value::List(l) = &arg.value else {
         return Err(a.type_error(name, "a list of numbers", arg));
     };
-    let n = m.nq();
+    let n = names.len();
     if l.len() != n {
         return Err(MxError::value(format!(
             "`{}`: `{name}` has {} numbers but the body has {n} coordinates",
@@ -129,10 +147,7 @@ fn list_n(a: &Args, arg: &ArgValue, name: &str, m: &Model) -> MxResult<Vec<f64>>
             l.len()
         ))
         .at(arg.span)
-        .help(format!(
-            "the coordinates, in order: {}",
-            m.coordinate_names().join(", ")
-        )));
+        .help(format!("the coordinates, in order: {}", names.join(", "))));
     }
     l.iter()
         .enumerate()
@@ -141,7 +156,7 @@ fn list_n(a: &Args, arg: &ArgValue, name: &str, m: &Model) -> MxResult<Vec<f64>>
             _ => Err(MxError::type_error(format!(
                 "`{}`: element {i} of `{name}` (`{}`) must be a finite number",
                 a.name(),
-                m.coordinate_names()[i]
+                names[i]
             ))
             .at(arg.span)),
         })
@@ -478,7 +493,10 @@ fn run_simulation(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     ) {
         (Some(s), _) => s.scene.clone(),
         // A bare body is a scene with no effects at all (not even gravity).
-        (None, Some(b)) => Scene::new(b.model.clone()),
+        (None, Some(b)) => Scene::new(
+            b.free_model("`simulate`")
+                .map_err(|m| MxError::value(m).at(sarg.span))?,
+        ),
         _ => {
             return Err(a.type_error(
                 "scene",
@@ -570,33 +588,51 @@ pub fn register(reg: &mut Registry) {
     );
     reg.loader(
         "urdf",
-        "A body from a URDF robot description (fixed base; gravity [0, 0, -9.81] by default).",
-        |path, _a, _ev| {
-            let m = Model::from_urdf_file(path).map_err(|e| {
+        "A body from a URDF robot description (fixed base; gravity [0, 0, -9.81] by default). Option `mimic: true`: <mimic> joints follow their joint (q = multiplier·q_joint + offset) instead of being free coordinates.",
+        |path, a, _ev| {
+            let mimic = match a.opt_named("mimic") {
+                None => false,
+                Some(v) => match v.value {
+                    Value::Bool(b) => b,
+                    _ => return Err(a.type_error("mimic", "true or false", &v)),
+                },
+            };
+            let (m, coupling) = Model::from_urdf_file_with(path, UrdfOptions { mimic }).map_err(|e| {
                 MxError::new(ErrorKind::Io, e.to_string())
                     .help("mx reads fixed-base URDF with revolute, continuous, prismatic and fixed joints")
             })?;
-            Ok(Value::object(Body::from_model(Arc::new(m))))
+            let mut b = Body::from_model(Arc::new(m));
+            b.coupling = coupling.map(Arc::new);
+            Ok(Value::object(b))
         },
     );
     reg.add(
         "coordinates(body)",
         "The names of the body's coordinates, in the order every dynamics list uses.",
-        |a, _| Ok(names_value(&*body(a)?)),
+        |a, _| {
+            let b = dyn_body(a)?;
+            Ok(Value::list(
+                b.coordinate_names().iter().map(Value::str).collect(),
+            ))
+        },
     );
     reg.add(
         "inverse_dynamics(body, q, v, a, gravity: [0, 0, -9.81])",
         "Joint torques τ = M(q) a + C(q, v) v + g(q) (lists in coordinate order).",
         |a, _| {
-            let m = body(a)?;
-            let q = coords(a, &m, "q")?;
-            let v = coords(a, &m, "v")?;
-            let acc = coords(a, &m, "a")?;
+            let b = dyn_body(a)?;
+            let m = b.model.clone();
+            let q = coords(a, &b, "q")?;
+            let v = coords(a, &b, "v")?;
+            let acc = coords(a, &b, "a")?;
             let g = gravity(a, &m)?;
             let mut ws = Workspace::new(&m);
-            let mut tau = vec![0.0; m.nq()];
-            inverse_dynamics(&m, &mut ws, &q, &v, &acc, &g, &mut tau)
-                .map_err(|e| dyn_error(e, a))?;
+            let mut tau = vec![0.0; q.len()];
+            match &b.coupling {
+                Some(c) => coupled_inverse_dynamics(&m, c, &mut ws, &q, &v, &acc, &g, &mut tau),
+                None => inverse_dynamics(&m, &mut ws, &q, &v, &acc, &g, &mut tau),
+            }
+            .map_err(|e| dyn_error(e, a))?;
             Ok(nums(&tau))
         },
     );
@@ -604,15 +640,19 @@ pub fn register(reg: &mut Registry) {
         "forward_dynamics(body, q, v, tau, gravity: [0, 0, -9.81])",
         "Joint accelerations under torques tau (articulated-body algorithm).",
         |a, _| {
-            let m = body(a)?;
-            let q = coords(a, &m, "q")?;
-            let v = coords(a, &m, "v")?;
-            let tau = coords(a, &m, "tau")?;
+            let b = dyn_body(a)?;
+            let m = b.model.clone();
+            let q = coords(a, &b, "q")?;
+            let v = coords(a, &b, "v")?;
+            let tau = coords(a, &b, "tau")?;
             let g = gravity(a, &m)?;
             let mut ws = Workspace::new(&m);
-            let mut qdd = vec![0.0; m.nq()];
-            forward_dynamics(&m, &mut ws, &q, &v, &tau, &g, &mut qdd)
-                .map_err(|e| dyn_error(e, a))?;
+            let mut qdd = vec![0.0; q.len()];
+            match &b.coupling {
+                Some(c) => coupled_forward_dynamics(&m, c, &mut ws, &q, &v, &tau, &g, &mut qdd),
+                None => forward_dynamics(&m, &mut ws, &q, &v, &tau, &g, &mut qdd),
+            }
+            .map_err(|e| dyn_error(e, a))?;
             Ok(nums(&qdd))
         },
     );
@@ -620,12 +660,19 @@ pub fn register(reg: &mut Registry) {
         "mass_matrix(body, q)",
         "The joint-space mass matrix M(q), a list of rows.",
         |a, _| {
-            let m = body(a)?;
-            let q = coords(a, &m, "q")?;
+            let b = dyn_body(a)?;
+            let m = b.model.clone();
+            let q = coords(a, &b, "q")?;
             let mut ws = Workspace::new(&m);
-            let n = m.nq();
-            let mut mm = DMatrix::zeros(n, n);
-            mass_matrix(&m, &mut ws, &q, &mut mm).map_err(|e| dyn_error(e, a))?;
+            let n = q.len();
+            let mm = match &b.coupling {
+                Some(c) => coupled_mass_matrix(&m, c, &mut ws, &q),
+                None => {
+                    let mut mm = DMatrix::zeros(n, n);
+                    mass_matrix(&m, &mut ws, &q, &mut mm).map(|_| mm)
+                }
+            }
+            .map_err(|e| dyn_error(e, a))?;
             Ok(Value::list(
                 (0..n)
                     .map(|i| nums(&mm.row(i).iter().copied().collect::<Vec<_>>()))

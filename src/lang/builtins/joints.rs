@@ -440,7 +440,7 @@ pub fn register(reg: &mut Registry) {
     );
     reg.add(
         "fit_spline_joint(samples, frames: 8, smooth: 0, knots: \"uniform\")",
-        "Fit a cubic spline curve joint with `frames` control frames to samples (paper §6.2); `smooth` = w in [0, 1) trades data fit for a smaller joint Hessian (§6.3; useful w are small, 1e-5…1e-2); knots \"uniform\" or \"natural\".",
+        "Fit a cubic spline curve joint with `frames` control frames to samples (paper §6.2); `smooth` = w in [0, 1) trades data fit for a smaller joint Hessian (§6.3; useful w are small, 1e-5…1e-2), or \"auto\": the w of 0, 1e-6…1e-2 with the least generalised cross-validation score; knots \"uniform\" or \"natural\".",
         |a, _| {
             let s = a.object::<SamplesValue>("samples", "joint samples (from load_samples)")?.0.clone();
             let farg = a.opt("frames");
@@ -451,7 +451,15 @@ pub fn register(reg: &mut Registry) {
                 },
                 None => 8,
             };
-            let smooth = a.number_or("smooth", 0.0)?;
+            // `smooth: "auto"`: the weight of least generalised cross-validation score.
+            let smooth = match a.opt("smooth") {
+                Some(v) if v.value.as_str_opt().as_deref() == Some("auto") => None,
+                Some(v) => match v.value.as_number() {
+                    Some(x) => Some(x),
+                    None => return Err(value_error(a, &v, "`smooth` must be a number in [0, 1) or \"auto\"")),
+                },
+                None => Some(0.0),
+            };
             let knots = match a.opt("knots") {
                 Some(k) => match k.value.as_str_opt().as_deref() {
                     Some("uniform") => KnotPlacement::Uniform,
@@ -460,7 +468,12 @@ pub fn register(reg: &mut Registry) {
                 },
                 None => KnotPlacement::Uniform,
             };
-            let r = fit_spline_joint(&s, &FitOptions { frames, smooth, knots, ..Default::default() }).map_err(|e| spec(a, e))?;
+            let opt = FitOptions { frames, smooth: smooth.unwrap_or(0.0), knots, ..Default::default() };
+            let r = match smooth {
+                Some(_) => fit_spline_joint(&s, &opt),
+                None => fit_spline_joint_auto(&s, &opt).map(|(r, _, _)| r),
+            }
+            .map_err(|e| spec(a, e))?;
             Ok(Value::object(JointValue::curve(r.joint)))
         },
     );

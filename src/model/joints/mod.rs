@@ -11,7 +11,7 @@ pub mod error;
 pub mod fixed;
 pub mod function_based;
 pub mod helical;
-mod osim;
+pub(crate) mod osim;
 pub mod planar;
 pub mod poe;
 pub mod prismatic;
@@ -26,7 +26,10 @@ pub mod spline_surface;
 pub mod universal;
 
 pub use curve::SplineCurveJoint;
-pub use curve_fit::{FitOptions, FitReport, KnotPlacement, fit_spline_joint, hessian_energy};
+pub use curve_fit::{
+    AUTO_WEIGHTS, AutoFit, FitOptions, FitReport, KnotPlacement, fit_spline_joint,
+    fit_spline_joint_auto, gcv_score, hessian_energy,
+};
 pub use cylindrical::Cylindrical;
 pub use elliptic::Elliptic;
 pub use error::JointSpecError;

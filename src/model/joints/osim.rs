@@ -155,8 +155,16 @@ pub(crate) fn custom_joint_from_xml(
     Ok(joint)
 }
 
-fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJointError> {
+/// An OpenSim `Function` element (Constant, LinearFunction, SimmSpline,
+/// NaturalCubicSpline, PiecewiseLinearFunction, PolynomialFunction,
+/// MultiplierFunction); GCVSpline and functions of several variables are a clear error.
+pub(crate) fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJointError> {
     match n.tag_name().name() {
+        // OpenSim 3.x wraps the function: <function><LinearFunction>…</LinearFunction></function>
+        "function" => match n.children().find(|c| c.is_element()) {
+            Some(inner) => function_from_xml(inner),
+            None => e("<function> holds no function"),
+        },
         "Constant" => Ok(ScalarFunction::Constant {
             value: nums(text(n, "value").unwrap_or("0"))?
                 .first()
@@ -180,6 +188,25 @@ fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJointError> {
                 SimmSpline::new(x, y).map_err(|m| FunctionJointError(m.to_string()))?,
             ))
         }
+        "NaturalCubicSpline" => {
+            let x = nums(text(n, "x").unwrap_or(""))?;
+            let y = nums(text(n, "y").unwrap_or(""))?;
+            Ok(ScalarFunction::SimmSpline(
+                SimmSpline::natural(x, y).map_err(|m| FunctionJointError(m.to_string()))?,
+            ))
+        }
+        "PiecewiseLinearFunction" => {
+            let x = nums(text(n, "x").unwrap_or(""))?;
+            let y = nums(text(n, "y").unwrap_or(""))?;
+            ScalarFunction::piecewise_linear(x, y).map_err(FunctionJointError)
+        }
+        "GCVSpline" => e(
+            "GCVSpline (Woltring's generalised cross-validation spline) is not supported yet; \
+             refit it as a SimmSpline or NaturalCubicSpline through the same points",
+        ),
+        "MultivariatePolynomialFunction" => e(
+            "MultivariatePolynomialFunction is a function of several coordinates; mx reads functions of one",
+        ),
         "PolynomialFunction" => Ok(ScalarFunction::Polynomial {
             coefficients: nums(text(n, "coefficients").unwrap_or(""))?,
         }),
@@ -198,6 +225,9 @@ fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJointError> {
                 function: Box::new(function_from_xml(inner)?),
             })
         }
-        other => e(format!("function type '{other}' is not supported")),
+        other => e(format!(
+            "function type '{other}' is not supported (Constant, LinearFunction, SimmSpline, NaturalCubicSpline, \
+             PiecewiseLinearFunction, PolynomialFunction, MultiplierFunction are)"
+        )),
     }
 }

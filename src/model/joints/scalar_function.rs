@@ -11,8 +11,12 @@ pub enum ScalarFunction {
     Constant { value: f64 },
     /// f(x) = slope·x + intercept (OpenSim `LinearFunction`, coefficients = [slope, intercept]).
     Linear { slope: f64, intercept: f64 },
-    /// OpenSim `SimmSpline` (FMM end conditions, linear outside the knots).
+    /// OpenSim `SimmSpline` (FMM end conditions, linear outside the knots),
+    /// or `NaturalCubicSpline` ([`SimmSpline::natural`]).
     SimmSpline(SimmSpline),
+    /// OpenSim `PiecewiseLinearFunction`: straight lines between the points,
+    /// continued with the end segments' slopes (build with [`ScalarFunction::piecewise_linear`]).
+    PiecewiseLinear { x: Vec<f64>, y: Vec<f64> },
     /// f(x) = Σ c_k x^(n−k), highest order first (OpenSim `PolynomialFunction`).
     Polynomial { coefficients: Vec<f64> },
     /// f(x) = scale · g(x) (OpenSim `MultiplierFunction`).
@@ -25,6 +29,31 @@ pub enum ScalarFunction {
 }
 
 impl ScalarFunction {
+    /// A `PiecewiseLinearFunction` through (x[i], y[i]): at least 2 points, x strictly increasing.
+    pub fn piecewise_linear(x: Vec<f64>, y: Vec<f64>) -> Result<Self, String> {
+        if x.len() != y.len() {
+            return Err(format!(
+                "PiecewiseLinearFunction has {} x values but {} y values",
+                x.len(),
+                y.len()
+            ));
+        }
+        if x.len() < 2 {
+            return Err("PiecewiseLinearFunction needs at least 2 points".into());
+        }
+        if x.iter().chain(&y).any(|v| !v.is_finite()) {
+            return Err("PiecewiseLinearFunction points must be finite".into());
+        }
+        if let Some(i) = (1..x.len()).find(|&i| x[i] <= x[i - 1]) {
+            return Err(format!(
+                "PiecewiseLinearFunction x values must be strictly increasing: x[{i}] = {} follows {}",
+                x[i],
+                x[i - 1]
+            ));
+        }
+        Ok(ScalarFunction::PiecewiseLinear { x, y })
+    }
+
     /// Value, first and second derivative at x.
     pub fn eval(&self, x: f64) -> [f64; 3] {
         let [f, d1, d2, _] = self.eval3(x);
@@ -39,6 +68,13 @@ impl ScalarFunction {
                 [slope * x + intercept, *slope, 0.0, 0.0]
             }
             ScalarFunction::SimmSpline(s) => s.eval3(x),
+            ScalarFunction::PiecewiseLinear { x: xs, y } => {
+                // segment k with xs[k] ≤ x (first/last segment outside), as OpenSim
+                let n = xs.len();
+                let k = xs.partition_point(|&xi| xi <= x).clamp(1, n - 1) - 1;
+                let slope = (y[k + 1] - y[k]) / (xs[k + 1] - xs[k]);
+                [y[k] + slope * (x - xs[k]), slope, 0.0, 0.0]
+            }
             ScalarFunction::Polynomial { coefficients } => {
                 // Horner's scheme carried to the third derivative.
                 let (mut f, mut d1, mut d2, mut d3) = (0.0, 0.0, 0.0, 0.0);
