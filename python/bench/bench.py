@@ -1,0 +1,147 @@
+"""Side by side, in one run (issue 15): mx's Python bindings against
+Pinocchio's (PyPI `pin`) and `bvhio`.
+
+    target/pyenv/bin/pip install pin bvhio     # the peers (not test dependencies)
+    target/pyenv/bin/python python/bench/bench.py [--states 10000]
+
+1. Inverse dynamics on the shared human44 and UR5 URDFs for N random states:
+   pin.rnea in a Python loop, mx per call in a loop, mx batched (one call).
+2. The 1,901-frame shared dance BVH into a [frames, channels] array:
+   mx.load(...).sample(frame times) against bvhio.
+3. A 60-DOF x 7,200-frame motion to NumPy: time, and how many bytes the
+   result owns beyond the array itself (0 = written once, no copy).
+
+Median of 5 repetitions; µs per state. Reads $MX_SHARED/data (default ../shared).
+"""
+
+import argparse
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import mx
+
+REPO = Path(__file__).resolve().parents[2]
+DATA = Path(os.environ.get("MX_SHARED", REPO.parent / "shared")) / "data"
+
+
+def median_time(f, reps=5):
+    ts = []
+    for _ in range(reps):
+        t = time.perf_counter()
+        f()
+        ts.append(time.perf_counter() - t)
+    return statistics.median(ts)
+
+
+def states(nq, n, seed):
+    rng = np.random.default_rng(seed)
+    return (
+        rng.uniform(-1.0, 1.0, (n, nq)),
+        rng.uniform(-2.0, 2.0, (n, nq)),
+        rng.uniform(-5.0, 5.0, (n, nq)),
+    )
+
+
+def bench_dynamics(n):
+    try:
+        import pinocchio as pin
+    except ImportError:
+        pin = None
+        print("pin is not installed: Pinocchio columns left out (pip install pin)")
+    rows = []
+    for name in ("human44.urdf", "ur5_robot.urdf"):
+        urdf = DATA / "reference" / name
+        body = mx.Body.from_urdf(urdf)
+        q, v, a = states(body.nq, n, 1)
+        per_call = median_time(lambda: [body.inverse_dynamics(q[k], v[k], a[k]) for k in range(n)]) / n
+        batched = median_time(lambda: body.inverse_dynamics(q, v, a)) / n
+        row = {"model": name, "nq": body.nq, "mx_call": per_call * 1e6, "mx_batch": batched * 1e6}
+        if pin is not None:
+            model = pin.buildModelFromUrdf(str(urdf))
+            data = model.createData()
+            names = [model.names[j] for j in range(1, model.njoints)]
+            # mx's coordinates in Pinocchio's order (the same here, checked)
+            perm = [body.coordinates.index(nm) for nm in names]
+            qp, vp, ap = q[:, perm], v[:, perm], a[:, perm]
+            row["pin_call"] = median_time(lambda: [pin.rnea(model, data, qp[k], vp[k], ap[k]) for k in range(n)]) / n * 1e6
+            tau_pin = np.array([pin.rnea(model, data, qp[k], vp[k], ap[k]) for k in range(min(n, 200))])
+            tau_mx = body.inverse_dynamics(q[:200], v[:200], a[:200])[:, perm]
+            row["max_rel_diff"] = float(np.max(np.abs(tau_pin - tau_mx)) / max(1.0, np.max(np.abs(tau_pin))))
+        rows.append(row)
+    print(f"\n## Inverse dynamics, {n} random states (median of 5), µs per state\n")
+    print("| model | pin per call | mx per call | mx batched | pin/mx per call | pin/mx batched | max rel. diff |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        pc = r.get("pin_call")
+        fmt = lambda x: f"{x:.2f}" if x is not None else "—"
+        print(
+            f"| {r['model']} (nq {r['nq']}) | {fmt(pc)} | {r['mx_call']:.2f} | {r['mx_batch']:.2f} | "
+            f"{fmt(pc / r['mx_call'] if pc else None)} | {fmt(pc / r['mx_batch'] if pc else None)} | "
+            f"{r.get('max_rel_diff', float('nan')):.1e} |"
+        )
+
+
+def bench_bvh():
+    path = DATA / "mocap" / "bandai1_dance-short_normal_001.bvh"
+
+    def with_mx():
+        m = mx.load(path)
+        return m.sample(m.frame_times())
+
+    arr = with_mx()
+    t_mx = median_time(with_mx)
+    print(f"\n## {path.name} ({arr.shape[0]} frames x {arr.shape[1]} channels) into an array\n")
+    print(f"mx.load(...).sample(frame times): {t_mx * 1e3:.1f} ms")
+    try:
+        import bvhio
+    except ImportError:
+        print("bvhio is not installed (pip install bvhio)")
+        return
+
+    def with_bvhio():
+        bvh = bvhio.readAsBvh(str(path))
+        cols = []
+        for joint, _, _ in bvh.Root.layout():
+            cols.append(np.array([[*k.Position, *k.Rotation] for k in joint.Keyframes]))
+        return np.concatenate(cols, axis=1)
+
+    ref = with_bvhio()
+    t_b = median_time(with_bvhio, reps=3)
+    print(f"bvhio.readAsBvh + keyframes to an array ({ref.shape}): {t_b * 1e3:.1f} ms")
+    print(f"ratio bvhio / mx: {t_b / t_mx:.1f}x")
+
+
+def bench_copy():
+    rng = np.random.default_rng(3)
+    t = np.arange(7200) / 120.0
+    v = rng.normal(size=(7200, 60))
+    m = mx.Motion.from_array([f"c{k}" for k in range(60)], t, v)
+    x = m.sample(t)
+    t_s = median_time(lambda: m.sample(t))
+    owner = x
+    while isinstance(owner.base, np.ndarray):
+        owner = owner.base  # the 1-D array over mx's own buffer (its base is that Vec)
+    extra = owner.nbytes - x.nbytes
+    print("\n## 60 DOFs x 7,200 frames to NumPy\n")
+    print(f"sample: {t_s * 1e3:.1f} ms; result {x.nbytes} bytes, owning buffer {owner.nbytes} bytes "
+          f"(extra {extra}); F-contiguous view of the one buffer mx wrote: {x.flags.f_contiguous}")
+    assert np.array_equal(x, v)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--states", type=int, default=10000)
+    args = ap.parse_args()
+    print(f"python {sys.version.split()[0]}, numpy {np.__version__}, {os.cpu_count()} cores")
+    bench_dynamics(args.states)
+    bench_bvh()
+    bench_copy()
+
+
+if __name__ == "__main__":
+    main()
