@@ -3,13 +3,16 @@
 //! 1. Per call on human44, UR5 and Panda (`$MX_SHARED/data/reference`): RNEA,
 //!    ABA, CRBA, ∂τ (RNEA derivatives) and the adjoint gradient of Σwτ², median
 //!    µs over random states; when Pinocchio's timer is built
-//!    (`/work/shared/tools/pinocchio/build.sh /tmp/pinocchio-bench`, or
+//!    (`$MX_SHARED/tools/pinocchio/build.sh /tmp/pinocchio-bench`, or
 //!    `$MX_PINOCCHIO_BENCH`), it is run on the same URDF in the same session and
 //!    the ratios are printed (the table says so when it is absent).
 //! 2. The cost of each scene effect (same scene with and without it).
 //! 3. Integrator work–precision: error at t = 1 s against a tight reference vs time.
 //!
 //! Run: `cargo bench --bench dynamics` (`-- per_call` prints table 1 only).
+
+mod common;
+use common::shared;
 
 use mx::cancel::CancelToken;
 use mx::dynamics::{
@@ -20,7 +23,7 @@ use mx::model::joints::Revolute;
 use mx::model::{Inertia, Model};
 use nalgebra::{Matrix3, Vector3};
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -35,12 +38,6 @@ impl Rng {
 }
 
 use mx::report::perf::median_us;
-
-fn shared() -> PathBuf {
-    std::env::var_os("MX_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"))
-}
 
 /// Times our algorithms and Pinocchio's with the report's measurement
 /// (`mx::report::perf`), so the bench and `docs/accuracy.md` cannot differ.
@@ -102,7 +99,7 @@ fn per_call(name: &str, urdf: &Path) {
     if pin.is_none() {
         println!(
             "(Pinocchio's timer is absent at {}: build it with \
-             `/work/shared/tools/pinocchio/build.sh /tmp/pinocchio-bench` or point \
+             `$MX_SHARED/tools/pinocchio/build.sh /tmp/pinocchio-bench` or point \
              MX_PINOCCHIO_BENCH at it)",
             mx::report::perf::pinocchio_exe().display()
         );

@@ -20,24 +20,16 @@
 //!
 //! Run: `cargo bench --bench spacetime`.
 
+mod common;
+use common::shared;
+
 use mx::dynamics::{Workspace, inverse_dynamics};
 use mx::model::Model;
 use mx::motion::{Curve, Dof, Interval, Mu};
 use mx::spacetime::fig8::{self, Case};
 use mx::spacetime::{SolveOptions, TransitionSettings, solve_group};
-use std::path::PathBuf;
 use std::sync::OnceLock;
 use std::time::Instant;
-
-fn shared() -> PathBuf {
-    std::env::var_os("MX_SHARED")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-                .join("..")
-                .join("shared")
-        })
-}
 
 fn model() -> &'static Model {
     static M: OnceLock<Model> = OnceLock::new();

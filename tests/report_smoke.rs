@@ -26,6 +26,7 @@ fn smoke_report_produces_every_figure_with_finite_numbers() {
         "mocap_bspline.svg",
         "mocap_sampling.svg",
         "cyclify.svg",
+        "inbetween_l2p.svg",
     ];
     for f in want {
         let p = dir.path().join(f);
@@ -39,6 +40,7 @@ fn smoke_report_produces_every_figure_with_finite_numbers() {
     let md = std::fs::read_to_string(&s.markdown).expect("accuracy.md");
     for section in [
         "## Spacetime",
+        "## In-betweening",
         "## Integrators",
         "## Spline-joint",
         "## Mocap",

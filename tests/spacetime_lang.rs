@@ -69,14 +69,18 @@ fn jumps(m: &Mu) -> [f64; 3] {
     j
 }
 
-/// (SP, Hermite) from the line `torque energy: SP x Hermite y`.
+/// (SP, Hermite) from the line `torque energy: SP x … Hermite y`.
 fn energies(out: &str) -> (f64, f64) {
     let line = out
         .lines()
         .find(|l| l.starts_with("torque energy: SP"))
         .unwrap_or_else(|| panic!("no energy line in\n{out}"));
     let w: Vec<&str> = line.split_whitespace().collect();
-    (w[3].parse().unwrap(), w[5].parse().unwrap())
+    let after = |label: &str| -> f64 {
+        let i = w.iter().position(|x| *x == label).unwrap();
+        w[i + 1].parse().unwrap()
+    };
+    (after("SP"), after("Hermite"))
 }
 
 /// The checks every transition example shares: no gap left, continuity at
@@ -120,23 +124,33 @@ fn kick_to_walk_example() {
 fn fig10_arm_example_moves_shoulder_and_wrist_only_with_sp() {
     let (mx, out, dir) = run_example("fig10_arm.mx");
     check_transitions(&mx, &out, dir.path(), "fig10_arm_sp.bvh");
-    let moved = |joint: &str| -> (f64, f64) {
+    let moved = |joint: &str| -> (f64, f64, f64) {
         let line = out
             .lines()
             .find(|l| l.starts_with(&format!("{joint} moves:")))
             .unwrap();
         let w: Vec<&str> = line.split_whitespace().collect();
-        (w[3].parse().unwrap(), w[6].parse().unwrap())
+        (
+            w[3].parse().unwrap(),
+            w[6].parse().unwrap(),
+            w[9].parse().unwrap(),
+        )
     };
     for joint in ["shoulder", "wrist"] {
-        let (sp, interp) = moved(joint);
+        let (sp, interp, rose) = moved(joint);
         assert!(
             interp < 1e-9,
             "interpolation keeps the {joint} still: {interp}"
         );
-        assert!(sp > 0.1, "SP moves the {joint}: {sp} deg");
+        assert!(rose > 0.1, "Rose's objective moves the {joint}: {rose} deg");
+        // the default's prior holds what torque barely constrains (the hand
+        // turning about its long axis went 293° under Rose's objective)
+        assert!(
+            sp < 30.0,
+            "SP's default keeps the {joint} near its ends: {sp} deg"
+        );
     }
-    let (sp, interp) = moved("forearm");
+    let (sp, interp, _) = moved("forearm");
     assert!(
         sp > 80.0 && interp > 80.0,
         "the forearm turns 90°: {sp} {interp}"
@@ -332,7 +346,7 @@ diag!(
     "SP(walk, body: body, support: [\"LeftFut\"])"
 );
 diag!(sp_without_body, "SP(walk)");
-diag!(fill_unknown_method, "fill(walk, \"linear\")");
+diag!(fill_unknown_method, "fill(walk, \"cubic\")");
 diag!(sp_report_of_other_motion, "sp_report(walk)");
 diag!(
     torque_energy_of_gapped_motion,
@@ -405,7 +419,8 @@ fn identical_end_states_give_a_finite_continuous_transition() {
     let [jq, jv, _] = jumps(&filled);
     assert!(jq <= 1e-9 && jv <= 1e-6);
     let (e0, e) = (number(&mx, "e0"), number(&mx, "e"));
-    assert!(e.is_finite() && e <= e0, "{e} vs {e0}");
+    // not costlier than the Hermite start, to the solver's precision
+    assert!(e.is_finite() && e <= e0 * (1.0 + 1e-5), "{e} vs {e0}");
 }
 
 #[test]

@@ -120,6 +120,11 @@ pub enum MotionError {
     #[error("sampling {span} s at {rate} Hz would need {rows} rows; lower the rate")]
     TooManySamples { span: f64, rate: f64, rows: f64 },
 
+    /// An animator's operator (`blend`, `mirror`, `warp`, …) given motions it
+    /// cannot combine; the message says what and where.
+    #[error("{op}: {message}")]
+    Compose { op: &'static str, message: String },
+
     /// A computation was cancelled through its [`crate::cancel::CancelToken`].
     #[error("cancelled")]
     Cancelled,

@@ -1,6 +1,8 @@
 //! The motion algebra of Rose et al. 1996 §4: intervals of functions of time,
 //! DOFs (lists of intervals), motion units (named DOFs), the set operations
-//! ∧ − + and the time operations affine, clip, clip-in-place, concatenate.
+//! ∧ − + and the time operations affine, clip, clip-in-place, concatenate;
+//! the animator's operators beyond Rose (blend, crossfade, align, layer,
+//! mask, mirror, reverse, warp, resample) in [`compose`].
 //!
 //! This module knows nothing of the language: the interpreter wraps mx
 //! functions of time as [`TimeFunction`]s and calls the operations here.
@@ -12,6 +14,7 @@
 //! - Times closer than [`time_tol`] are the same time in set operations and
 //!   containment, so floating-point rounding never creates sliver gaps.
 
+pub mod compose;
 pub mod curve;
 mod display;
 pub mod dof;
@@ -21,12 +24,14 @@ pub mod func;
 pub mod interval;
 pub mod mu;
 pub mod ops;
+pub mod rotation;
 pub mod sample;
 
+pub use compose::Weight;
 pub use curve::{Curve, HermiteCurve, SampledCurve, TimeFunction};
 pub use dof::Dof;
 pub use error::MotionError;
-pub use fill::fill_hermite;
+pub use fill::{fill_hermite, fill_linear, fill_slerp};
 pub use func::Func;
 pub use interval::Interval;
 pub use mu::Mu;

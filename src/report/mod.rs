@@ -11,6 +11,7 @@ mod doc;
 pub mod fit;
 pub mod hard_cases;
 pub mod hard_mechanisms;
+pub mod inbetween;
 pub mod integrators;
 pub mod machine;
 pub mod mocap;
@@ -186,6 +187,12 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
         }
         Err(e) => d.pending("spacetime work–precision", &e),
     }
+
+    // ---- in-betweening against capture
+    let _ = writeln!(d.md, "\n## In-betweening against captured motion\n");
+    pb.set_message("in-betweening");
+    pb.inc_length(if smoke { 10 } else { 2000 });
+    inbetween::section(&mut d, opts.shared.as_deref(), smoke, &mut || pb.inc(1));
 
     // ---- integrators
     let _ = writeln!(d.md, "\n## Integrators\n");
@@ -451,7 +458,7 @@ pub fn generate(opts: &Options) -> Result<Summary, String> {
                         perf::pinocchio_exe().display()
                     )
                 } else {
-                    "Pinocchio's timer was not found: build it with `/work/shared/tools/pinocchio/build.sh /tmp/pinocchio-bench` (or set `PINOCCHIO_BENCH`) and rerun for the ratios.".into()
+                    "Pinocchio's timer was not found: build it with `$MX_SHARED/tools/pinocchio/build.sh /tmp/pinocchio-bench` (or set `PINOCCHIO_BENCH`) and rerun for the ratios.".into()
                 }
             );
             for (name, file) in [("human44", "human44.urdf"), ("ur5", "ur5_robot.urdf")] {

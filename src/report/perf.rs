@@ -1,5 +1,5 @@
 //! Per-call dynamics timings on a URDF, side by side with Pinocchio's C++
-//! timer when it is built (`/work/shared/tools/pinocchio/build.sh
+//! timer when it is built (`$MX_SHARED/tools/pinocchio/build.sh
 //! /tmp/pinocchio-bench`, or `$MX_PINOCCHIO_BENCH`), run in the same session on
 //! the same file. The measurement is the one of `benches/dynamics.rs`.
 

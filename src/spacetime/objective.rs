@@ -123,6 +123,9 @@ pub struct Objective<'a, M: TorqueModel> {
     /// `active[d][k]`: gap DOF d's rows at node k, `None` outside its gap.
     active: Vec<Vec<Option<NodeRows>>>,
     n_free: usize,
+    /// Per gap DOF, the weights (c_v, c_a) of the kinematic prior
+    /// ∫ c_v q̇² + c_a q̈² dt added to the torque term ([`Objective::with_prior`]).
+    prior: Vec<[f64; 2]>,
 }
 
 /// Scratch vectors of one node evaluation (one thread's).
@@ -273,9 +276,35 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             nodes,
             qweights,
             base,
+            prior: vec![[0.0; 2]; active.len()],
             active,
             n_free,
         })
+    }
+
+    /// Adds the kinematic prior Σ_d ∫ c_v,d q̇_d² + c_a,d q̈_d² dt over the gap
+    /// DOFs, `per_coord[c] = [c_v, c_a]` for model coordinate c (empty: none).
+    /// See `sp::prior_weights` for what the weights are and why.
+    pub fn with_prior(mut self, per_coord: &[[f64; 2]]) -> Result<Self, SpError> {
+        if per_coord.is_empty() {
+            return Ok(self);
+        }
+        if per_coord.len() != self.model.nq() {
+            return Err(invalid(format!(
+                "prior weights have {} entries but the body has {} coordinates",
+                per_coord.len(),
+                self.model.nq()
+            )));
+        }
+        if per_coord
+            .iter()
+            .flatten()
+            .any(|w| !w.is_finite() || *w < 0.0)
+        {
+            return Err(invalid("prior weights must be finite and non-negative"));
+        }
+        self.prior = self.dofs.iter().map(|d| per_coord[d.coord]).collect();
+        Ok(self)
     }
 
     /// Number of unknowns (gap DOFs × free coefficients), laid out DOF-major.
@@ -415,11 +444,23 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             )?;
             let wk = self.qweights[k];
             e += wk * f;
+            for (dof, (act, [cv, ca])) in self.dofs.iter().zip(self.active.iter().zip(&self.prior))
+            {
+                if act[k].is_some() {
+                    let c = dof.coord;
+                    e += wk * (cv * s.v[c] * s.v[c] + ca * s.a[c] * s.a[c]);
+                }
+            }
             if let Some(g) = grad.as_deref_mut() {
                 for (d, (dof, act)) in self.dofs.iter().zip(&self.active).enumerate() {
                     if let Some(r) = &act[k] {
                         let c = dof.coord;
-                        let (a0, a1, a2) = (wk * s.gq[c], wk * s.gv[c], wk * s.ga[c]);
+                        let [cv, ca] = self.prior[d];
+                        let (a0, a1, a2) = (
+                            wk * s.gq[c],
+                            wk * (s.gv[c] + 2.0 * cv * s.v[c]),
+                            wk * (s.ga[c] + 2.0 * ca * s.a[c]),
+                        );
                         let gd = &mut g[d * self.n_free..(d + 1) * self.n_free];
                         for j in r.live.clone() {
                             gd[j] += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
@@ -535,6 +576,19 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             (None, Some(m)) => m[(j, i)],
             _ => 0.0,
         };
+        // the prior's half-Hessian w_k (c_v r₁r₁ᵀ + c_a r₂r₂ᵀ), block-diagonal per DOF
+        for (di, rd) in &alive {
+            let [cv, ca] = self.prior[*di];
+            if cv == 0.0 && ca == 0.0 {
+                continue;
+            }
+            for p in rd.live.clone() {
+                for l in rd.live.clone().filter(|&l| l >= p) {
+                    h[(di * nf + p, di * nf + l)] += wk
+                        * (cv * rd.rows[1][p] * rd.rows[1][l] + ca * rd.rows[2][p] * rd.rows[2][l]);
+                }
+            }
+        }
         for (i, (di, rd)) in alive.iter().enumerate() {
             for (j, (ei, re)) in alive.iter().enumerate().skip(i) {
                 let c: [[f64; 3]; 3] =
@@ -642,13 +696,19 @@ mod tests {
     #[test]
     fn gradient_matches_central_differences() {
         let arm = TwoLinkArm::default();
-        for cont in [Continuity::C1, Continuity::C2] {
+        // with and without SP's kinematic prior ∫ c_v q̇² + c_a q̈²
+        for (cont, prior) in [
+            (Continuity::C1, vec![]),
+            (Continuity::C2, vec![]),
+            (Continuity::C1, vec![[0.3, 0.7], [2.0, 0.05]]),
+            (Continuity::C2, vec![[0.3, 0.7], [2.0, 0.05]]),
+        ] {
             let settings = TransitionSettings {
                 coefficients: 6,
                 samples: 12,
                 continuity: cont,
             };
-            let obj = problem(&arm, &settings);
+            let obj = problem(&arm, &settings).with_prior(&prior).unwrap();
             let mut s = obj.scratch();
             let x: Vec<f64> = (0..obj.n_vars()).map(|i| 0.3 * (i as f64).cos()).collect();
             let mut g = vec![0.0; x.len()];
@@ -707,6 +767,43 @@ mod tests {
             sum += w * f * (b - a) / n as f64;
         }
         assert!((e - sum).abs() < 1e-5 * sum, "{e} vs {sum}");
+    }
+
+    #[test]
+    fn the_prior_adds_its_integral_and_its_gauss_newton_block() {
+        let arm = TwoLinkArm::default();
+        let settings = TransitionSettings {
+            coefficients: 5,
+            samples: 30,
+            continuity: Continuity::C1,
+        };
+        let plain = problem(&arm, &settings);
+        let prior = [[0.4, 1.5], [0.0, 0.0]];
+        let with = problem(&arm, &settings).with_prior(&prior).unwrap();
+        let x: Vec<f64> = (0..plain.n_vars())
+            .map(|i| 0.2 * (i as f64).sin())
+            .collect();
+        let e0 = plain.eval(&mut plain.scratch(), &x, None).unwrap();
+        let e1 = with.eval(&mut with.scratch(), &x, None).unwrap();
+        // the prior on coordinate 0 alone, by a fine trapezoid rule over its gap
+        let d = &plain.dofs()[0];
+        let c = plain.coefficients(&x);
+        let n = 20000;
+        let mut sum = 0.0;
+        for i in 0..=n {
+            let t = d.t0 + (d.t1 - d.t0) * i as f64 / n as f64;
+            let s = plain.curves()[0].eval(&c[0], t);
+            let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+            sum += w * (0.4 * s[1] * s[1] + 1.5 * s[2] * s[2]) * (d.t1 - d.t0) / n as f64;
+        }
+        assert!((e1 - e0 - sum).abs() < 1e-6 * sum, "{} vs {sum}", e1 - e0);
+        // the prior is quadratic in x: its Gauss–Newton block is its exact Hessian
+        assert!(problem(&arm, &settings).with_prior(&[[1.0, 1.0]]).is_err());
+        assert!(
+            problem(&arm, &settings)
+                .with_prior(&[[-1.0, 0.0], [0.0, 0.0]])
+                .is_err()
+        );
     }
 
     #[test]

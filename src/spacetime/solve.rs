@@ -108,6 +108,20 @@ pub struct GapReport {
     pub grad_norm: f64,
     pub stop: String,
     pub seconds: f64,
+    /// The factor the kinematic prior's weights were scaled by in the last
+    /// solve (1: as asked; smaller when SP had to lower it so the transition
+    /// costs less torque than the Hermite curves; see `groups::solve_all`).
+    pub prior_scale: f64,
+    /// Solves run (one, or more while the prior was being lowered).
+    pub solves: u32,
+}
+
+impl GapReport {
+    /// Whether the solve ended by one of its stopping rules (not by the
+    /// iteration limit or a failed step): a result, not a flagged stop.
+    pub fn converged(&self) -> bool {
+        !(self.stop.contains("iteration limit") || self.stop.starts_with("stopped"))
+    }
 }
 
 /// The solved free coefficients and full coefficient vectors of each gap DOF.
@@ -298,11 +312,20 @@ pub fn solve_group<M: TorqueModel>(
     obj: &Objective<'_, M>,
     opts: &SolveOptions,
 ) -> Result<GroupSolution, SpError> {
+    solve_group_from(obj, obj.hermite_start(), opts)
+}
+
+/// [`solve_group`] from the free coefficients `x0` (a warm start) instead of
+/// the Hermite curves; the preconditioner is linearised there.
+pub fn solve_group_from<M: TorqueModel>(
+    obj: &Objective<'_, M>,
+    x0: Vec<f64>,
+    opts: &SolveOptions,
+) -> Result<GroupSolution, SpError> {
     let started = Instant::now();
     opts.cancel.check()?;
-    let x0 = obj.hermite_start();
     let mut scratch = obj.scratch();
-    let t = obj.preconditioner(&mut scratch)?;
+    let t = obj.gauss_newton_at(&mut scratch, &x0)?;
     let problem = Problem {
         obj,
         t: RefCell::new(t),
@@ -452,6 +475,8 @@ pub fn solve_group<M: TorqueModel>(
         grad_norm,
         stop,
         seconds: started.elapsed().as_secs_f64(),
+        prior_scale: 1.0,
+        solves: 1,
     };
     Ok(GroupSolution {
         x,

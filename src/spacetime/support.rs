@@ -200,7 +200,18 @@ pub struct SupportObjective<'a> {
     /// Per gap DOF and node: (offset, first free index, basis values) of q.
     rows: Vec<Vec<Option<NodeRow>>>,
     n_free: usize,
+    /// μ² of the term μ²‖x − x_H‖² that keeps the IK near the Hermite start
+    /// ([`IK_STIFFNESS`] × the gap's length).
+    stiffness: f64,
+    /// The Hermite start x_H.
+    start: Vec<f64>,
 }
+
+/// μ² per second of gap of the IK's pull toward the Hermite curves (m² per
+/// rad² of free coefficient): holding a foot inside its box must not twist a
+/// knee half a radian about its long axis, which a pure drift objective
+/// allows (redundant Euler channels move the foot for free).
+pub const IK_STIFFNESS: f64 = 1e-3;
 
 impl<'a> SupportObjective<'a> {
     /// `configuration(t)` gives every coordinate at t (gap DOFs may be NaN
@@ -292,6 +303,13 @@ impl<'a> SupportObjective<'a> {
             base,
             rows,
             n_free,
+            stiffness: 0.0,
+            start: vec![],
+        })
+        .map(|mut o: SupportObjective<'a>| {
+            o.stiffness = IK_STIFFNESS * (o.t1 - o.t0);
+            o.start = o.hermite_start();
+            o
         })
     }
 
@@ -379,13 +397,19 @@ impl<'a> SupportObjective<'a> {
         Ok(r)
     }
 
-    /// R(x) = ∫ Σ_k ‖p_k − p̂_k‖² dt, and ∂R/∂x into `grad` when given.
+    /// R(x) = ∫ Σ_k ‖p_k − p̂_k‖² dt + μ²‖x − x_H‖², and ∂R/∂x into `grad` when given.
     pub fn eval(&self, x: &[f64], mut grad: Option<&mut [f64]>) -> Result<f64, SpError> {
+        let mut total = 0.0;
         if let Some(g) = grad.as_deref_mut() {
             g.fill(0.0);
         }
+        for (i, (xi, si)) in x.iter().zip(&self.start).enumerate() {
+            total += self.stiffness * (xi - si) * (xi - si);
+            if let Some(g) = grad.as_deref_mut() {
+                g[i] += 2.0 * self.stiffness * (xi - si);
+            }
+        }
         let mut jac = DMatrix::zeros(3 * self.frames.len(), self.dofs.len());
-        let mut total = 0.0;
         for k in 0..self.nodes.len() {
             let want_j = grad.is_some();
             let r = self.node(k, x, want_j.then_some(&mut jac))?;
@@ -474,6 +498,11 @@ impl<'a> SupportObjective<'a> {
                         h[(*i, *j)] += w * ci.dot(cj);
                     }
                 }
+            }
+            for i in 0..n {
+                e += self.stiffness * (x[i] - self.start[i]).powi(2);
+                g[i] += self.stiffness * (x[i] - self.start[i]);
+                h[(i, i)] += self.stiffness;
             }
             if worst <= RESIDUAL_TOL {
                 break;

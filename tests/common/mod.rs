@@ -52,3 +52,23 @@ pub fn shared_files(sub: &str, suffix: &str) -> Vec<PathBuf> {
     );
     files
 }
+
+/// `max|x − ref| / max(1, max|ref|)`: the relative error the reference
+/// comparisons (Pinocchio, mimic joints) report.
+pub fn rel_err(x: &[f64], r: &[f64]) -> f64 {
+    let scale = r.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    x.iter()
+        .zip(r)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+        / scale
+}
+
+/// A JSON array of numbers (reference files); panics with what was expected.
+pub fn json_f64s(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
+}

@@ -95,6 +95,9 @@ impl SpReportValue {
                         ("energy", num(g.energy)),
                         ("grad_norm", num(g.grad_norm)),
                         ("stop", Value::str(&g.stop)),
+                        ("converged", Value::Bool(g.converged())),
+                        ("prior_scale", num(g.prior_scale)),
+                        ("solves", num(g.solves as f64)),
                         ("seconds", num(g.seconds)),
                     ])
                 })
@@ -122,7 +125,7 @@ impl SpReportValue {
 }
 
 /// The fields `sp_report(m)` has, in the order `keys` would show them.
-pub const FIELDS: [&str; 5] = ["groups", "root", "hermite", "undefined", "text"];
+pub const FIELDS: [&str; 6] = ["groups", "root", "hermite", "constant", "undefined", "text"];
 
 impl HostObject for SpReportValue {
     fn type_name(&self) -> &'static str {
@@ -139,6 +142,7 @@ impl HostObject for SpReportValue {
             "groups" => Some(self.groups()),
             "root" => Some(self.root()),
             "hermite" => Some(spans(&self.0.hermite)),
+            "constant" => Some(spans(&self.0.constant)),
             "undefined" => Some(spans(&self.0.undefined)),
             "text" => Some(Value::str(self.summary())),
             _ => None,

@@ -20,12 +20,12 @@ use crate::lang::value::{Value, format_number};
 use crate::model::Model;
 use crate::motion::Mu;
 use crate::spacetime::{
-    Continuity, CyclifyOptions, Progress, ProgressEvent, SpError, SpOptions, Support, cyclify,
-    fill_hermite, loop_motion, sp, torque_energy,
+    Continuity, CyclifyOptions, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions,
+    Support, cyclify, fill_hermite, loop_motion, sp, torque_energy,
 };
 
 /// Methods `fill(m, method)` knows.
-const FILL_METHODS: [&str; 1] = ["hermite"];
+const FILL_METHODS: [&str; 3] = ["hermite", "slerp", "linear"];
 
 fn sp_error(e: SpError, a: &Args, span: Span) -> MxError {
     let (kind, help) = match &e {
@@ -60,7 +60,9 @@ fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
 fn body_arg(a: &mut Args) -> MxResult<Arc<Model>> {
     let arg = a.arg("body")?;
     match arg.value.as_object::<Body>() {
-        Some(b) => Ok(b.model.clone()),
+        Some(b) => b
+            .free_model(&format!("`{}`", a.name()))
+            .map_err(|m| MxError::value(m).at(arg.span)),
         None => Err(a.type_error(
             "body",
             "a body whose coordinates are the motion's DOFs, e.g. body_of(clip)",
@@ -157,6 +159,93 @@ fn support(a: &mut Args, model: &Model) -> MxResult<Support> {
     }
 }
 
+/// `root: "shift"` (Rose's, the default) or `"pinned"` (the frames after the gap stay put).
+fn root_fill(a: &mut Args) -> MxResult<RootFill> {
+    let Some(arg) = a.opt_named("root") else {
+        return Ok(RootFill::default());
+    };
+    match arg.value.as_str() {
+        Some("shift") => Ok(RootFill::Shift),
+        Some("pinned") => Ok(RootFill::Pinned),
+        _ => Err(bad_option(
+            a,
+            &arg,
+            format!(
+                "`root:` must be \"shift\" or \"pinned\", found {}",
+                arg.value.repr()
+            ),
+            "\"shift\": the root's x–z follows interpolated velocities and what follows the gap moves to continue it \
+             (Rose); \"pinned\": the motion after the gap stays where it is and the root's x–z is a Hermite curve",
+        )),
+    }
+}
+
+/// `objective: "effort"` (default: ∫Στ² plus the kinematic prior) or `"torque"`
+/// (Rose's ∫Στ² alone), with `smoothness:` (λ) and `time_constant:` (T) of the prior.
+fn prior(a: &mut Args) -> MxResult<Prior> {
+    let mut p = Prior::default();
+    if let Some(arg) = a.opt_named("objective") {
+        match arg.value.as_str() {
+            Some("effort") => {}
+            Some("torque") => p = Prior::none(),
+            _ => {
+                return Err(bad_option(
+                    a,
+                    &arg,
+                    format!(
+                        "`objective:` must be \"effort\" or \"torque\", found {}",
+                        arg.value.repr()
+                    ),
+                    "\"effort\" (default): ∫Στ² plus a kinematic prior that holds light and gimbal-locked DOFs, kept \
+                     below Hermite's ∫Στ²; \"torque\": Rose's ∫Στ² alone",
+                ));
+            }
+        }
+    }
+    let positive = |a: &mut Args, name: &str, help: &str| -> MxResult<Option<f64>> {
+        let Some(arg) = a.opt_named(name) else {
+            return Ok(None);
+        };
+        match arg.value {
+            Value::Number(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
+            _ => Err(bad_option(
+                a,
+                &arg,
+                format!(
+                    "`{name}:` must be a non-negative number, found {}",
+                    arg.value.repr()
+                ),
+                help,
+            )),
+        }
+    };
+    if let Some(x) = positive(
+        a,
+        "smoothness",
+        "weight λ of the kinematic prior against ∫Στ² (default 1e6; 0 is objective: \"torque\")",
+    )? {
+        p.smoothness = x;
+    }
+    if let Some(arg) = a.opt_named("time_constant") {
+        match arg.value {
+            Value::Str(ref t) if &**t == "auto" => p.time_constant = None,
+            Value::Number(x) if x.is_finite() && x > 0.0 => p.time_constant = Some(x),
+            _ => {
+                return Err(bad_option(
+                    a,
+                    &arg,
+                    format!(
+                        "`time_constant:` must be a positive time or \"auto\", found {}",
+                        arg.value.repr()
+                    ),
+                    "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: (0.32 s)²/gap length)",
+                ));
+            }
+        }
+    }
+    Ok(p)
+}
+
 fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions> {
     let mut o = SpOptions::default();
     let continuity = continuity(a)?;
@@ -214,6 +303,8 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
         o.gravity = Some(vec3(a, &g, "gravity")?);
     }
     o.support = support(a, model)?;
+    o.root = root_fill(a)?;
+    o.prior = prior(a)?;
     o.solve.cancel = ev.ctx.cancel.clone();
     Ok(o)
 }
@@ -250,6 +341,17 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
         };
         sp_error(e, a, span)
     })?;
+    // a solve cut short is no result to pass off as one: say so where the user looks
+    for g in report.groups.iter().filter(|g| !g.converged()) {
+        eprintln!(
+            "warning: SP gap [{:.4}, {:.4}] s ({} DOFs) did not converge: {} (|∇e| {:.3e}); raise iterations: or check the gap",
+            g.t0,
+            g.t1,
+            g.coords.len(),
+            g.stop,
+            g.grad_norm
+        );
+    }
     let v = Value::object(Motion::Mu(filled));
     remember(&v, report);
     Ok(v)
@@ -308,21 +410,27 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 
 pub fn register(reg: &mut Registry) {
     reg.add(
-        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3)",
+        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", root: \"shift\")",
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
          coefficients: free B-spline coefficients per DOF (at least 2, or 3 with continuity: 2); samples: Gauss points \
          of the torque integral (at least 6 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
-         iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. Gaps at the start or end stay undefined; a conflict is an error. \
+         iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. \
+         objective: \"effort\" (default) adds to ∫Στ² a kinematic prior, λ Σ M_dd² ∫ q̈² + q̇²/T² (smoothness: λ, time_constant: T, default (0.32 s)²/gap length), \
+         lowered tenfold until the transition costs at least 2 % less ∫Στ² than the Hermite curves; \"torque\" is Rose's ∫Στ² alone. \
+         root: \"shift\" (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays). \
+         Translation DOFs constant on both sides (bone offsets) stay constant. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
         run_sp,
     );
     reg.add(
         "sp_report(m)",
         "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \
-         initial_energy (Hermite start), energy, grad_norm, stop = why the solver stopped, seconds), `root` (t0, t1, \
-         shift applied to the motion after each gap), `hermite` (root DOFs filled by Hermite curves), `undefined` \
+         initial_energy (∫Στ² of the Hermite start), energy (∫Στ² of the result), grad_norm, stop = why the solver \
+         stopped, converged (false: stopped short, also warned on stderr), prior_scale (the factor the prior ended at), \
+         solves, seconds), `root` (t0, t1, shift applied to the motion after each gap), `hermite` (root DOFs filled by \
+         Hermite curves), `constant` (bone-offset DOFs held constant: dof, start, stop), `undefined` \
          (DOFs left undefined at the start/end: dof, start, stop), `text`. print shows it as text. Only the motion SP \
          returned has a report (an operation on it makes a new motion).",
         |a, _| {
@@ -345,7 +453,10 @@ pub fn register(reg: &mut Registry) {
     reg.add(
         "fill(m, method)",
         "m with every interior gap of every DOF filled; method \"hermite\": the cubic Hermite curve between the same \
-         end values and velocities (the baseline SP improves on). Gaps at the start/end stay undefined; a conflict is an error.",
+         end values and velocities (the baseline SP improves on); \"slerp\": the in-betweening literature's \
+         interpolation (each joint's rotation slerped as a quaternion between the end poses, written back as \
+         continuous Euler channels in the joint's order; every other DOF, root positions included, linear); \"linear\": every DOF, joint rotation channels included, a straight line \
+         between the end values. Gaps at the start/end stay undefined; a conflict is an error.",
         |a, _| {
             let (m, marg) = mu_arg(a, "m")?;
             let arg = a.arg("method")?;
@@ -363,7 +474,21 @@ pub fn register(reg: &mut Registry) {
                     ),
                 ));
             }
-            let out = fill_hermite(&m).map_err(|e| sp_error(e, a, marg.span))?;
+            let out = if method == "linear" {
+                crate::motion::fill_linear(&m).map_err(|e| {
+                    MxError::value(format!("fill: {e}"))
+                        .at(marg.span)
+                        .help("resolve conflicts first (e.g. a − b) so every DOF has one value")
+                })?
+            } else if method == "slerp" {
+                crate::motion::fill_slerp(&m).map_err(|e| {
+                    MxError::value(format!("fill: {e}"))
+                        .at(marg.span)
+                        .help("resolve conflicts first (e.g. a − b) so every DOF has one value")
+                })?
+            } else {
+                fill_hermite(&m).map_err(|e| sp_error(e, a, marg.span))?
+            };
             Ok(Value::object(Motion::Mu(out)))
         },
     );

@@ -1,0 +1,829 @@
+//! The in-betweening benchmark: cut a gap out of a real clip, fill it, and
+//! compare with the frames a person actually performed (the protocol of
+//! `data/inbetween/README.md`, after Harvey et al. 2020's LaFAN1 benchmark).
+//!
+//! Windows start every `stride` frames; each keeps `context` frames before
+//! the gap and every frame after it (at least `context` of them). The two
+//! sides are separate sampled curves, so nothing a method sees was
+//! interpolated through the frames it must recreate. With the root given the
+//! root's channels keep their captured curve through the gap; with the root
+//! filled every DOF is cut and the frames after the gap stay where they were
+//! captured (SP's `root: "pinned"`).
+//!
+//! Metrics, over the gap's frames, from forward kinematics of the filled and
+//! the captured motion on the same body: L2P (mean joint-position error, cm,
+//! with the worst joint and frame), L2Q (mean distance of world joint
+//! orientations as sign-aligned unit quaternions), foot skate (mean
+//! horizontal foot speed while within 5 cm of its lowest height in the
+//! window, cm/s), the largest change of a bone's length (m), ∫Στ² over the
+//! gap, and for SP its iterations, evaluations, convergence and time.
+//! Used by `benches/inbetween.rs`, `mx report` and the plausibility tests.
+
+use crate::lie::Se3;
+use crate::mocap::{self, bvh::Units, positions::joint_points};
+use crate::model::Model;
+use crate::motion::{Curve, Dof, Interval, Mu};
+use crate::spacetime::{SpOptions, sp, torque_energy};
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The protocol's parameters (defaults: the shared folder's README).
+#[derive(Clone, Debug)]
+pub struct Protocol {
+    /// Gap lengths in frames.
+    pub gaps: Vec<usize>,
+    /// Frames between window starts.
+    pub stride: usize,
+    /// Context frames kept before the gap (and at least as many after it).
+    pub context: usize,
+    /// At most this many windows per clip and gap length (evenly spread); `None`: all.
+    pub windows_per_clip: Option<usize>,
+    /// Root settings to run.
+    pub roots: Vec<RootMode>,
+}
+
+impl Default for Protocol {
+    fn default() -> Self {
+        Protocol {
+            gaps: vec![5, 15, 30, 45],
+            stride: 40,
+            context: 10,
+            windows_per_clip: None,
+            roots: vec![RootMode::Given, RootMode::Filled],
+        }
+    }
+}
+
+/// Whether the root's channels are kept inside the gap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RootMode {
+    Given,
+    Filled,
+}
+
+impl RootMode {
+    pub fn label(self) -> &'static str {
+        match self {
+            RootMode::Given => "root given",
+            RootMode::Filled => "root filled",
+        }
+    }
+}
+
+/// A way of filling the gaps.
+#[derive(Clone, Debug)]
+pub enum Method {
+    Hermite,
+    Slerp,
+    /// SP with these options, under this label.
+    Sp(String, Box<SpOptions>),
+}
+
+impl Method {
+    pub fn label(&self) -> &str {
+        match self {
+            Method::Hermite => "fill hermite",
+            Method::Slerp => "fill slerp",
+            Method::Sp(l, _) => l,
+        }
+    }
+}
+
+/// One clip of the benchmark: its captured motion and the body of its skeleton.
+pub struct Case {
+    pub name: String,
+    pub capture: Mu,
+    pub body: Model,
+    pub frame_time: f64,
+    pub frames: usize,
+    /// DOFs of the root (the skeleton's first joint and, while it never moves,
+    /// its first child: Bandai's all-zero `joint_Root` above `Hips`).
+    pub root_dofs: Vec<String>,
+}
+
+/// Body mass of the benchmark's bodies (kg), `body_of`'s default.
+pub const BODY_MASS: f64 = 70.0;
+
+impl Case {
+    pub fn load(path: &Path) -> Result<Case, String> {
+        let clip =
+            mocap::load(path, Units::Auto).map_err(|e| format!("{}: {e}", path.display()))?;
+        let (body, _) = mocap::body_of(&clip.skeleton, BODY_MASS, clip.units.metres_per_unit)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let names = clip.skeleton.channel_names();
+        let starts = clip.skeleton.channel_starts();
+        let joint_dofs = |j: usize| -> Vec<String> {
+            let n = clip.skeleton.joints[j].channels.len();
+            names[starts[j]..starts[j] + n].to_vec()
+        };
+        let constant = |dof: &str| {
+            (0..clip.frames).all(|k| {
+                let t = k as f64 * clip.frame_time;
+                let v = clip.mu.sample(dof, t).ok().flatten().map(|s| s[0]);
+                let v0 = clip.mu.sample(dof, 0.0).ok().flatten().map(|s| s[0]);
+                v == v0
+            })
+        };
+        let mut root_dofs = vec![];
+        let mut j = 0;
+        loop {
+            let dofs = joint_dofs(j);
+            let still = dofs.iter().all(|d| constant(d));
+            root_dofs.extend(dofs);
+            match clip.skeleton.children(j).next() {
+                Some(k) if still => j = k,
+                _ => break,
+            }
+        }
+        Ok(Case {
+            name: path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            capture: clip.mu,
+            body,
+            frame_time: clip.frame_time,
+            frames: clip.frames,
+            root_dofs,
+        })
+    }
+
+    /// Every `.bvh` file in `dir`, sorted by name.
+    pub fn load_dir(dir: &Path) -> Result<Vec<Case>, String> {
+        let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(|e| format!("{}: {e}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh")))
+            .collect();
+        paths.sort();
+        paths.iter().map(|p| Case::load(p)).collect()
+    }
+
+    fn time(&self, frame: usize) -> f64 {
+        frame as f64 * self.frame_time
+    }
+
+    /// Window starts for gap length `gap` under `p`.
+    pub fn windows(&self, p: &Protocol, gap: usize) -> Vec<usize> {
+        let need = 2 * p.context + gap;
+        // a window needs a frame on each side of its gap, and a gap
+        if p.context == 0 || gap == 0 || self.frames < need {
+            return vec![];
+        }
+        let all: Vec<usize> = (0..=self.frames - need).step_by(p.stride.max(1)).collect();
+        match p.windows_per_clip {
+            Some(k) if k < all.len() => (0..k)
+                .map(|i| all[(2 * i + 1) * all.len() / (2 * k)])
+                .collect(),
+            _ => all,
+        }
+    }
+
+    /// The motion a method sees: frames `start .. start + context` and
+    /// `start + context + gap ..` as two separate sampled curves per DOF (the
+    /// root's DOFs whole when given).
+    pub fn cut(
+        &self,
+        start: usize,
+        context: usize,
+        gap: usize,
+        root: RootMode,
+    ) -> Result<Mu, String> {
+        if context == 0 || gap == 0 || start + 2 * context + gap > self.frames {
+            return Err(format!(
+                "{}: no window of {context} context frames and a {gap}-frame gap at frame {start} in {} frames",
+                self.name, self.frames
+            ));
+        }
+        let a = start;
+        let b = start + context; // first gap frame
+        let c = b + gap; // first frame after the gap
+        let end = self.frames;
+        let mut out = Mu::new();
+        for (name, _) in &self.capture.dofs {
+            let values = |from: usize, to: usize| -> Result<Vec<f64>, String> {
+                (from..to)
+                    .map(|k| {
+                        self.capture
+                            .sample(name, self.time(k))
+                            .map_err(|e| e.to_string())?
+                            .map(|s| s[0])
+                            .ok_or_else(|| format!("{name} undefined at frame {k}"))
+                    })
+                    .collect()
+            };
+            let piece = |from: usize, to: usize| -> Result<Interval, String> {
+                let v = values(from, to)?;
+                let curve = Curve::samples(self.time(from), self.frame_time, v)
+                    .map_err(|e| e.to_string())?;
+                Interval::curve(curve, self.time(from), self.time(to - 1))
+                    .map_err(|e| e.to_string())
+            };
+            let keep_whole = root == RootMode::Given && self.root_dofs.contains(name);
+            let dof = if keep_whole {
+                Dof::new(vec![piece(a, end)?])
+            } else {
+                Dof::new(vec![piece(a, b)?, piece(c, end)?])
+            }
+            .map_err(|e| e.to_string())?;
+            out.insert(name.clone(), dof);
+        }
+        Ok(out)
+    }
+}
+
+/// What one method did on one window.
+#[derive(Clone, Debug)]
+pub struct WindowResult {
+    pub clip: String,
+    pub start: usize,
+    pub gap: usize,
+    pub root: RootMode,
+    pub method: String,
+    /// Mean joint-position error over the gap frames (cm).
+    pub l2p: f64,
+    /// Worst joint-position error (cm), its joint and frame.
+    pub worst: f64,
+    pub worst_joint: String,
+    pub worst_frame: usize,
+    pub l2q: f64,
+    /// Mean horizontal foot speed while the foot is near its lowest height (cm/s).
+    pub skate: f64,
+    /// Largest change of a bone's length over the gap (m).
+    pub bone: f64,
+    /// ∫Στ² over the gap.
+    pub energy: f64,
+    pub iterations: u64,
+    pub evaluations: u64,
+    /// `Some(false)`: an SP solve stopped short of its rule (flagged).
+    pub converged: Option<bool>,
+    pub seconds: f64,
+}
+
+/// World poses of the reported joints at time t.
+fn poses(
+    body: &Model,
+    m: &Mu,
+    t: f64,
+    links: &[usize],
+    buf: &mut Vec<Se3>,
+) -> Result<Vec<Se3>, String> {
+    let names = body.coordinate_names();
+    let mut q = vec![0.0; names.len()];
+    for (k, n) in names.iter().enumerate() {
+        q[k] = m
+            .sample(n, t)
+            .map_err(|e| e.to_string())?
+            .map(|s| s[0])
+            .ok_or_else(|| format!("{n} is undefined at t = {t}"))?;
+    }
+    body.forward_kinematics(&q, buf)
+        .map_err(|e| e.to_string())?;
+    Ok(links.iter().map(|&l| buf[l]).collect())
+}
+
+fn is_foot(name: &str) -> bool {
+    let n = name.to_ascii_lowercase();
+    (n.contains("foot") || n.contains("toe") || n.contains("ankle")) && !n.ends_with(".end")
+}
+
+/// Scores `filled` against the capture over the gap of the window at `start`.
+#[allow(clippy::too_many_arguments)]
+pub fn score(
+    case: &Case,
+    p: &Protocol,
+    start: usize,
+    gap: usize,
+    root: RootMode,
+    method: &str,
+    filled: &Mu,
+    seconds: f64,
+) -> Result<WindowResult, String> {
+    let (links, parents) = joint_points(&case.body);
+    let joint_names: Vec<String> = links
+        .iter()
+        .map(|&l| case.body.link(l).name.clone())
+        .collect();
+    let up = if case.body.default_gravity.y.abs() >= case.body.default_gravity.z.abs() {
+        1
+    } else {
+        2
+    };
+    let first = start + p.context;
+    let root_links: Vec<bool> = links
+        .iter()
+        .map(|&l| {
+            let joint = &case.body.link(l).name;
+            case.root_dofs
+                .iter()
+                .any(|d| d.rsplit_once('.').is_some_and(|(j, _)| j == joint))
+        })
+        .collect();
+    let mut buf = vec![];
+    // captured and filled poses over the window's context, gap and first frame after
+    let frames: Vec<usize> = (start..first + gap + 1).collect();
+    let mut cap = vec![];
+    let mut fil = vec![];
+    for &k in &frames {
+        let t = case.time(k);
+        cap.push(poses(&case.body, &case.capture, t, &links, &mut buf)?);
+        fil.push(poses(&case.body, filled, t, &links, &mut buf)?);
+    }
+    let in_gap = |i: usize| frames[i] >= first && frames[i] < first + gap;
+    let (mut sum_p, mut sum_q, mut count) = (0.0, 0.0, 0usize);
+    let (mut worst, mut worst_joint, mut worst_frame) = (0.0, String::new(), first);
+    let mut bone: f64 = 0.0;
+    for i in (0..frames.len()).filter(|&i| in_gap(i)) {
+        for j in 0..links.len() {
+            let e = (fil[i][j].p - cap[i][j].p).norm() * 100.0;
+            sum_p += e;
+            if e > worst {
+                worst = e;
+                worst_joint = joint_names[j].clone();
+                worst_frame = frames[i];
+            }
+            let qa = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+                fil[i][j].r,
+            ));
+            let qb = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+                cap[i][j].r,
+            ));
+            let d = (qa.coords - qb.coords)
+                .norm()
+                .min((qa.coords + qb.coords).norm());
+            sum_q += d;
+            count += 1;
+            // (the root's link hangs from the origin by its position channels: no bone)
+            if let (Some(pj), false) = (parents[j], root_links[j]) {
+                let lf = (fil[i][j].p - fil[i][pj].p).norm();
+                let lc = (cap[i][j].p - cap[i][pj].p).norm();
+                bone = bone.max((lf - lc).abs());
+            }
+        }
+    }
+    // foot skate over the gap's frames (with the frames on either side for speed)
+    let mut skate_sum = 0.0;
+    let mut skate_n = 0usize;
+    for j in (0..links.len()).filter(|&j| is_foot(&joint_names[j])) {
+        let lowest = cap.iter().map(|f| f[j].p[up]).fold(f64::INFINITY, f64::min);
+        for i in 1..frames.len() {
+            if !(in_gap(i) || in_gap(i - 1)) {
+                continue;
+            }
+            if fil[i][j].p[up] - lowest <= 0.05 {
+                let mut d: Vector3<f64> = fil[i][j].p - fil[i - 1][j].p;
+                d[up] = 0.0;
+                skate_sum += d.norm() * 100.0 / case.frame_time;
+                skate_n += 1;
+            }
+        }
+    }
+    let t0 = case.time(first - 1);
+    let t1 = case.time(first + gap);
+    let piece = crate::motion::clip_in_place(t0, t1, filled).map_err(|e| e.to_string())?;
+    let energy = torque_energy(&piece, &case.body, None).map_err(|e| e.to_string())?;
+    Ok(WindowResult {
+        clip: case.name.clone(),
+        start,
+        gap,
+        root,
+        method: method.to_string(),
+        l2p: sum_p / count.max(1) as f64,
+        worst,
+        worst_joint,
+        worst_frame,
+        l2q: sum_q / count.max(1) as f64,
+        skate: if skate_n == 0 {
+            0.0
+        } else {
+            skate_sum / skate_n as f64
+        },
+        bone,
+        energy,
+        iterations: 0,
+        evaluations: 0,
+        converged: None,
+        seconds,
+    })
+}
+
+/// What a method made of one window: the filled motion, SP's report, the time it took.
+pub struct Filled {
+    pub motion: Mu,
+    pub report: Option<crate::spacetime::SpReport>,
+    pub seconds: f64,
+}
+
+/// Fills the window at `start` (gap `gap` frames) with `method`.
+pub fn fill_window(
+    case: &Case,
+    p: &Protocol,
+    start: usize,
+    gap: usize,
+    root: RootMode,
+    method: &Method,
+) -> Result<Filled, String> {
+    let cut = case.cut(start, p.context, gap, root)?;
+    let clock = Instant::now();
+    let (motion, report) = match method {
+        Method::Hermite => (
+            crate::spacetime::fill_hermite(&cut).map_err(|e| e.to_string())?,
+            None,
+        ),
+        Method::Slerp => (
+            crate::motion::fill_slerp(&cut).map_err(|e| e.to_string())?,
+            None,
+        ),
+        Method::Sp(_, opts) => {
+            let mut o = (**opts).clone();
+            if root == RootMode::Filled {
+                o.root = crate::spacetime::RootFill::Pinned;
+            }
+            let (m, r) = sp(&cut, &case.body, &o).map_err(|e| format!("{}: {e}", case.name))?;
+            (m, Some(r))
+        }
+    };
+    Ok(Filled {
+        motion,
+        report,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}
+
+/// Fills one window with one method and scores it.
+pub fn run_window(
+    case: &Case,
+    p: &Protocol,
+    start: usize,
+    gap: usize,
+    root: RootMode,
+    method: &Method,
+) -> Result<WindowResult, String> {
+    let f = fill_window(case, p, start, gap, root, method)?;
+    let mut r = score(
+        case,
+        p,
+        start,
+        gap,
+        root,
+        method.label(),
+        &f.motion,
+        f.seconds,
+    )?;
+    if let Some(rep) = f.report {
+        r.iterations = rep.groups.iter().map(|g| g.iterations).sum();
+        r.evaluations = rep.groups.iter().map(|g| g.evaluations).sum();
+        r.converged = Some(rep.groups.iter().all(|g| g.converged()));
+    }
+    Ok(r)
+}
+
+/// Every window of every case under every method (methods side by side on the same windows).
+pub fn run(
+    cases: &[Case],
+    p: &Protocol,
+    methods: &[Method],
+    mut progress: impl FnMut(&WindowResult),
+) -> Result<Vec<WindowResult>, String> {
+    let mut out = vec![];
+    for &root in &p.roots {
+        for &gap in &p.gaps {
+            for case in cases {
+                for start in case.windows(p, gap) {
+                    for m in methods {
+                        let r = run_window(case, p, start, gap, root, m)?;
+                        progress(&r);
+                        out.push(r);
+                    }
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One row of the summary: a method at one gap length and root setting.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    pub root: RootMode,
+    pub gap: usize,
+    pub method: String,
+    pub windows: usize,
+    pub l2p: f64,
+    pub worst: f64,
+    pub worst_at: String,
+    pub l2q: f64,
+    pub skate: f64,
+    pub bone: f64,
+    pub energy: f64,
+    /// Windows where this method is closer to the capture than Hermite (L2P).
+    pub beats_hermite: usize,
+    /// Windows whose ∫Στ² is below Hermite's.
+    pub cheaper_than_hermite: usize,
+    /// Windows whose worst joint error exceeds 1.5 × Hermite's worst + 5 cm.
+    pub blowups: usize,
+    pub not_converged: usize,
+    pub iterations: f64,
+    pub evaluations: f64,
+    pub seconds: f64,
+}
+
+/// Means per (root, gap, method), each method compared window by window with Hermite.
+pub fn summarise(results: &[WindowResult]) -> Vec<Summary> {
+    let mut keys: Vec<(RootMode, usize, String)> = vec![];
+    for r in results {
+        let k = (r.root, r.gap, r.method.clone());
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let hermite_of = |r: &WindowResult| {
+        results.iter().find(|h| {
+            h.method == Method::Hermite.label()
+                && h.clip == r.clip
+                && h.start == r.start
+                && h.gap == r.gap
+                && h.root == r.root
+        })
+    };
+    keys.into_iter()
+        .map(|(root, gap, method)| {
+            let rows: Vec<&WindowResult> = results
+                .iter()
+                .filter(|r| r.root == root && r.gap == gap && r.method == method)
+                .collect();
+            let n = rows.len().max(1) as f64;
+            let mean =
+                |f: &dyn Fn(&WindowResult) -> f64| rows.iter().map(|r| f(r)).sum::<f64>() / n;
+            let w = rows.iter().max_by(|a, b| a.worst.total_cmp(&b.worst));
+            let (mut beats, mut cheaper, mut blowups) = (0, 0, 0);
+            for r in &rows {
+                if let Some(h) = hermite_of(r) {
+                    beats += usize::from(r.l2p < h.l2p);
+                    cheaper += usize::from(r.energy < h.energy);
+                    blowups += usize::from(r.worst > 1.5 * h.worst + 5.0);
+                }
+            }
+            Summary {
+                root,
+                gap,
+                method,
+                windows: rows.len(),
+                l2p: mean(&|r| r.l2p),
+                worst: w.map_or(0.0, |r| r.worst),
+                worst_at: w.map_or(String::new(), |r| {
+                    format!("{} {} @{}", r.clip, r.worst_joint, r.worst_frame)
+                }),
+                l2q: mean(&|r| r.l2q),
+                skate: mean(&|r| r.skate),
+                bone: rows.iter().map(|r| r.bone).fold(0.0, f64::max),
+                energy: mean(&|r| r.energy),
+                beats_hermite: beats,
+                cheaper_than_hermite: cheaper,
+                blowups,
+                not_converged: rows.iter().filter(|r| r.converged == Some(false)).count(),
+                iterations: mean(&|r| r.iterations as f64),
+                evaluations: mean(&|r| r.evaluations as f64),
+                seconds: mean(&|r| r.seconds),
+            }
+        })
+        .collect()
+}
+
+/// The summary as a Markdown table.
+pub fn table(rows: &[Summary]) -> String {
+    let mut s = String::from(
+        "| root | gap | method | windows | L2P cm | ×Hermite | worst cm (where) | L2Q | skate cm/s | bone Δ m | ∫Στ² | < Hermite L2P | < Hermite ∫Στ² | blow-ups | not converged | iters | evals | s/solve |\n\
+         |---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        let h = rows
+            .iter()
+            .find(|h| h.root == r.root && h.gap == r.gap && h.method == Method::Hermite.label())
+            .map_or(f64::NAN, |h| h.l2p);
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.1} ({}) | {:.3} | {:.1} | {:.1e} | {:.4e} | {}/{} | {}/{} | {} | {} | {:.0} | {:.0} | {:.3} |\n",
+            r.root.label(),
+            r.gap,
+            r.method,
+            r.windows,
+            r.l2p,
+            r.l2p / h,
+            r.worst,
+            r.worst_at,
+            r.l2q,
+            r.skate,
+            r.bone,
+            r.energy,
+            r.beats_hermite,
+            r.windows,
+            r.cheaper_than_hermite,
+            r.windows,
+            r.blowups,
+            r.not_converged,
+            r.iterations,
+            r.evaluations,
+            r.seconds
+        ));
+    }
+    s
+}
+
+/// The methods the benchmark and the report compare, on the same windows:
+/// the two interpolation baselines, SP at its defaults, and a row for each
+/// knob of SP's objective — Rose's ∫Στ² alone (`objective: "torque"`), the
+/// prior's weight (`smoothness:`), its time constant (`time_constant:`,
+/// fixed instead of (0.32 s)²/gap) — and SP without support IK.
+pub fn methods() -> Vec<Method> {
+    use crate::spacetime::{Prior, SpOptions, Support};
+    let sp = |label: &str, o: SpOptions| Method::Sp(label.into(), Box::new(o));
+    let with_prior = |prior: Prior| SpOptions {
+        prior,
+        ..Default::default()
+    };
+    vec![
+        Method::Hermite,
+        Method::Slerp,
+        Method::Sp("SP defaults".into(), Box::default()),
+        sp("SP objective: \"torque\" (Rose)", with_prior(Prior::none())),
+        sp(
+            "SP smoothness: 1e3",
+            with_prior(Prior {
+                smoothness: 1e3,
+                ..Prior::default()
+            }),
+        ),
+        sp(
+            "SP time_constant: 0.1s",
+            with_prior(Prior {
+                time_constant: Some(0.1),
+                ..Prior::default()
+            }),
+        ),
+        sp(
+            "SP time_constant: 0.3s",
+            with_prior(Prior {
+                time_constant: Some(0.3),
+                ..Prior::default()
+            }),
+        ),
+        sp(
+            "SP support: []",
+            SpOptions {
+                support: Support::Off,
+                ..Default::default()
+            },
+        ),
+    ]
+}
+
+/// Every window's result as CSV rows (with a header), for plots and digging.
+pub fn csv(results: &[WindowResult]) -> String {
+    let mut s = String::from(
+        "clip,start,gap,root,method,l2p_cm,worst_cm,worst_joint,worst_frame,l2q,skate_cm_s,bone_m,energy,iterations,evaluations,converged,seconds\n",
+    );
+    for r in results {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            r.clip,
+            r.start,
+            r.gap,
+            r.root.label(),
+            r.method,
+            r.l2p,
+            r.worst,
+            r.worst_joint,
+            r.worst_frame,
+            r.l2q,
+            r.skate,
+            r.bone,
+            r.energy,
+            r.iterations,
+            r.evaluations,
+            r.converged.map_or("", |c| if c { "yes" } else { "no" }),
+            r.seconds
+        ));
+    }
+    s
+}
+
+/// `mx report`'s in-betweening section: the table of [`summarise`] over the
+/// shared clips (every other clip, one window per clip and gap; one clip and
+/// two gaps in smoke mode) and a figure of L2P against gap length with the root given.
+pub(super) fn section(
+    d: &mut super::doc::Doc,
+    shared: Option<&Path>,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) {
+    use std::fmt::Write as _;
+    let Some(dir) = shared.map(|s| s.join("data").join("inbetween")) else {
+        d.pending("in-betweening", "needs `$MX_SHARED/data/inbetween`");
+        return;
+    };
+    let mut cases = match Case::load_dir(&dir) {
+        Ok(c) if !c.is_empty() => c,
+        Ok(_) => return d.pending("in-betweening", "no clips in data/inbetween"),
+        Err(e) => return d.pending("in-betweening", &e),
+    };
+    let p = if smoke {
+        cases.truncate(1);
+        Protocol {
+            gaps: vec![15, 30],
+            windows_per_clip: Some(1),
+            ..Protocol::default()
+        }
+    } else {
+        // every other clip, one window per clip and gap: minutes, not the bench's hour
+        cases = cases.into_iter().step_by(2).collect();
+        Protocol {
+            windows_per_clip: Some(1),
+            ..Protocol::default()
+        }
+    };
+    let results = match run(&cases, &p, &methods(), |_| tick()) {
+        Ok(r) => r,
+        Err(e) => return d.pending("in-betweening", &e),
+    };
+    let rows = summarise(&results);
+    let _ = writeln!(
+        d.md,
+        "Cut a gap out of a real clip, fill it, compare with what the person did (the protocol of \
+         `data/inbetween/README.md`, after Harvey et al. 2020): {} clips (every other one of the folder), at most {} window per clip and gap \
+         (`cargo bench --bench inbetween` runs every window), {} context frames, root given (its channels kept) \
+         and root filled (the frames after the gap stay where they were captured: SP's `root: \"pinned\"`). \
+         L2P: mean joint-position error over the gap (cm); ×Hermite: its ratio to `fill(m, \"hermite\")` on the \
+         same windows; worst: the largest joint error and where; L2Q: mean world-orientation distance (unit \
+         quaternions); skate: foot speed near the ground (cm/s); bone Δ: largest bone-length change (m); \
+         blow-ups: windows whose worst error exceeds 1.5 × Hermite's + 5 cm. SP's default objective is \
+         ∫Στ² plus an inertia-weighted tension prior, lowered until the transition costs less torque than \
+         Hermite (see `spacetime::sp::prior_weights`); `objective: \"torque\"` is Rose's objective alone.\n",
+        cases.len(),
+        p.windows_per_clip.unwrap_or(0),
+        p.context
+    );
+    let methods: Vec<String> = methods().iter().map(|m| m.label().to_string()).collect();
+    let series = methods
+        .iter()
+        .map(|m| super::plot::Series {
+            label: m.clone(),
+            points: rows
+                .iter()
+                .filter(|r| r.root == RootMode::Given && &r.method == m)
+                .map(|r| (r.gap as f64, r.l2p))
+                .collect(),
+            default_at: None,
+        })
+        .collect();
+    d.figure(&super::plot::Figure {
+        file: "inbetween_l2p.svg".into(),
+        title: "In-betweening against capture (root given): L2P against gap length".into(),
+        x_label: "gap (frames at 30 fps)".into(),
+        y_label: "mean joint-position error L2P (cm)".into(),
+        series,
+    });
+    d.header(&[
+        "root",
+        "gap",
+        "method",
+        "windows",
+        "L2P cm",
+        "×Hermite",
+        "worst cm",
+        "L2Q",
+        "skate cm/s",
+        "bone Δ m",
+        "∫Στ²",
+        "< Hermite ∫Στ²",
+        "blow-ups",
+        "not converged",
+        "evaluations",
+        "s/solve",
+    ]);
+    for r in &rows {
+        let h = rows
+            .iter()
+            .find(|h| h.root == r.root && h.gap == r.gap && h.method == Method::Hermite.label())
+            .map_or(f64::NAN, |h| h.l2p);
+        let cells = [
+            r.root.label().to_string(),
+            r.gap.to_string(),
+            r.method.clone(),
+            r.windows.to_string(),
+            d.n(r.l2p),
+            d.n(r.l2p / h),
+            format!("{} ({})", d.n(r.worst), r.worst_at),
+            d.n(r.l2q),
+            d.n(r.skate),
+            d.n(r.bone),
+            d.n(r.energy),
+            format!("{}/{}", r.cheaper_than_hermite, r.windows),
+            r.blowups.to_string(),
+            r.not_converged.to_string(),
+            d.n(r.evaluations),
+            d.n(r.seconds),
+        ];
+        d.row(&cells);
+    }
+}
