@@ -328,10 +328,7 @@ pub fn register(reg: &mut Registry) {
         "Sum of a list of numbers (0 for an empty list).",
         |a, _| num(a.list_of_numbers("xs")?.iter().sum()),
     );
-    reg.add("reverse(xs)", "The list in reverse order.", |a, _| {
-        let xs = a.list("xs")?;
-        Ok(Value::list(xs.iter().rev().cloned().collect()))
-    });
+    // reverse(xs) (lists and motions) is registered by compose.rs
     reg.add(
         "sort(xs)",
         "A list of numbers or of strings, sorted ascending.",

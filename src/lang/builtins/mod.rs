@@ -22,6 +22,7 @@
 
 pub mod body;
 pub mod busy;
+pub mod compose;
 pub mod core;
 pub mod dynamics;
 pub mod joints;
@@ -29,6 +30,7 @@ pub mod links;
 pub mod mechanics;
 pub mod mocap;
 pub mod motion;
+pub mod opensim;
 pub mod sp_report;
 pub mod spacetime;
 pub mod spline_joints;
@@ -94,12 +96,14 @@ impl Registry {
         let mut r = Registry::new();
         core::register(&mut r);
         motion::register(&mut r);
+        compose::register(&mut r);
         joints::register(&mut r);
         spline_joints::register(&mut r);
         links::register(&mut r);
         mechanics::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
+        opensim::register(&mut r);
         spacetime::register(&mut r);
         r
     }
