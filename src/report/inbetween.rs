@@ -76,6 +76,9 @@ impl RootMode {
 pub enum Method {
     Hermite,
     Slerp,
+    /// The captured frames themselves: L2P 0 by definition; the row tells
+    /// what a person's motion costs in ∫Στ² against the interpolations.
+    Capture,
     /// SP with these options, under this label.
     Sp(String, Box<SpOptions>),
 }
@@ -85,6 +88,7 @@ impl Method {
         match self {
             Method::Hermite => "fill hermite",
             Method::Slerp => "fill slerp",
+            Method::Capture => "capture (the answer)",
             Method::Sp(l, _) => l,
         }
     }
@@ -435,6 +439,7 @@ pub fn fill_window(
             crate::motion::fill_slerp(&cut).map_err(|e| e.to_string())?,
             None,
         ),
+        Method::Capture => (case.capture.clone(), None),
         Method::Sp(_, opts) => {
             let mut o = (**opts).clone();
             if root == RootMode::Filled {
@@ -645,6 +650,7 @@ pub fn methods() -> Vec<Method> {
     vec![
         Method::Hermite,
         Method::Slerp,
+        Method::Capture,
         Method::Sp("SP defaults".into(), Box::default()),
         sp("SP objective: \"torque\" (Rose)", with_prior(Prior::none())),
         sp(
