@@ -110,7 +110,9 @@ pub struct GapReport {
     pub seconds: f64,
     /// The factor the kinematic prior's weights were scaled by in the last
     /// solve (1: as asked; smaller when SP had to lower it so the transition
-    /// costs less torque than the Hermite curves; see `groups::solve_all`).
+    /// costs less torque than the Hermite curves; see `groups::solve_all`;
+    /// that last step is then taken only part of the way from the step
+    /// before).
     pub prior_scale: f64,
     /// Solves run (one, or more while the prior was being lowered).
     pub solves: u32,
