@@ -11,6 +11,7 @@ use super::error::{SpError, invalid};
 use super::precond::Precond;
 use super::quadrature::GaussLegendre;
 use super::torque::TorqueModel;
+use crate::dynamics::{JointState, StateGradient};
 use super::transition::{Continuity, EndState, TransitionCurve};
 use nalgebra::DMatrix;
 
@@ -434,13 +435,13 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             self.load_node(k, x, s);
             let f = self.model.torque_sq_grad(
                 &mut s.ws,
-                &s.q,
-                &s.v,
-                &s.a,
+                &JointState::new(&s.q, &s.v, &s.a),
                 &self.weights,
-                &mut s.gq,
-                &mut s.gv,
-                &mut s.ga,
+                StateGradient {
+                    q: &mut s.gq,
+                    v: &mut s.gv,
+                    a: &mut s.ga,
+                },
             )?;
             let wk = self.qweights[k];
             e += wk * f;
