@@ -133,7 +133,15 @@ fn derivative_costs(model: &Model, q: &[f64], v: &[f64], g: &Vector3<f64>) -> (f
         rounds[0]
     };
     let der = best(&mut || {
-        rnea_derivatives(model, &mut ws, &JointState::new(q, v, &a), g, &mut dq, &mut dv).unwrap();
+        rnea_derivatives(
+            model,
+            &mut ws,
+            &JointState::new(q, v, &a),
+            g,
+            &mut dq,
+            &mut dv,
+        )
+        .unwrap();
         black_box(&dq);
     });
     let mut ws = Workspace::new(model);
@@ -144,8 +152,13 @@ fn derivative_costs(model: &Model, q: &[f64], v: &[f64], g: &Vector3<f64>) -> (f
             &JointState::new(q, v, &a),
             g,
             &w,
-            StateGradient { q: &mut gq, v: &mut gv, a: &mut ga },
-        ).unwrap();
+            StateGradient {
+                q: &mut gq,
+                v: &mut gv,
+                a: &mut ga,
+            },
+        )
+        .unwrap();
         black_box(&gq);
     });
     (der, adj)

@@ -51,13 +51,19 @@ fn layer_ranks(architecture: &str) -> BTreeMap<String, usize> {
             .step_by(2)
             .map(|n| n.trim_end_matches(".rs"))
             .collect();
-        assert!(!names.is_empty(), "ARCHITECTURE.md: a module row names no module: {line}");
+        assert!(
+            !names.is_empty(),
+            "ARCHITECTURE.md: a module row names no module: {line}"
+        );
         for n in names {
             ranks.insert(n.to_string(), rank);
         }
         rank += 1;
     }
-    assert!(rank > 3, "ARCHITECTURE.md: no `| module | owns |` table found");
+    assert!(
+        rank > 3,
+        "ARCHITECTURE.md: no `| module | owns |` table found"
+    );
     ranks
 }
 
@@ -126,7 +132,9 @@ fn tokenize(src: &str) -> Vec<(Tok, usize)> {
                 i += 1;
                 count_lines(start, i.min(b.len()), &mut line);
             }
-            b'r' if matches!(b.get(i + 1), Some(b'"') | Some(b'#')) && raw_string_start(b, i + 1) => {
+            b'r' if matches!(b.get(i + 1), Some(b'"') | Some(b'#'))
+                && raw_string_start(b, i + 1) =>
+            {
                 let start = i;
                 let mut j = i + 1;
                 let mut hashes = 0;
@@ -135,7 +143,9 @@ fn tokenize(src: &str) -> Vec<(Tok, usize)> {
                     j += 1;
                 }
                 j += 1; // the opening quote
-                let closing: Vec<u8> = std::iter::once(b'"').chain(std::iter::repeat_n(b'#', hashes)).collect();
+                let closing: Vec<u8> = std::iter::once(b'"')
+                    .chain(std::iter::repeat_n(b'#', hashes))
+                    .collect();
                 while j < b.len() && !b[j..].starts_with(&closing) {
                     j += 1;
                 }
@@ -286,7 +296,9 @@ fn written_paths(src: &str) -> Vec<Written> {
                 depth = depth.saturating_sub(1);
             }
             Tok::Ident(m) if m == "mod" => {
-                if let (Some((Tok::Ident(name), _)), Some((Tok::Open, _))) = (toks.get(i + 1), toks.get(i + 2)) {
+                if let (Some((Tok::Ident(name), _)), Some((Tok::Open, _))) =
+                    (toks.get(i + 1), toks.get(i + 2))
+                {
                     inline.push((name.clone(), depth + 1));
                 }
             }
@@ -368,7 +380,11 @@ struct File {
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = fs::read_dir(dir).expect("read src/").flatten().map(|e| e.path()).collect();
+    let mut entries: Vec<_> = fs::read_dir(dir)
+        .expect("read src/")
+        .flatten()
+        .map(|e| e.path())
+        .collect();
     entries.sort();
     for p in entries {
         if p.is_dir() {
@@ -380,7 +396,10 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 fn module_of(rel: &Path) -> Vec<String> {
-    let mut parts: Vec<String> = rel.iter().map(|s| s.to_string_lossy().into_owned()).collect();
+    let mut parts: Vec<String> = rel
+        .iter()
+        .map(|s| s.to_string_lossy().into_owned())
+        .collect();
     let last = parts.pop().unwrap();
     let stem = last.trim_end_matches(".rs");
     if !matches!(stem, "mod" | "lib") {
@@ -418,7 +437,10 @@ struct Resolver {
 impl Resolver {
     fn new(files: &[File]) -> Self {
         let modules = files.iter().map(|f| f.module.clone()).collect();
-        let mut r = Resolver { modules, reexports: BTreeMap::new() };
+        let mut r = Resolver {
+            modules,
+            reexports: BTreeMap::new(),
+        };
         for f in files {
             let mut map = BTreeMap::new();
             for w in f.paths.iter().filter(|w| w.reexport && w.inline.is_empty()) {
@@ -461,9 +483,14 @@ impl Resolver {
     fn file_of(&self, path: &[String]) -> Option<Vec<String>> {
         let mut path = path.to_vec();
         for _ in 0..8 {
-            let n = (0..=path.len()).rev().find(|&n| self.modules.contains(&path[..n]))?;
+            let n = (0..=path.len())
+                .rev()
+                .find(|&n| self.modules.contains(&path[..n]))?;
             let module = path[..n].to_vec();
-            match path.get(n).and_then(|item| self.reexports.get(&module)?.get(item)) {
+            match path
+                .get(n)
+                .and_then(|item| self.reexports.get(&module)?.get(item))
+            {
                 Some(target) if target != &path[..=n] => {
                     let mut next = target.clone();
                     next.extend(path[n + 1..].iter().cloned());
@@ -495,7 +522,9 @@ fn edges(files: &[File]) -> Vec<Edge> {
             continue;
         }
         for w in &f.paths {
-            let Some(abs) = r.absolute(&f.module, w) else { continue };
+            let Some(abs) = r.absolute(&f.module, w) else {
+                continue;
+            };
             let Some(to) = r.file_of(&abs) else { continue };
             out.push(Edge {
                 from: f.module.clone(),
@@ -529,7 +558,9 @@ fn no_module_imports_one_listed_after_it() {
     );
     let mut wrong = Vec::new();
     for e in edges(&files) {
-        let (Some(from), Some(to)) = (e.from.first(), e.to.first()) else { continue };
+        let (Some(from), Some(to)) = (e.from.first(), e.to.first()) else {
+            continue;
+        };
         if ranks[from] < ranks[to] {
             wrong.push(format!("{}  (`{from}` is listed before `{to}`)", e.at));
         }
@@ -545,7 +576,8 @@ fn no_module_imports_one_listed_after_it() {
 fn files_of_one_folder_import_each_other_without_loops() {
     let files = load_crate();
     // sibling graph: for an edge a::x::… → a::y::…, the siblings x → y under a
-    let mut graph: BTreeMap<Vec<String>, BTreeMap<String, BTreeMap<String, String>>> = BTreeMap::new();
+    let mut graph: BTreeMap<Vec<String>, BTreeMap<String, BTreeMap<String, String>>> =
+        BTreeMap::new();
     for e in edges(&files).into_iter().filter(|e| !e.in_tests) {
         let common = e.from.iter().zip(&e.to).take_while(|(a, b)| a == b).count();
         let (Some(x), Some(y)) = (e.from.get(common), e.to.get(common)) else {
@@ -565,15 +597,27 @@ fn files_of_one_folder_import_each_other_without_loops() {
         if parent.is_empty() {
             continue; // the top level: the layer order forbids its loops
         }
-        if LOOPS_ALLOWED_UNDER.iter().any(|a| parent.first().map(String::as_str) == Some(a)) {
+        if LOOPS_ALLOWED_UNDER
+            .iter()
+            .any(|a| parent.first().map(String::as_str) == Some(a))
+        {
             continue;
         }
         for cycle in cycles(g) {
             let steps: Vec<String> = cycle.windows(2).map(|w| g[&w[0]][&w[1]].clone()).collect();
-            loops.push(format!("in {}: {}\n    {}", parent.join("::"), cycle.join(" → "), steps.join("\n    ")));
+            loops.push(format!(
+                "in {}: {}\n    {}",
+                parent.join("::"),
+                cycle.join(" → "),
+                steps.join("\n    ")
+            ));
         }
     }
-    assert!(loops.is_empty(), "import loops between files of one folder:\n  {}", loops.join("\n  "));
+    assert!(
+        loops.is_empty(),
+        "import loops between files of one folder:\n  {}",
+        loops.join("\n  ")
+    );
 }
 
 /// One cycle per strongly connected group of siblings (as a closed walk a → … → a).
@@ -643,7 +687,11 @@ fn the_reader_follows_groups_super_and_skips_strings_and_comments() {
     let want = vec![
         ("crate::model::Model".to_string(), false, vec![]),
         ("crate::dynamics".into(), false, vec![]),
-        ("crate::dynamics::rnea::inverse_dynamics".into(), false, vec![]),
+        (
+            "crate::dynamics::rnea::inverse_dynamics".into(),
+            false,
+            vec![],
+        ),
         ("super::derivatives::Variation".into(), true, vec![]),
         ("super::helper".into(), false, vec!["tests".to_string()]),
         ("crate::spline::fit".into(), false, vec![]),
@@ -655,7 +703,9 @@ fn the_reader_follows_groups_super_and_skips_strings_and_comments() {
 fn the_loop_finder_finds_a_loop_and_only_a_loop() {
     let mut g: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
     fn add(g: &mut BTreeMap<String, BTreeMap<String, String>>, a: &str, b: &str) {
-        g.entry(a.into()).or_default().insert(b.into(), format!("{a}->{b}"));
+        g.entry(a.into())
+            .or_default()
+            .insert(b.into(), format!("{a}->{b}"));
     }
     add(&mut g, "a", "b");
     add(&mut g, "b", "c");
@@ -667,7 +717,10 @@ fn the_loop_finder_finds_a_loop_and_only_a_loop() {
     for walk in &found {
         assert_eq!(walk.first(), walk.last());
         assert!(walk.len() >= 3);
-        assert!(walk.windows(2).all(|w| g[&w[0]].contains_key(&w[1])), "{walk:?} is not a walk");
+        assert!(
+            walk.windows(2).all(|w| g[&w[0]].contains_key(&w[1])),
+            "{walk:?} is not a walk"
+        );
     }
 }
 

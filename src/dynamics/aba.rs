@@ -20,7 +20,9 @@
 use crate::dynamics::DynamicsError;
 use crate::dynamics::rnea::{check_fext, check_inputs, check_out};
 use crate::dynamics::state::Forces;
-use crate::dynamics::workspace::{Workspace, aligned_velocity_pass, base_acceleration, shift_twist};
+use crate::dynamics::workspace::{
+    Workspace, aligned_velocity_pass, base_acceleration, shift_twist,
+};
 use crate::lie::{Se3, Twist, Wrench, ad_dual, skew};
 use crate::model::Model;
 use nalgebra::{Matrix3, Matrix6, Vector3};
@@ -50,7 +52,12 @@ pub fn forward_dynamics_ext(
     forces: &Forces,
     qdd: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    check_inputs(model, ws, &[("q", q), ("v", v), ("tau", forces.tau)], forces.gravity)?;
+    check_inputs(
+        model,
+        ws,
+        &[("q", q), ("v", v), ("tau", forces.tau)],
+        forces.gravity,
+    )?;
     check_out(model, "qdd", qdd)?;
     if let Some(fext) = forces.fext {
         check_fext(model, fext)?;

@@ -35,7 +35,11 @@ pub fn torque_sq_gradient(
     grad: StateGradient,
 ) -> Result<f64, DynamicsError> {
     let (q, v, a) = (x.q, x.v, x.a);
-    let StateGradient { q: gq, v: gv, a: ga } = grad;
+    let StateGradient {
+        q: gq,
+        v: gv,
+        a: ga,
+    } = grad;
     check_inputs(
         model,
         ws,

@@ -31,8 +31,8 @@ use crate::dynamics::state::JointState;
 use crate::dynamics::variation::Variation;
 use crate::dynamics::workspace::{Workspace, base_acceleration, sdot_v, world_velocity_pass};
 use crate::lie::{Twist, Wrench, ad, ad_dual};
-use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
 use crate::model::Model;
+use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
 use nalgebra::{DMatrix, Vector3};
 
 /// `out[m] = ∂(Ṡ(q) q̇)/∂q_m` for the coordinates of link `l` (`q`, `v` its own):

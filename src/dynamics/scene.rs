@@ -3,8 +3,8 @@
 //! without gravity passes a zero vector, and so on.
 
 use crate::dynamics::aba::aba_core;
-use crate::dynamics::state::Forces;
 use crate::dynamics::driven::{Driven, DrivenBuffers, driven_accelerations};
+use crate::dynamics::state::Forces;
 use crate::dynamics::workspace::Workspace;
 use crate::dynamics::{DynamicsError, kinetic_energy, potential_energy};
 use crate::lie::{Se3, Twist, Wrench};
@@ -352,7 +352,14 @@ impl Scene {
         let g = self.gravity_or_zero();
         let tau = std::mem::take(&mut sw.tau);
         let r = if self.springs.is_empty() && self.forces.is_empty() {
-            self.solve(&mut sw.ws, &mut sw.driven, q, v, &Forces::new(&tau, &g), qdd)
+            self.solve(
+                &mut sw.ws,
+                &mut sw.driven,
+                q,
+                v,
+                &Forces::new(&tau, &g),
+                qdd,
+            )
         } else {
             sw.fext.iter_mut().for_each(|f| *f = Wrench::zeros());
             self.point_kinematics(sw, q, v);

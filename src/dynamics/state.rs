@@ -35,12 +35,19 @@ pub struct Forces<'a> {
 impl<'a> Forces<'a> {
     /// Joint forces and gravity, no external wrench.
     pub fn new(tau: &'a [f64], gravity: &'a Vector3<f64>) -> Self {
-        Forces { tau, gravity, fext: None }
+        Forces {
+            tau,
+            gravity,
+            fext: None,
+        }
     }
 
     /// The same forces with external wrenches on the links.
     pub fn with_wrenches(self, fext: &'a [Wrench]) -> Self {
-        Forces { fext: Some(fext), ..self }
+        Forces {
+            fext: Some(fext),
+            ..self
+        }
     }
 }
 

@@ -111,7 +111,13 @@ pub fn body_of(
     let mut last_link: Vec<usize> = Vec::with_capacity(sk.joints.len());
     for (j, inertia) in sk.joints.iter().zip(inertias) {
         let parent = j.parent.map(|p| last_link[p]);
-        last_link.push(add_joint_links(&mut model, j, parent, inertia, metres_per_unit)?);
+        last_link.push(add_joint_links(
+            &mut model,
+            j,
+            parent,
+            inertia,
+            metres_per_unit,
+        )?);
     }
     // End sites as massless fixed links.
     for (i, j) in sk.joints.iter().enumerate() {
@@ -263,14 +269,10 @@ fn add_joint_links(
             dof_name.clone()
         };
         let joint: Arc<dyn crate::model::Joint> = if c.is_rotation() {
-            Arc::new(
-                Revolute::new(c.axis_vector())
-                    .ok_or_else(|| MocapError::invalid("bad axis"))?,
-            )
+            Arc::new(Revolute::new(c.axis_vector()).ok_or_else(|| MocapError::invalid("bad axis"))?)
         } else {
             Arc::new(
-                Prismatic::new(c.axis_vector())
-                    .ok_or_else(|| MocapError::invalid("bad axis"))?,
+                Prismatic::new(c.axis_vector()).ok_or_else(|| MocapError::invalid("bad axis"))?,
             )
         };
         let link_inertia = if is_last { inertia } else { Inertia::zero() };

@@ -336,8 +336,8 @@ impl Build<'_> {
         self.targets.push((fore, Target::Joint(lm.elbow[s])));
         let (hend_j, hend_site) = chain_end(self.sk, lm.wrist[s]);
         let hand_len = {
-            let tip = self.rest[hend_j]
-                + hend_site.unwrap_or_else(Vector3::zeros) * self.metres_per_unit;
+            let tip =
+                self.rest[hend_j] + hend_site.unwrap_or_else(Vector3::zeros) * self.metres_per_unit;
             (tip - self.rest[lm.wrist[s]]).norm().max(0.05)
         };
         let inertia = self.seg(Segment::Hand, lat * hand_len)?;

@@ -88,7 +88,6 @@ fn state(m: &Mu, name: &str, t: f64) -> Result<[f64; 3], CyclifyError> {
     })
 }
 
-
 /// `cyclify(m, t_start, t_end)`: one C² cycle of `m` on [t₁, t₂] ≈ [t_start, t_end].
 pub fn cyclify(
     m: &Mu,
@@ -331,15 +330,12 @@ impl CyclicFit {
                     ))
                 })?;
             // spread the jump linearly unless the DOF drifts
-            y[r] = if drifts {
-                q
-            } else {
-                q - delta * (t - t1) / p
-            };
+            y[r] = if drifts { q } else { q - delta * (t - t1) / p };
         }
         let advance = if drifts { delta } else { 0.0 };
         let mut rhs = DVector::<f64>::zeros(n_coef + 3);
-        rhs.rows_mut(0, n_coef).copy_from(&(self.a.transpose() * &y));
+        rhs.rows_mut(0, n_coef)
+            .copy_from(&(self.a.transpose() * &y));
         rhs[n_coef] = advance;
         let sol = self.kkt.solve(&rhs).ok_or_else(|| {
             CyclifyError::Evaluation(

@@ -82,7 +82,7 @@ pub(super) const SECTIONS: &[Section] = &[
 ];
 
 fn spacetime_section(d: &mut Doc, run: &mut Run<'_>) {
-        match spacetime::run(run.smoke, &mut || run.pb.inc(1)) {
+    match spacetime::run(run.smoke, &mut || run.pb.inc(1)) {
         Ok(o) => {
             run.st_default_ms = o.default_ms;
             let def = crate::spacetime::TransitionSettings::default();
@@ -143,7 +143,9 @@ fn spacetime_section(d: &mut Doc, run: &mut Run<'_>) {
 }
 
 fn inbetween_section(d: &mut Doc, run: &mut Run<'_>) {
-    inbetween::section(d, run.opts.shared.as_deref(), run.smoke, &mut || run.pb.inc(1));
+    inbetween::section(d, run.opts.shared.as_deref(), run.smoke, &mut || {
+        run.pb.inc(1)
+    });
 }
 
 fn integrators_section(d: &mut Doc, run: &mut Run<'_>) {

@@ -11,8 +11,8 @@ use super::error::{SpError, invalid};
 use super::precond::Precond;
 use super::quadrature::GaussLegendre;
 use super::torque::TorqueModel;
-use crate::dynamics::{JointState, StateGradient};
 use super::transition::{Continuity, EndState, TransitionCurve};
+use crate::dynamics::{JointState, StateGradient};
 use nalgebra::DMatrix;
 
 /// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has

@@ -106,7 +106,11 @@ impl TorqueModel for TwoLinkArm {
         grad: StateGradient,
     ) -> Result<f64, SpError> {
         let (q, v, a) = (x.q, x.v, x.a);
-        let StateGradient { q: gq, v: gv, a: ga } = grad;
+        let StateGradient {
+            q: gq,
+            v: gv,
+            a: ga,
+        } = grad;
         check_len(2, q, v, a)?;
         let t = self.tau(q, v, a);
         let ([m11, m12, m22], h, _) = self.terms(q);
@@ -188,7 +192,11 @@ mod tests {
                     &mut (),
                     &JointState::new(&x[0..2], &x[2..4], &x[4..6]),
                     &w,
-                    StateGradient { q: gq, v: gv, a: ga },
+                    StateGradient {
+                        q: gq,
+                        v: gv,
+                        a: ga,
+                    },
                 )
                 .unwrap();
             (e, g)

@@ -164,7 +164,7 @@ impl TorqueModel for BodyDynamics<'_> {
             &mut dq,
             &mut dv,
         )
-            .map_err(dyn_err)?;
+        .map_err(dyn_err)?;
         crate::dynamics::mass_matrix(self.model, ws, q, &mut m).map_err(dyn_err)?;
         Ok([
             dq.select_columns(coords),

@@ -36,9 +36,9 @@ use roxmltree::{Document, Node};
 
 use crate::lie::Se3;
 use crate::model::body::Inertia;
+use crate::model::files::osim_joint::function_from_xml;
 use crate::model::joint::{Joint, Limit};
 use crate::model::joints::function_based::body_fixed_xyz;
-use crate::model::files::osim_joint::function_from_xml;
 use crate::model::joints::{
     Fixed, FunctionJoint, Prismatic, Revolute, ScalarFunction, TransformAxis,
 };

@@ -2,12 +2,12 @@
 //! `coordinates/Coordinate`, `frames/PhysicalOffsetFrame`,
 //! `SpatialTransform/TransformAxis`).
 
+use crate::lie::Se3;
+use crate::model::joint::Limit;
 use crate::model::joints::function_based::{
     FunctionJoint, FunctionJointError, TransformAxis, body_fixed_xyz, coordinate_index,
 };
 use crate::model::joints::scalar_function::ScalarFunction;
-use crate::lie::Se3;
-use crate::model::joint::Limit;
 use crate::spline::SimmSpline;
 use nalgebra::Vector3;
 use roxmltree::{Document, Node};
