@@ -88,7 +88,6 @@ const CHECK_SAMPLES: usize = 4;
 /// transition nearest the prior's motion among those this continuation finds
 /// that cost less effort than interpolation, or the last step's. The
 /// report's energies are ∫Στ² alone.
-#[allow(clippy::too_many_arguments)]
 fn solve_with_prior<M: TorqueModel>(
     model: &M,
     dofs: Vec<GapDof>,
