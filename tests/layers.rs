@@ -444,10 +444,10 @@ impl Resolver {
         for f in files {
             let mut map = BTreeMap::new();
             for w in f.paths.iter().filter(|w| w.reexport && w.inline.is_empty()) {
-                if let Some(full) = r.absolute(&f.module, w) {
-                    if let Some(name) = full.last() {
-                        map.insert(name.clone(), full);
-                    }
+                if let Some(full) = r.absolute(&f.module, w)
+                    && let Some(name) = full.last()
+                {
+                    map.insert(name.clone(), full);
                 }
             }
             r.reexports.insert(f.module.clone(), map);
@@ -546,10 +546,10 @@ fn no_module_imports_one_listed_after_it() {
     let files = load_crate();
     let mut unlisted = BTreeSet::new();
     for f in &files {
-        if let Some(top) = f.module.first() {
-            if !ranks.contains_key(top) {
-                unlisted.insert(f.rel.clone());
-            }
+        if let Some(top) = f.module.first()
+            && !ranks.contains_key(top)
+        {
+            unlisted.insert(f.rel.clone());
         }
     }
     assert!(
