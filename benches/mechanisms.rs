@@ -14,7 +14,10 @@
 //! Run: `cargo bench --bench mechanisms`.
 
 use mx::Interpreter;
-use mx::dynamics::{Scene, SceneWorkspace, Workspace, rnea_derivatives, torque_sq_gradient};
+use mx::dynamics::{
+    JointState, Scene, SceneWorkspace, StateGradient, Workspace, rnea_derivatives,
+    torque_sq_gradient,
+};
 use mx::lang::builtins::dynamics::SceneValue;
 use mx::lang::value::Value;
 use mx::lie::Twist;
@@ -130,12 +133,32 @@ fn derivative_costs(model: &Model, q: &[f64], v: &[f64], g: &Vector3<f64>) -> (f
         rounds[0]
     };
     let der = best(&mut || {
-        rnea_derivatives(model, &mut ws, q, v, &a, g, &mut dq, &mut dv).unwrap();
+        rnea_derivatives(
+            model,
+            &mut ws,
+            &JointState::new(q, v, &a),
+            g,
+            &mut dq,
+            &mut dv,
+        )
+        .unwrap();
         black_box(&dq);
     });
     let mut ws = Workspace::new(model);
     let adj = best(&mut || {
-        torque_sq_gradient(model, &mut ws, q, v, &a, g, &w, &mut gq, &mut gv, &mut ga).unwrap();
+        torque_sq_gradient(
+            model,
+            &mut ws,
+            &JointState::new(q, v, &a),
+            g,
+            &w,
+            StateGradient {
+                q: &mut gq,
+                v: &mut gv,
+                a: &mut ga,
+            },
+        )
+        .unwrap();
         black_box(&gq);
     });
     (der, adj)

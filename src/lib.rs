@@ -4,6 +4,9 @@
 //! Layers, each using only the ones listed before it (see ARCHITECTURE.md):
 //! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `spacetime` → `io` → `report` → `lang`.
 //! Everything up to `io` is a library that knows nothing of the language.
+//! The report generator and the fixtures only it, the benches and tests use
+//! (`spacetime::fig8`, `spacetime::planar2`, `mocap::synth`) are behind the
+//! `report` feature, on by default.
 
 pub mod atomic_file;
 pub mod cancel;
@@ -15,6 +18,8 @@ pub mod lie;
 pub mod mocap;
 pub mod model;
 pub mod motion;
+/// `mx report` (behind the `report` feature, on by default).
+#[cfg(feature = "report")]
 pub mod report;
 pub mod spacetime;
 pub mod spline;

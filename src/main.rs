@@ -35,6 +35,7 @@ enum Command {
     /// Start the interactive REPL (the default).
     Repl,
     /// Regenerate the accuracy report (docs/accuracy.md and its figures).
+    #[cfg(feature = "report")]
     Report {
         /// Fewer points per curve, same code path (CI).
         #[arg(long)]
@@ -81,6 +82,7 @@ fn main() -> ExitCode {
             Err(d) => report(d),
         },
         Command::Repl => repl::run(mx),
+        #[cfg(feature = "report")]
         Command::Report { smoke, out } => {
             match mx::report::generate(&mx::report::Options::new(out, smoke)) {
                 Ok(s) => {

@@ -5,8 +5,9 @@
 mod support;
 
 use mx::dynamics::{
-    DynamicsError, Workspace, forward_dynamics, inverse_dynamics, kinetic_energy, mass_matrix,
-    nonlinear_effects, potential_energy, rnea_derivatives, torque_sq_gradient,
+    DynamicsError, JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics,
+    kinetic_energy, mass_matrix, nonlinear_effects, potential_energy, rnea_derivatives,
+    torque_sq_gradient,
 };
 use mx::model::Model;
 use nalgebra::{DMatrix, DVector, Vector3};
@@ -109,7 +110,15 @@ fn rnea_derivatives_match_finite_differences() {
         let a = rng.vec(nq, -5.0, 5.0);
         let mut dq = DMatrix::zeros(nq, nq);
         let mut dv = DMatrix::zeros(nq, nq);
-        rnea_derivatives(&m, &mut ws, &q, &v, &a, &G, &mut dq, &mut dv).unwrap();
+        rnea_derivatives(
+            &m,
+            &mut ws,
+            &JointState::new(&q, &v, &a),
+            &G,
+            &mut dq,
+            &mut dv,
+        )
+        .unwrap();
         let h = 1e-6;
         let mut worst: f64 = 0.0;
         for k in 0..nq {
@@ -159,8 +168,19 @@ fn adjoint_gradient_matches_finite_differences_and_the_jacobians() {
         let a = rng.vec(nq, -5.0, 5.0);
         let w = rng.vec(nq, 0.1, 2.0);
         let (mut gq, mut gv, mut ga) = (vec![0.0; nq], vec![0.0; nq], vec![0.0; nq]);
-        let j =
-            torque_sq_gradient(&m, &mut ws, &q, &v, &a, &G, &w, &mut gq, &mut gv, &mut ga).unwrap();
+        let j = torque_sq_gradient(
+            &m,
+            &mut ws,
+            &JointState::new(&q, &v, &a),
+            &G,
+            &w,
+            StateGradient {
+                q: &mut gq,
+                v: &mut gv,
+                a: &mut ga,
+            },
+        )
+        .unwrap();
         let tau = tau_at(&m, &mut ws, &q, &v, &a);
         let j_ref: f64 = tau.iter().zip(&w).map(|(t, w)| w * t * t).sum();
         assert!((j - j_ref).abs() < 1e-12 * j_ref);
@@ -168,7 +188,15 @@ fn adjoint_gradient_matches_finite_differences_and_the_jacobians() {
         let mut dq = DMatrix::zeros(nq, nq);
         let mut dv = DMatrix::zeros(nq, nq);
         let mut mm = DMatrix::zeros(nq, nq);
-        rnea_derivatives(&m, &mut ws, &q, &v, &a, &G, &mut dq, &mut dv).unwrap();
+        rnea_derivatives(
+            &m,
+            &mut ws,
+            &JointState::new(&q, &v, &a),
+            &G,
+            &mut dq,
+            &mut dv,
+        )
+        .unwrap();
         mass_matrix(&m, &mut ws, &q, &mut mm).unwrap();
         let wt = DVector::from_iterator(nq, tau.iter().zip(&w).map(|(t, w)| 2.0 * w * t));
         let scale = wt.amax() * mm.amax().max(dq.amax()).max(1.0);

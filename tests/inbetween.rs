@@ -40,8 +40,7 @@ fn sp_is_plausible_on_every_real_clip() {
         let r = score(
             &case,
             &p,
-            start,
-            GAP,
+            (start, GAP),
             RootMode::Given,
             "SP",
             &filled.motion,
@@ -51,8 +50,7 @@ fn sp_is_plausible_on_every_real_clip() {
         let rh = score(
             &case,
             &p,
-            start,
-            GAP,
+            (start, GAP),
             RootMode::Given,
             "hermite",
             &h.motion,

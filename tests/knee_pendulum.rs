@@ -193,9 +193,7 @@ fn knee_dynamics_at_the_range_ends() {
             mx::dynamics::rnea_derivatives(
                 &model,
                 &mut ws,
-                &[q],
-                &[v],
-                &[1.5],
+                &mx::dynamics::JointState::new(&[q], &[v], &[1.5]),
                 &g,
                 &mut dq,
                 &mut dv,

@@ -5,8 +5,8 @@
 mod common;
 
 use mx::dynamics::{
-    Workspace, forward_dynamics, inverse_dynamics, kinetic_energy, mass_matrix, nonlinear_effects,
-    rnea_derivatives,
+    JointState, Workspace, forward_dynamics, inverse_dynamics, kinetic_energy, mass_matrix,
+    nonlinear_effects, rnea_derivatives,
 };
 use mx::model::Model;
 use nalgebra::{DMatrix, Vector3};
@@ -174,7 +174,15 @@ fn pinocchio_references() {
             );
             mass_matrix(m, &mut ws, &q, &mut mm).unwrap();
             worst.put("M", err(&c.theirs_mat(&mm), &flat(&s["M"])));
-            rnea_derivatives(m, &mut ws, &q, &v, &a, &g, &mut dq, &mut dv).unwrap();
+            rnea_derivatives(
+                m,
+                &mut ws,
+                &JointState::new(&q, &v, &a),
+                &g,
+                &mut dq,
+                &mut dv,
+            )
+            .unwrap();
             worst.put("dtau_dq", err(&c.theirs_mat(&dq), &flat(&s["dtau_dq"])));
             worst.put("dtau_dv", err(&c.theirs_mat(&dv), &flat(&s["dtau_dv"])));
         }

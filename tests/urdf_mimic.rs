@@ -7,8 +7,8 @@
 mod common;
 
 use mx::dynamics::{
-    Workspace, coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix,
-    inverse_dynamics,
+    Forces, JointState, Workspace, coupled_forward_dynamics, coupled_inverse_dynamics,
+    coupled_mass_matrix, inverse_dynamics,
 };
 use mx::model::Model;
 use mx::model::urdf::UrdfOptions;
@@ -65,7 +65,15 @@ fn mimic_joints_match_pinocchio_tau_mass_matrix_and_forward_dynamics() {
     for case in cases {
         let (q, v, a) = (vec_of(&case["q"]), vec_of(&case["v"]), vec_of(&case["a"]));
         let mut tau = vec![0.0; c.nq()];
-        coupled_inverse_dynamics(&model, &c, &mut ws, &q, &v, &a, &g, &mut tau).unwrap();
+        coupled_inverse_dynamics(
+            &model,
+            &c,
+            &mut ws,
+            &JointState::new(&q, &v, &a),
+            &g,
+            &mut tau,
+        )
+        .unwrap();
         e_tau = e_tau.max(max_rel(&tau, &vec_of(&case["tau"])));
         let m = coupled_mass_matrix(&model, &c, &mut ws, &q).unwrap();
         let m_ref: Vec<f64> = case["M"]
@@ -85,15 +93,22 @@ fn mimic_joints_match_pinocchio_tau_mass_matrix_and_forward_dynamics() {
             &mut ws,
             &q,
             &v,
-            &vec_of(&case["tau_in"]),
-            &g,
+            &Forces::new(&vec_of(&case["tau_in"]), &g),
             &mut qdd,
         )
         .unwrap();
         e_qdd = e_qdd.max(max_rel(&qdd, &vec_of(&case["qdd"])));
         // Forward dynamics inverts inverse dynamics in coupled coordinates too.
         let mut back = vec![0.0; c.nq()];
-        coupled_inverse_dynamics(&model, &c, &mut ws, &q, &v, &qdd, &g, &mut back).unwrap();
+        coupled_inverse_dynamics(
+            &model,
+            &c,
+            &mut ws,
+            &JointState::new(&q, &v, &qdd),
+            &g,
+            &mut back,
+        )
+        .unwrap();
         assert!(max_rel(&back, &vec_of(&case["tau_in"])) < 1e-10);
     }
     eprintln!(
@@ -148,7 +163,15 @@ fn mimic_is_off_by_default_and_the_followers_are_free() {
     let mut want = vec![0.0; 4];
     c.reduce(&tf, &mut want);
     let mut tau = vec![0.0; 4];
-    coupled_inverse_dynamics(&model, &c, &mut ws, &q, &v, &a, &g, &mut tau).unwrap();
+    coupled_inverse_dynamics(
+        &model,
+        &c,
+        &mut ws,
+        &JointState::new(&q, &v, &a),
+        &g,
+        &mut tau,
+    )
+    .unwrap();
     assert!(max_rel(&tau, &want) < 1e-14);
 }
 

@@ -19,10 +19,12 @@
 
 use crate::dynamics::DynamicsError;
 use crate::dynamics::rnea::{check_fext, check_inputs, check_out};
-use crate::dynamics::workspace::{Workspace, base_acceleration, sdot_v};
-use crate::lie::{Se3, Twist, Wrench, ad, ad_dual, skew};
+use crate::dynamics::state::Forces;
+use crate::dynamics::workspace::{
+    Workspace, aligned_velocity_pass, base_acceleration, shift_twist,
+};
+use crate::lie::{Se3, Twist, Wrench, ad_dual, skew};
 use crate::model::Model;
-use crate::model::joint::Derivatives;
 use nalgebra::{Matrix3, Matrix6, Vector3};
 
 /// Forward dynamics: `q̈ = M⁻¹ (τ − C q̇ − g)`.
@@ -37,33 +39,30 @@ pub fn forward_dynamics(
 ) -> Result<(), DynamicsError> {
     check_inputs(model, ws, &[("q", q), ("v", v), ("tau", tau)], gravity)?;
     check_out(model, "qdd", qdd)?;
-    aba_core(model, ws, q, v, tau, gravity, None, qdd)
+    aba_core(model, ws, q, v, &Forces::new(tau, gravity), qdd)
 }
 
-/// Forward dynamics with external wrenches (`fext[i]` on link i, link frame).
-#[allow(clippy::too_many_arguments)]
+/// Forward dynamics under `forces`, external wrenches included
+/// (`fext[i]` on link i, link frame).
 pub fn forward_dynamics_ext(
     model: &Model,
     ws: &mut Workspace,
     q: &[f64],
     v: &[f64],
-    tau: &[f64],
-    gravity: &Vector3<f64>,
-    fext: &[Wrench],
+    forces: &Forces,
     qdd: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    check_inputs(model, ws, &[("q", q), ("v", v), ("tau", tau)], gravity)?;
+    check_inputs(
+        model,
+        ws,
+        &[("q", q), ("v", v), ("tau", forces.tau)],
+        forces.gravity,
+    )?;
     check_out(model, "qdd", qdd)?;
-    check_fext(model, fext)?;
-    aba_core(model, ws, q, v, tau, gravity, Some(fext), qdd)
-}
-
-/// A twist given at one origin, expressed at an origin `d` further (same axes).
-#[inline]
-fn shift_twist(x: &Twist, d: &Vector3<f64>) -> Twist {
-    let w = Vector3::new(x[0], x[1], x[2]);
-    let v = Vector3::new(x[3], x[4], x[5]) + w.cross(d);
-    Twist::new(w.x, w.y, w.z, v.x, v.y, v.z)
+    if let Some(fext) = forces.fext {
+        check_fext(model, fext)?;
+    }
+    aba_core(model, ws, q, v, forces, qdd)
 }
 
 /// A wrench given at a child's origin, expressed at its parent's (`d` = child − parent).
@@ -92,56 +91,15 @@ fn inertia_to_parent(ia: &Matrix6<f64>, d: &Vector3<f64>) -> Matrix6<f64> {
     out
 }
 
-/// Forward sweep in link-aligned frames: world poses, the shift `d_i` from the
-/// parent's origin, columns `J = R S` (`jw`), twists `ov` and velocity-product
-/// accelerations `c`.
-fn aligned_velocity_pass(model: &Model, ws: &mut Workspace, q: &[f64], v: &[f64]) {
-    for (i, l) in model.links().iter().enumerate() {
-        let qi = l.q_index;
-        let r = qi..qi + l.dof;
-        let want = if l.constant_jacobian {
-            Derivatives::Jacobian
-        } else {
-            Derivatives::Hessian
-        };
-        l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
-        let local = l.offset.compose(&ws.kin[i].transform);
-        let (t, vp, origin) = match l.parent {
-            Some(p) => (ws.world[p].compose(&local), ws.ov[p], ws.world[p].p),
-            None => (local, Twist::zeros(), Vector3::zeros()),
-        };
-        let d = t.p - origin;
-        let vp = shift_twist(&vp, &d);
-        let rot = Se3::from_rotation(t.r);
-        let kin = &ws.kin[i];
-        let mut vj = Twist::zeros();
-        for m in 0..l.dof {
-            let jm = rot.ad_twist(&kin.s[m]);
-            ws.jw[qi + m] = jm;
-            vj += jm * v[qi + m];
-        }
-        let mut c = ad(&vp, &vj);
-        if !l.constant_jacobian {
-            c += rot.ad_twist(&sdot_v(kin, &v[r]));
-        }
-        ws.world[i] = t;
-        ws.shift[i] = d;
-        ws.ov[i] = vp + vj;
-        ws.c[i] = c;
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn aba_core(
     model: &Model,
     ws: &mut Workspace,
     q: &[f64],
     v: &[f64],
-    tau: &[f64],
-    gravity: &Vector3<f64>,
-    fext: Option<&[Wrench]>,
+    forces: &Forces,
     qdd: &mut [f64],
 ) -> Result<(), DynamicsError> {
+    let (tau, gravity, fext) = (forces.tau, forces.gravity, forces.fext);
     aligned_velocity_pass(model, ws, q, v);
     for (i, l) in model.links().iter().enumerate() {
         let t = &Se3::from_rotation(ws.world[i].r);

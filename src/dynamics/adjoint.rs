@@ -17,6 +17,7 @@
 use crate::dynamics::DynamicsError;
 use crate::dynamics::derivatives::sdot_v_gradient;
 use crate::dynamics::rnea::{check_inputs, check_out, rnea_core};
+use crate::dynamics::state::{JointState, StateGradient};
 use crate::dynamics::workspace::Workspace;
 use crate::lie::{Twist, ad, ad_dual};
 use crate::model::Model;
@@ -24,20 +25,21 @@ use crate::model::joint::MAX_JOINT_DOF;
 use nalgebra::Vector3;
 
 /// Returns `Σ wᵢ τᵢ²` with `τ` the inverse dynamics at `(q, q̇, q̈)`, and writes
-/// its gradient with respect to `q`, `q̇`, `q̈` into `gq`, `gv`, `ga`.
-#[allow(clippy::too_many_arguments)]
+/// its gradient with respect to `q`, `q̇`, `q̈` into `grad` (written, not added).
 pub fn torque_sq_gradient(
     model: &Model,
     ws: &mut Workspace,
-    q: &[f64],
-    v: &[f64],
-    a: &[f64],
+    x: &JointState,
     gravity: &Vector3<f64>,
     weights: &[f64],
-    gq: &mut [f64],
-    gv: &mut [f64],
-    ga: &mut [f64],
+    grad: StateGradient,
 ) -> Result<f64, DynamicsError> {
+    let (q, v, a) = (x.q, x.v, x.a);
+    let StateGradient {
+        q: gq,
+        v: gv,
+        a: ga,
+    } = grad;
     check_inputs(
         model,
         ws,
@@ -48,7 +50,7 @@ pub fn torque_sq_gradient(
     check_out(model, "gv", gv)?;
     check_out(model, "ga", ga)?;
     let mut tau = std::mem::take(&mut ws.tau);
-    rnea_core(model, ws, q, v, a, gravity, None, &mut tau);
+    rnea_core(model, ws, x, gravity, None, &mut tau);
     let mut cost = 0.0;
     for i in 0..tau.len() {
         cost += weights[i] * tau[i] * tau[i];

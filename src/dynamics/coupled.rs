@@ -6,8 +6,11 @@
 //! (grippers, hands) that have followers. Pinocchio 4.1 computes τ and M the
 //! same way and has no ABA for mimic joints.
 
+use crate::dynamics::state::{Forces, JointState};
 use crate::dynamics::workspace::Workspace;
-use crate::dynamics::{DynamicsError, inverse_dynamics, mass_matrix, nonlinear_effects};
+use crate::dynamics::{
+    DynamicsError, inverse_dynamics, inverse_dynamics_ext, mass_matrix, nonlinear_effects,
+};
 use crate::model::{Coupling, Model};
 use nalgebra::{DMatrix, DVector, Vector3};
 
@@ -42,17 +45,15 @@ fn expanded(c: &Coupling, x: &[f64], positions: bool) -> Vec<f64> {
 }
 
 /// τ on the independent coordinates: Gᵀ τ_full(G q + b, G v, G a).
-#[allow(clippy::too_many_arguments)]
 pub fn coupled_inverse_dynamics(
     model: &Model,
     c: &Coupling,
     ws: &mut Workspace,
-    q: &[f64],
-    v: &[f64],
-    a: &[f64],
+    x: &JointState,
     gravity: &Vector3<f64>,
     tau: &mut [f64],
 ) -> Result<(), DynamicsError> {
+    let (q, v, a) = (x.q, x.v, x.a);
     check(c, model, &[("q", q), ("v", v), ("a", a), ("tau", tau)])?;
     let mut full = vec![0.0; model.nq()];
     inverse_dynamics(
@@ -86,29 +87,31 @@ pub fn coupled_mass_matrix(
     Ok(g.transpose() * full * g)
 }
 
-/// q̈ of the independent coordinates under τ: M q̈ = τ − Gᵀ h_full.
-#[allow(clippy::too_many_arguments)]
+/// q̈ of the independent coordinates under `forces` (τ on the independent
+/// coordinates): M q̈ = τ − Gᵀ h_full, with h_full the full model's inverse
+/// dynamics at zero acceleration (external wrenches included).
 pub fn coupled_forward_dynamics(
     model: &Model,
     c: &Coupling,
     ws: &mut Workspace,
     q: &[f64],
     v: &[f64],
-    tau: &[f64],
-    gravity: &Vector3<f64>,
+    forces: &Forces,
     qdd: &mut [f64],
 ) -> Result<(), DynamicsError> {
+    let tau = forces.tau;
     check(c, model, &[("q", q), ("v", v), ("tau", tau), ("qdd", qdd)])?;
     let m = coupled_mass_matrix(model, c, ws, q)?;
     let mut h_full = vec![0.0; model.nq()];
-    nonlinear_effects(
-        model,
-        ws,
-        &expanded(c, q, true),
-        &expanded(c, v, false),
-        gravity,
-        &mut h_full,
-    )?;
+    let (q_full, v_full) = (expanded(c, q, true), expanded(c, v, false));
+    match forces.fext {
+        None => nonlinear_effects(model, ws, &q_full, &v_full, forces.gravity, &mut h_full)?,
+        Some(fext) => {
+            let zero = vec![0.0; model.nq()];
+            let at_rest = JointState::new(&q_full, &v_full, &zero);
+            inverse_dynamics_ext(model, ws, &at_rest, forces.gravity, fext, &mut h_full)?
+        }
+    }
     let mut h = vec![0.0; c.nq()];
     c.reduce(&h_full, &mut h);
     let rhs = DVector::from_iterator(c.nq(), tau.iter().zip(&h).map(|(t, h)| t - h));

@@ -27,11 +27,13 @@
 
 use crate::dynamics::DynamicsError;
 use crate::dynamics::rnea::check_inputs;
+use crate::dynamics::state::JointState;
+use crate::dynamics::variation::Variation;
 use crate::dynamics::workspace::{Workspace, base_acceleration, sdot_v, world_velocity_pass};
-use crate::lie::{Twist, Wrench, ad, ad_dual, skew};
+use crate::lie::{Twist, Wrench, ad, ad_dual};
+use crate::model::Model;
 use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
-use crate::model::{Inertia, Model};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use nalgebra::{DMatrix, Vector3};
 
 /// `out[m] = ∂(Ṡ(q) q̇)/∂q_m` for the coordinates of link `l` (`q`, `v` its own):
 /// the joint's analytic third derivative, else a difference of its Hessian.
@@ -99,73 +101,16 @@ fn limit_of(l: &crate::model::tree::Link, k: usize) -> (f64, f64) {
         .map_or((f64::NEG_INFINITY, f64::INFINITY), |x| (x.lower, x.upper))
 }
 
-/// The variation `Ẏ x = Y (x × v) + x ×* (Y v) + v ×* (Y x)` of a world inertia
-/// moving with twist v: the derivative of `Y a + v ×* Y v` when x perturbs v and
-/// the body is carried along. Worked out by blocks it is
-/// `[[A, 0], [−2[p], 0]]` with `(k; p) = Y v`, so it adds up over a subtree
-/// as one 3×3 matrix and one vector.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Variation {
-    a: Matrix3<f64>,
-    p: Vector3<f64>,
-}
-
-impl Variation {
-    pub(crate) fn zero() -> Self {
-        Variation {
-            a: Matrix3::zeros(),
-            p: Vector3::zeros(),
-        }
-    }
-
-    /// Of inertia `y` moving with twist `v`, whose momentum is `yv = y v`.
-    fn new(y: &Inertia, v: &Twist, yv: &Wrench) -> Self {
-        let w = skew(&Vector3::new(v[0], v[1], v[2]));
-        let vl = Vector3::new(v[3], v[4], v[5]);
-        // [h][vl] + [vl][h] = h vlᵀ + vl hᵀ − 2 (h·vl) 1
-        let hv = y.h * vl.transpose();
-        let sym = hv + hv.transpose() - Matrix3::from_diagonal_element(2.0 * y.h.dot(&vl));
-        let k = skew(&Vector3::new(yv[0], yv[1], yv[2]));
-        Variation {
-            a: w * y.i_o - y.i_o * w - sym - k,
-            p: Vector3::new(yv[3], yv[4], yv[5]),
-        }
-    }
-
-    #[inline]
-    fn apply(&self, x: &Twist) -> Wrench {
-        let w = Vector3::new(x[0], x[1], x[2]);
-        let m = self.a * w;
-        let n = w.cross(&self.p) * 2.0;
-        Wrench::new(m.x, m.y, m.z, n.x, n.y, n.z)
-    }
-
-    /// `Ẏᵀ j` (its linear half is zero, so only the angular half is returned).
-    #[inline]
-    fn transpose_apply(&self, j: &Twist) -> Vector3<f64> {
-        let jw = Vector3::new(j[0], j[1], j[2]);
-        let jl = Vector3::new(j[3], j[4], j[5]);
-        self.a.tr_mul(&jw) + self.p.cross(&jl) * 2.0
-    }
-
-    fn add(&mut self, o: &Variation) {
-        self.a += o.a;
-        self.p += o.p;
-    }
-}
-
 /// Fills `dtau_dq` and `dtau_dv` (nq × nq; `[i][j] = ∂τ_i/∂x_j`) at `(q, q̇, q̈)`.
-#[allow(clippy::too_many_arguments)]
 pub fn rnea_derivatives(
     model: &Model,
     ws: &mut Workspace,
-    q: &[f64],
-    v: &[f64],
-    a: &[f64],
+    x: &JointState,
     gravity: &Vector3<f64>,
     dtau_dq: &mut DMatrix<f64>,
     dtau_dv: &mut DMatrix<f64>,
 ) -> Result<(), DynamicsError> {
+    let (q, v, a) = (x.q, x.v, x.a);
     check_inputs(model, ws, &[("q", q), ("v", v), ("a", a)], gravity)?;
     let n = model.nq();
     for (name, m) in [("dtau_dq", &*dtau_dq), ("dtau_dv", &*dtau_dv)] {

@@ -14,11 +14,12 @@
 //! a Cholesky factorisation (O(n³)): fine for the small mechanisms it serves;
 //! scenes without driven coordinates keep the O(n) path.
 
+use crate::dynamics::state::{Forces, JointState};
 use crate::dynamics::workspace::Workspace;
 use crate::dynamics::{DynamicsError, inverse_dynamics_ext, mass_matrix};
 use crate::lie::Wrench;
 use crate::model::Model;
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector};
 
 /// A coordinate held at a constant velocity `rate`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,21 +55,20 @@ impl DrivenBuffers {
 }
 
 /// `q̈` with the `driven` coordinates held at constant velocity, under joint
-/// forces `tau`, gravity and link wrenches `fext` (link frames, as RNEA takes them).
-#[allow(clippy::too_many_arguments)]
+/// `forces` (joint forces, gravity and link wrenches in link frames, as RNEA takes them).
 pub fn driven_accelerations(
     model: &Model,
     ws: &mut Workspace,
     buf: &mut DrivenBuffers,
     q: &[f64],
     v: &[f64],
-    tau: &[f64],
-    gravity: &Vector3<f64>,
-    fext: Option<&[Wrench]>,
+    forces: &Forces,
     qdd: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    let fext = fext.unwrap_or(&buf.no_force);
-    inverse_dynamics_ext(model, ws, q, v, &buf.zeros, gravity, fext, &mut buf.bias)?;
+    let tau = forces.tau;
+    let fext = forces.fext.unwrap_or(&buf.no_force);
+    let at_rest = JointState::new(q, v, &buf.zeros);
+    inverse_dynamics_ext(model, ws, &at_rest, forces.gravity, fext, &mut buf.bias)?;
     mass_matrix(model, ws, q, &mut buf.mass)?;
     let f = &buf.free;
     let mff = DMatrix::from_fn(f.len(), f.len(), |r, c| buf.mass[(f[r], f[c])]);

@@ -22,6 +22,8 @@ mod energy;
 mod integrate;
 mod rnea;
 mod scene;
+mod state;
+mod variation;
 mod workspace;
 
 pub use aba::{forward_dynamics, forward_dynamics_ext};
@@ -34,6 +36,7 @@ pub use energy::{kinetic_energy, potential_energy};
 pub use integrate::{Integrator, State, Trajectory, simulate};
 pub use rnea::{inverse_dynamics, inverse_dynamics_ext, nonlinear_effects};
 pub use scene::{ExternalForce, LimitPenalty, Scene, SceneWorkspace, Spring};
+pub use state::{Forces, JointState, StateGradient};
 pub use workspace::Workspace;
 
 use crate::model::ModelError;

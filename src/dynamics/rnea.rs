@@ -10,6 +10,7 @@
 //! with `X_i = offset_i · G_i(q_i)` and the base accelerating at `−g`.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::state::JointState;
 use crate::dynamics::workspace::{Workspace, base_acceleration, s_mul, velocity_pass};
 use crate::lie::{Wrench, ad_dual};
 use crate::model::Model;
@@ -46,18 +47,16 @@ pub(crate) fn check_out(model: &Model, name: &str, x: &[f64]) -> Result<(), Dyna
 }
 
 /// The RNEA after input checks; leaves `V`, `V̇`, `F` in the workspace.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn rnea_core(
     model: &Model,
     ws: &mut Workspace,
-    q: &[f64],
-    v: &[f64],
-    a: &[f64],
+    x: &JointState,
     gravity: &Vector3<f64>,
     fext: Option<&[Wrench]>,
     tau: &mut [f64],
 ) {
-    velocity_pass(model, ws, q, v, true);
+    let a = x.a;
+    velocity_pass(model, ws, x.q, x.v, true);
     let a0 = base_acceleration(gravity);
     for (i, l) in model.links().iter().enumerate() {
         let wa = match l.parent {
@@ -98,27 +97,24 @@ pub fn inverse_dynamics(
 ) -> Result<(), DynamicsError> {
     check_inputs(model, ws, &[("q", q), ("v", v), ("a", a)], gravity)?;
     check_out(model, "tau", tau)?;
-    rnea_core(model, ws, q, v, a, gravity, None, tau);
+    rnea_core(model, ws, &JointState::new(q, v, a), gravity, None, tau);
     Ok(())
 }
 
 /// Inverse dynamics with external wrenches: `fext[i]` acts on link `i`, given
 /// in link i's frame, moment about its origin (`[μ; η]`).
-#[allow(clippy::too_many_arguments)]
 pub fn inverse_dynamics_ext(
     model: &Model,
     ws: &mut Workspace,
-    q: &[f64],
-    v: &[f64],
-    a: &[f64],
+    x: &JointState,
     gravity: &Vector3<f64>,
     fext: &[Wrench],
     tau: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    check_inputs(model, ws, &[("q", q), ("v", v), ("a", a)], gravity)?;
+    check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
     check_out(model, "tau", tau)?;
     check_fext(model, fext)?;
-    rnea_core(model, ws, q, v, a, gravity, Some(fext), tau);
+    rnea_core(model, ws, x, gravity, Some(fext), tau);
     Ok(())
 }
 
@@ -153,7 +149,7 @@ pub fn nonlinear_effects(
     // only per link, so give it a separate zero slice from the workspace.
     let mut zero = std::mem::take(&mut ws.tau);
     zero.iter_mut().for_each(|x| *x = 0.0);
-    rnea_core(model, ws, q, v, &zero, gravity, None, out);
+    rnea_core(model, ws, &JointState::new(q, v, &zero), gravity, None, out);
     ws.tau = zero;
     Ok(())
 }

@@ -4,6 +4,7 @@
 
 use crate::dynamics::aba::aba_core;
 use crate::dynamics::driven::{Driven, DrivenBuffers, driven_accelerations};
+use crate::dynamics::state::Forces;
 use crate::dynamics::workspace::Workspace;
 use crate::dynamics::{DynamicsError, kinetic_energy, potential_energy};
 use crate::lie::{Se3, Twist, Wrench};
@@ -236,24 +237,21 @@ impl Scene {
 
     /// The final solve: O(n) articulated-body forward dynamics, or with driven
     /// coordinates the constrained solve of `driven.rs`.
-    #[allow(clippy::too_many_arguments)]
     fn solve(
         &self,
         sw_ws: &mut Workspace,
         driven: &mut Option<DrivenBuffers>,
         q: &[f64],
         v: &[f64],
-        tau: &[f64],
-        g: &Vector3<f64>,
-        fext: Option<&[Wrench]>,
+        forces: &Forces,
         qdd: &mut [f64],
     ) -> Result<(), DynamicsError> {
         let m = &*self.model;
         if self.driven.is_empty() {
-            return aba_core(m, sw_ws, q, v, tau, g, fext, qdd);
+            return aba_core(m, sw_ws, q, v, forces, qdd);
         }
         let buf = driven.get_or_insert_with(|| DrivenBuffers::new(m, &self.driven));
-        driven_accelerations(m, sw_ws, buf, q, v, tau, g, fext, qdd)
+        driven_accelerations(m, sw_ws, buf, q, v, forces, qdd)
     }
 
     pub fn nq(&self) -> usize {
@@ -354,7 +352,14 @@ impl Scene {
         let g = self.gravity_or_zero();
         let tau = std::mem::take(&mut sw.tau);
         let r = if self.springs.is_empty() && self.forces.is_empty() {
-            self.solve(&mut sw.ws, &mut sw.driven, q, v, &tau, &g, None, qdd)
+            self.solve(
+                &mut sw.ws,
+                &mut sw.driven,
+                q,
+                v,
+                &Forces::new(&tau, &g),
+                qdd,
+            )
         } else {
             sw.fext.iter_mut().for_each(|f| *f = Wrench::zeros());
             self.point_kinematics(sw, q, v);
@@ -381,7 +386,14 @@ impl Scene {
                 Self::add_force(sw, f.link, &f.point, &f.force);
             }
             let fext = std::mem::take(&mut sw.fext);
-            let r = self.solve(&mut sw.ws, &mut sw.driven, q, v, &tau, &g, Some(&fext), qdd);
+            let r = self.solve(
+                &mut sw.ws,
+                &mut sw.driven,
+                q,
+                v,
+                &Forces::new(&tau, &g).with_wrenches(&fext),
+                qdd,
+            );
             sw.fext = fext;
             r
         };

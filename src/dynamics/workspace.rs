@@ -2,7 +2,7 @@
 //! (kinematic) sweep they share.
 
 use crate::dynamics::DynamicsError;
-use crate::dynamics::derivatives::Variation;
+use crate::dynamics::variation::Variation;
 use crate::lie::{Se3, Twist, Wrench, ad};
 use crate::model::joint::{Derivatives, JointKinematics, MAX_JOINT_DOF};
 use crate::model::{Inertia, Model};
@@ -187,6 +187,27 @@ pub(crate) fn velocity_pass(
 /// and velocity-product accelerations `c = v_λ × J q̇ + Ad_T (Ṡ q̇)`. The Hessian
 /// is evaluated only for joints whose Jacobian depends on q.
 pub(crate) fn world_velocity_pass(model: &Model, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+    frame_velocity_pass::<false>(model, ws, q, v);
+}
+
+/// The same sweep in link-aligned frames (the articulated-body algorithm's):
+/// each link's quantities are expressed with the world's axes at the link's
+/// origin, so `J = R S` and every twist is moved from the parent's origin by the
+/// shift `d_i` (also stored, in `shift`). Precise on links far from the world
+/// origin, where world-frame twists lose digits.
+pub(crate) fn aligned_velocity_pass(model: &Model, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+    frame_velocity_pass::<true>(model, ws, q, v);
+}
+
+/// The forward sweep of [`world_velocity_pass`] (`ALIGNED = false`) and
+/// [`aligned_velocity_pass`] (`true`); one loop, monomorphised per frame.
+#[inline(always)]
+fn frame_velocity_pass<const ALIGNED: bool>(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    v: &[f64],
+) {
     for (i, l) in model.links().iter().enumerate() {
         let qi = l.q_index;
         let r = qi..qi + l.dof;
@@ -197,24 +218,41 @@ pub(crate) fn world_velocity_pass(model: &Model, ws: &mut Workspace, q: &[f64], 
         };
         l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
         let local = l.offset.compose(&ws.kin[i].transform);
-        let (t, vp) = match l.parent {
-            Some(p) => (ws.world[p].compose(&local), ws.ov[p]),
-            None => (local, Twist::zeros()),
+        let (t, vp, origin) = match l.parent {
+            Some(p) => (ws.world[p].compose(&local), ws.ov[p], ws.world[p].p),
+            None => (local, Twist::zeros(), Vector3::zeros()),
+        };
+        // the frame the link's quantities are expressed in, and the parent's
+        // twist moved into it
+        let (frame, vp) = if ALIGNED {
+            let d = t.p - origin;
+            ws.shift[i] = d;
+            (Se3::from_rotation(t.r), shift_twist(&vp, &d))
+        } else {
+            (t, vp)
         };
         let kin = &ws.kin[i];
         let mut vj = Twist::zeros();
         for m in 0..l.dof {
-            let jm = t.ad_twist(&kin.s[m]);
+            let jm = frame.ad_twist(&kin.s[m]);
             ws.jw[qi + m] = jm;
             vj += jm * v[qi + m];
         }
         // v_i × J q̇ = v_λ × J q̇: the J q̇ × J q̇ part vanishes.
         let mut c = ad(&vp, &vj);
         if !l.constant_jacobian {
-            c += t.ad_twist(&sdot_v(kin, &v[r]));
+            c += frame.ad_twist(&sdot_v(kin, &v[r]));
         }
         ws.world[i] = t;
         ws.ov[i] = vp + vj;
         ws.c[i] = c;
     }
+}
+
+/// A twist given at one origin, expressed at an origin `d` further (same axes).
+#[inline]
+pub(crate) fn shift_twist(x: &Twist, d: &Vector3<f64>) -> Twist {
+    let w = Vector3::new(x[0], x[1], x[2]);
+    let v = Vector3::new(x[3], x[4], x[5]) + w.cross(d);
+    Twist::new(w.x, w.y, w.z, v.x, v.y, v.z)
 }

@@ -19,7 +19,7 @@
 //! uniform rods (COM mid-bone, radii 0.3 and 0.1 of length).
 
 use super::MocapError;
-use super::bvh::{Channel, Skeleton};
+use super::bvh::{BvhJoint, Channel, Skeleton};
 use super::segments::{self, Segment, Side};
 use crate::lie::Se3;
 use crate::model::joints::{Fixed, Prismatic, Revolute};
@@ -105,6 +105,49 @@ pub fn body_of(
             "unit scale must be positive, got {metres_per_unit}"
         )));
     }
+    let (inertias, report) = distribute_mass(sk, mass, metres_per_unit)?;
+    let mut model = Model::new("body_of");
+    model.default_gravity = Vector3::from(GRAVITY_Y_UP);
+    let mut last_link: Vec<usize> = Vec::with_capacity(sk.joints.len());
+    for (j, inertia) in sk.joints.iter().zip(inertias) {
+        let parent = j.parent.map(|p| last_link[p]);
+        last_link.push(add_joint_links(
+            &mut model,
+            j,
+            parent,
+            inertia,
+            metres_per_unit,
+        )?);
+    }
+    // End sites as massless fixed links.
+    for (i, j) in sk.joints.iter().enumerate() {
+        for (k, e) in j.end_sites.iter().enumerate() {
+            let name = if k == 0 {
+                format!("{}.end", j.name)
+            } else {
+                format!("{}.end{k}", j.name)
+            };
+            model.add_link(
+                &name,
+                Some(last_link[i]),
+                &name,
+                Arc::new(Fixed::new(Se3::identity())),
+                Se3::from_translation(e * metres_per_unit),
+                Inertia::zero(),
+            )?;
+        }
+    }
+    Ok((model, report))
+}
+
+/// The inertia of every joint's bone: de Leva shares of `mass` per segment,
+/// split within a segment by bone length; by bone length alone (uniform rods)
+/// when the skeleton names fewer than six segments.
+fn distribute_mass(
+    sk: &Skeleton,
+    mass: f64,
+    metres_per_unit: f64,
+) -> Result<(Vec<Inertia>, MassReport), MocapError> {
     let n = sk.joints.len();
     let bones: Vec<Vector3<f64>> = (0..n).map(|i| bone(sk, i) * metres_per_unit).collect();
 
@@ -176,88 +219,66 @@ pub fn body_of(
                 .push((sk.joints[i].name.clone(), what, masses[i]));
         }
     }
+    Ok((inertias, report))
+}
 
-    // Links.
-    let mut model = Model::new("body_of");
-    model.default_gravity = Vector3::from(GRAVITY_Y_UP);
-    let mut last_link: Vec<usize> = Vec::with_capacity(n);
-    for (i, j) in sk.joints.iter().enumerate() {
-        let parent = j.parent.map(|p| last_link[p]);
-        // Position channels replace their OFFSET components.
-        let mut off = j.offset;
-        for c in &j.channels {
-            if !c.is_rotation() {
-                off[c.axis()] = 0.0;
-            }
-        }
-        let mut offset = Se3::from_translation(off * metres_per_unit);
-        let order: Vec<Channel> = j
-            .channels
-            .iter()
-            .filter(|c| !c.is_rotation())
-            .chain(j.channels.iter().filter(|c| c.is_rotation()))
-            .copied()
-            .collect();
-        let mut prev = parent;
-        if order.is_empty() {
-            let l = model.add_link(
-                &j.name,
-                prev,
-                &j.name,
-                Arc::new(Fixed::new(Se3::identity())),
-                offset,
-                inertias[i],
-            )?;
-            last_link.push(l);
-            continue;
-        }
-        for (k, c) in order.iter().enumerate() {
-            let dof_name = format!("{}.{}", j.name, c.name());
-            let is_last = k + 1 == order.len();
-            let link_name = if is_last {
-                j.name.clone()
-            } else {
-                dof_name.clone()
-            };
-            let joint: Arc<dyn crate::model::Joint> = if c.is_rotation() {
-                Arc::new(
-                    Revolute::new(c.axis_vector())
-                        .ok_or_else(|| MocapError::invalid("bad axis"))?,
-                )
-            } else {
-                Arc::new(
-                    Prismatic::new(c.axis_vector())
-                        .ok_or_else(|| MocapError::invalid("bad axis"))?,
-                )
-            };
-            let inertia = if is_last {
-                inertias[i]
-            } else {
-                Inertia::zero()
-            };
-            let l = model.add_link(&link_name, prev, &dof_name, joint, offset, inertia)?;
-            offset = Se3::identity();
-            prev = Some(l);
-        }
-        last_link.push(prev.unwrap_or(0));
-    }
-    // End sites as massless fixed links.
-    for (i, j) in sk.joints.iter().enumerate() {
-        for (k, e) in j.end_sites.iter().enumerate() {
-            let name = if k == 0 {
-                format!("{}.end", j.name)
-            } else {
-                format!("{}.end{k}", j.name)
-            };
-            model.add_link(
-                &name,
-                Some(last_link[i]),
-                &name,
-                Arc::new(Fixed::new(Se3::identity())),
-                Se3::from_translation(e * metres_per_unit),
-                Inertia::zero(),
-            )?;
+/// The links of one BVH joint under `parent`: one 1-DOF link per channel,
+/// translations first (position channels replace their OFFSET components),
+/// intermediate links massless and named after their DOF, the last named after
+/// the joint and carrying `inertia`; a joint without channels is one fixed
+/// link. Returns the joint's last link.
+fn add_joint_links(
+    model: &mut Model,
+    j: &BvhJoint,
+    parent: Option<usize>,
+    inertia: Inertia,
+    metres_per_unit: f64,
+) -> Result<usize, MocapError> {
+    let mut off = j.offset;
+    for c in &j.channels {
+        if !c.is_rotation() {
+            off[c.axis()] = 0.0;
         }
     }
-    Ok((model, report))
+    let mut offset = Se3::from_translation(off * metres_per_unit);
+    let order: Vec<Channel> = j
+        .channels
+        .iter()
+        .filter(|c| !c.is_rotation())
+        .chain(j.channels.iter().filter(|c| c.is_rotation()))
+        .copied()
+        .collect();
+    if order.is_empty() {
+        let l = model.add_link(
+            &j.name,
+            parent,
+            &j.name,
+            Arc::new(Fixed::new(Se3::identity())),
+            offset,
+            inertia,
+        )?;
+        return Ok(l);
+    }
+    let mut prev = parent;
+    for (k, c) in order.iter().enumerate() {
+        let dof_name = format!("{}.{}", j.name, c.name());
+        let is_last = k + 1 == order.len();
+        let link_name = if is_last {
+            j.name.clone()
+        } else {
+            dof_name.clone()
+        };
+        let joint: Arc<dyn crate::model::Joint> = if c.is_rotation() {
+            Arc::new(Revolute::new(c.axis_vector()).ok_or_else(|| MocapError::invalid("bad axis"))?)
+        } else {
+            Arc::new(
+                Prismatic::new(c.axis_vector()).ok_or_else(|| MocapError::invalid("bad axis"))?,
+            )
+        };
+        let link_inertia = if is_last { inertia } else { Inertia::zero() };
+        let l = model.add_link(&link_name, prev, &dof_name, joint, offset, link_inertia)?;
+        offset = Se3::identity();
+        prev = Some(l);
+    }
+    Ok(prev.unwrap_or(0))
 }

@@ -176,227 +176,273 @@ pub fn human(sk: &Skeleton, metres_per_unit: f64, mass: f64) -> Result<Human, Mo
             "body mass must be a positive number of kg, got {mass}"
         )));
     }
-    let lm = landmarks(sk)?;
-    let r = rest(sk, metres_per_unit);
-    let d = |a: usize, b: usize| (r[a] - r[b]).norm();
-    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
-    let seg = |s: Segment, bone: Vector3<f64>| {
-        let p = segments::params(s);
-        segment_inertia(mass * p.mass, &bone, p.com, p.r_long, p.r_trans)
+    let mut b = Build {
+        sk,
+        metres_per_unit,
+        mass,
+        lm: landmarks(sk)?,
+        rest: rest(sk, metres_per_unit),
+        m: Model::new("human44"),
+        targets: vec![],
     };
-    let mut m = Model::new("human44");
-    m.default_gravity = Vector3::from(super::body_of::GRAVITY_Y_UP);
-    let mut targets = vec![];
+    b.m.default_gravity = Vector3::from(super::body_of::GRAVITY_Y_UP);
+    let (pelvis, thorax) = b.trunk()?;
+    // link order (and so coordinate order): per side, the arm, then the leg
+    for (s, sign, tag) in [(0usize, 1.0, "L"), (1, -1.0, "R")] {
+        b.arm(thorax, s, sign, tag)?;
+        b.leg(pelvis, s, sign, tag)?;
+    }
+    b.keep_total_mass()?;
+    debug_assert_eq!(b.m.nq(), 44);
+    Ok(Human {
+        model: b.m,
+        targets: b.targets,
+    })
+}
 
-    let spine = d(lm.pelvis, lm.chest);
-    let pelvis = chain(
-        &mut m,
-        None,
-        "pelvis",
-        Vector3::zeros(),
-        &[
-            ("root.Xposition", x, true),
-            ("root.Yposition", y, true),
-            ("root.Zposition", z, true),
-            ("root.Yrotation", y, false),
-            ("root.Xrotation", x, false),
-            ("root.Zrotation", z, false),
-        ],
-        seg(Segment::LowerTrunk, y * spine * 0.3)?,
-    )?;
-    targets.push((pelvis, Target::Joint(lm.pelvis)));
-    let spine3 = |p: &str| {
-        [
-            (format!("{p}.Xrotation"), x),
-            (format!("{p}.Zrotation"), z),
-            (format!("{p}.Yrotation"), y),
-        ]
-    };
-    let dofs3 = |v: &[(String, Vector3<f64>); 3]| -> Vec<(String, Vector3<f64>, bool)> {
-        v.iter().map(|(n, a)| (n.clone(), *a, false)).collect()
-    };
-    let add = |m: &mut Model,
-               parent: usize,
-               link: &str,
-               off: Vector3<f64>,
-               dofs: Vec<(String, Vector3<f64>, bool)>,
-               inertia: Inertia| {
+/// The model being built by [`human`], with the clip it is measured on.
+struct Build<'a> {
+    sk: &'a Skeleton,
+    metres_per_unit: f64,
+    /// total body mass, kg
+    mass: f64,
+    lm: Landmarks,
+    /// rest position of every clip joint, metres
+    rest: Vec<Vector3<f64>>,
+    m: Model,
+    targets: Vec<(usize, Target)>,
+}
+
+/// The three rotations of a ball joint named `p` (X, Z, Y: flex, bend, twist).
+fn ball(p: &str) -> Vec<(String, Vector3<f64>, bool)> {
+    vec![
+        (format!("{p}.Xrotation"), Vector3::x(), false),
+        (format!("{p}.Zrotation"), Vector3::z(), false),
+        (format!("{p}.Yrotation"), Vector3::y(), false),
+    ]
+}
+
+/// One rotation about `axis`, named `name`.
+fn hinge(name: String, axis: Vector3<f64>) -> (String, Vector3<f64>, bool) {
+    (name, axis, false)
+}
+
+impl Build<'_> {
+    /// Distance between two clip joints at rest, metres.
+    fn d(&self, a: usize, b: usize) -> f64 {
+        (self.rest[a] - self.rest[b]).norm()
+    }
+
+    /// The de Leva inertia of segment `s` along `bone`.
+    fn seg(&self, s: Segment, bone: Vector3<f64>) -> Result<Inertia, MocapError> {
+        let p = segments::params(s);
+        segment_inertia(self.mass * p.mass, &bone, p.com, p.r_long, p.r_trans)
+    }
+
+    /// A chain of 1-DOF joints under `parent` ending in link `link` (see [`chain`]).
+    fn add(
+        &mut self,
+        parent: usize,
+        link: &str,
+        off: Vector3<f64>,
+        dofs: Vec<(String, Vector3<f64>, bool)>,
+        inertia: Inertia,
+    ) -> Result<usize, MocapError> {
         let refs: Vec<(&str, Vector3<f64>, bool)> =
             dofs.iter().map(|(n, a, p)| (n.as_str(), *a, *p)).collect();
-        chain(m, Some(parent), link, off, &refs, inertia)
-    };
-    let abdomen = add(
-        &mut m,
-        pelvis,
-        "abdomen",
-        Vector3::zeros(),
-        dofs3(&spine3("lumbar")),
-        seg(Segment::MiddleTrunk, y * spine)?,
-    )?;
-    let c_n = d(lm.chest, lm.neck);
-    let thorax = add(
-        &mut m,
-        abdomen,
-        "thorax",
-        y * spine,
-        dofs3(&spine3("thorax")),
-        seg(Segment::UpperTrunk, y * c_n)?,
-    )?;
-    targets.push((thorax, Target::Joint(lm.chest)));
-    let neck = add(
-        &mut m,
-        thorax,
-        "neck",
-        y * c_n,
-        dofs3(&spine3("neck")),
-        Inertia::zero(),
-    )?;
-    targets.push((neck, Target::Joint(lm.neck)));
-    let (_, head_top) = chain_end(sk, lm.head);
-    let head_len = head_top
-        .map(|e| e.norm() * metres_per_unit)
-        .filter(|l| *l > 0.05)
-        .unwrap_or(0.2);
-    let head = add(
-        &mut m,
-        neck,
-        "head",
-        y * d(lm.neck, lm.head),
-        vec![("head.Xrotation".into(), x, false)],
-        seg(Segment::Head, y * head_len)?,
-    )?;
-    targets.push((head, Target::Joint(lm.head)));
+        chain(&mut self.m, Some(parent), link, off, &refs, inertia)
+    }
 
-    for (s, sign, tag) in [(0usize, 1.0, "L"), (1, -1.0, "R")] {
-        let lat = x * sign;
-        let clav = add(
-            &mut m,
+    /// Pelvis (with the six root DOFs), abdomen, thorax, neck and head; returns
+    /// (pelvis, thorax), where the legs and arms attach.
+    fn trunk(&mut self) -> Result<(usize, usize), MocapError> {
+        let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+        let lm = self.lm.clone();
+        let spine = self.d(lm.pelvis, lm.chest);
+        let pelvis_inertia = self.seg(Segment::LowerTrunk, y * spine * 0.3)?;
+        let pelvis = chain(
+            &mut self.m,
+            None,
+            "pelvis",
+            Vector3::zeros(),
+            &[
+                ("root.Xposition", x, true),
+                ("root.Yposition", y, true),
+                ("root.Zposition", z, true),
+                ("root.Yrotation", y, false),
+                ("root.Xrotation", x, false),
+                ("root.Zrotation", z, false),
+            ],
+            pelvis_inertia,
+        )?;
+        self.targets.push((pelvis, Target::Joint(lm.pelvis)));
+        let inertia = self.seg(Segment::MiddleTrunk, y * spine)?;
+        let abdomen = self.add(pelvis, "abdomen", Vector3::zeros(), ball("lumbar"), inertia)?;
+        let c_n = self.d(lm.chest, lm.neck);
+        let inertia = self.seg(Segment::UpperTrunk, y * c_n)?;
+        let thorax = self.add(abdomen, "thorax", y * spine, ball("thorax"), inertia)?;
+        self.targets.push((thorax, Target::Joint(lm.chest)));
+        let neck = self.add(thorax, "neck", y * c_n, ball("neck"), Inertia::zero())?;
+        self.targets.push((neck, Target::Joint(lm.neck)));
+        let (_, head_top) = chain_end(self.sk, lm.head);
+        let head_len = head_top
+            .map(|e| e.norm() * self.metres_per_unit)
+            .filter(|l| *l > 0.05)
+            .unwrap_or(0.2);
+        let inertia = self.seg(Segment::Head, y * head_len)?;
+        let head = self.add(
+            neck,
+            "head",
+            y * self.d(lm.neck, lm.head),
+            vec![hinge("head.Xrotation".into(), x)],
+            inertia,
+        )?;
+        self.targets.push((head, Target::Joint(lm.head)));
+        Ok((pelvis, thorax))
+    }
+
+    /// Clavicle, upper arm, forearm and hand of side `s` (`sign` +1 left, −1 right).
+    fn arm(&mut self, thorax: usize, s: usize, sign: f64, tag: &str) -> Result<(), MocapError> {
+        let (y, z) = (Vector3::y(), Vector3::z());
+        let lat = Vector3::x() * sign;
+        let lm = self.lm.clone();
+        let clav = self.add(
             thorax,
             &format!("clavicle_{tag}"),
-            y * d(lm.chest, lm.clav[s]),
-            vec![(format!("clavicle_{tag}.Zrotation"), z, false)],
+            y * self.d(lm.chest, lm.clav[s]),
+            vec![hinge(format!("clavicle_{tag}.Zrotation"), z)],
             Inertia::zero(),
         )?;
-        targets.push((clav, Target::Joint(lm.clav[s])));
-        let ua = d(lm.shoulder[s], lm.elbow[s]);
-        let upper = add(
-            &mut m,
+        self.targets.push((clav, Target::Joint(lm.clav[s])));
+        let ua = self.d(lm.shoulder[s], lm.elbow[s]);
+        let inertia = self.seg(Segment::UpperArm, lat * ua)?;
+        let upper = self.add(
             clav,
             &format!("upperarm_{tag}"),
-            lat * d(lm.clav[s], lm.shoulder[s]),
-            dofs3(&spine3(&format!("shoulder_{tag}"))),
-            seg(Segment::UpperArm, lat * ua)?,
+            lat * self.d(lm.clav[s], lm.shoulder[s]),
+            ball(&format!("shoulder_{tag}")),
+            inertia,
         )?;
-        targets.push((upper, Target::Joint(lm.shoulder[s])));
-        let fa = d(lm.elbow[s], lm.wrist[s]);
-        let fore = add(
-            &mut m,
+        self.targets.push((upper, Target::Joint(lm.shoulder[s])));
+        let fa = self.d(lm.elbow[s], lm.wrist[s]);
+        let inertia = self.seg(Segment::Forearm, lat * fa)?;
+        let fore = self.add(
             upper,
             &format!("forearm_{tag}"),
             lat * ua,
-            vec![(format!("elbow_{tag}.Yrotation"), y, false)],
-            seg(Segment::Forearm, lat * fa)?,
+            vec![hinge(format!("elbow_{tag}.Yrotation"), y)],
+            inertia,
         )?;
-        targets.push((fore, Target::Joint(lm.elbow[s])));
-        let (hend_j, hend_site) = chain_end(sk, lm.wrist[s]);
+        self.targets.push((fore, Target::Joint(lm.elbow[s])));
+        let (hend_j, hend_site) = chain_end(self.sk, lm.wrist[s]);
         let hand_len = {
-            let tip = r[hend_j] + hend_site.unwrap_or_else(Vector3::zeros) * metres_per_unit;
-            (tip - r[lm.wrist[s]]).norm().max(0.05)
+            let tip =
+                self.rest[hend_j] + hend_site.unwrap_or_else(Vector3::zeros) * self.metres_per_unit;
+            (tip - self.rest[lm.wrist[s]]).norm().max(0.05)
         };
-        let hand = add(
-            &mut m,
+        let inertia = self.seg(Segment::Hand, lat * hand_len)?;
+        let hand = self.add(
             fore,
             &format!("hand_{tag}"),
             lat * fa,
             vec![
-                (format!("wrist_{tag}.Zrotation"), z, false),
-                (format!("wrist_{tag}.Yrotation"), y, false),
+                hinge(format!("wrist_{tag}.Zrotation"), z),
+                hinge(format!("wrist_{tag}.Yrotation"), y),
             ],
-            seg(Segment::Hand, lat * hand_len)?,
+            inertia,
         )?;
-        targets.push((hand, Target::Joint(lm.wrist[s])));
+        self.targets.push((hand, Target::Joint(lm.wrist[s])));
+        Ok(())
+    }
 
-        let half = d(lm.hip[0], lm.hip[1]) / 2.0;
-        let vert = (d(lm.pelvis, lm.hip[s]).powi(2) - half * half)
+    /// Thigh, shank, foot and toes of side `s`, and the toes' End Site when the
+    /// clip has one.
+    fn leg(&mut self, pelvis: usize, s: usize, sign: f64, tag: &str) -> Result<(), MocapError> {
+        let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+        let lat = x * sign;
+        let lm = self.lm.clone();
+        let half = self.d(lm.hip[0], lm.hip[1]) / 2.0;
+        let vert = (self.d(lm.pelvis, lm.hip[s]).powi(2) - half * half)
             .max(0.0)
             .sqrt();
-        let th = d(lm.hip[s], lm.knee[s]);
-        let thigh = add(
-            &mut m,
+        let th = self.d(lm.hip[s], lm.knee[s]);
+        let inertia = self.seg(Segment::Thigh, -y * th)?;
+        let thigh = self.add(
             pelvis,
             &format!("thigh_{tag}"),
             lat * half - y * vert,
-            dofs3(&spine3(&format!("hip_{tag}"))),
-            seg(Segment::Thigh, -y * th)?,
+            ball(&format!("hip_{tag}")),
+            inertia,
         )?;
-        targets.push((thigh, Target::Joint(lm.hip[s])));
-        let sh = d(lm.knee[s], lm.ankle[s]);
-        let shank = add(
-            &mut m,
+        self.targets.push((thigh, Target::Joint(lm.hip[s])));
+        let sh = self.d(lm.knee[s], lm.ankle[s]);
+        let inertia = self.seg(Segment::Shank, -y * sh)?;
+        let shank = self.add(
             thigh,
             &format!("shank_{tag}"),
             -y * th,
-            vec![(format!("knee_{tag}.Xrotation"), x, false)],
-            seg(Segment::Shank, -y * sh)?,
+            vec![hinge(format!("knee_{tag}.Xrotation"), x)],
+            inertia,
         )?;
-        targets.push((shank, Target::Joint(lm.knee[s])));
+        self.targets.push((shank, Target::Joint(lm.knee[s])));
         let foot_len = lm.toe[s]
-            .map(|t| d(lm.ankle[s], t))
+            .map(|t| self.d(lm.ankle[s], t))
             .filter(|l| *l > 0.03)
             .unwrap_or(0.12);
         let foot_dir = Vector3::new(0.0, -0.45, 0.89).normalize();
-        let foot = add(
-            &mut m,
+        let inertia = self.seg(Segment::Foot, foot_dir * foot_len)?;
+        let foot = self.add(
             shank,
             &format!("foot_{tag}"),
             -y * sh,
             vec![
-                (format!("ankle_{tag}.Xrotation"), x, false),
-                (format!("ankle_{tag}.Zrotation"), z, false),
+                hinge(format!("ankle_{tag}.Xrotation"), x),
+                hinge(format!("ankle_{tag}.Zrotation"), z),
             ],
-            seg(Segment::Foot, foot_dir * foot_len)?,
+            inertia,
         )?;
-        targets.push((foot, Target::Joint(lm.ankle[s])));
-        let toes = add(
-            &mut m,
+        self.targets.push((foot, Target::Joint(lm.ankle[s])));
+        let toes = self.add(
             foot,
             &format!("toes_{tag}"),
             foot_dir * foot_len,
-            vec![(format!("toe_{tag}.Xrotation"), x, false)],
+            vec![hinge(format!("toe_{tag}.Xrotation"), x)],
             Inertia::zero(),
         )?;
-        if let Some(t) = lm.toe[s] {
-            targets.push((toes, Target::Joint(t)));
-            if let (tj, Some(site)) = chain_end(sk, t) {
-                let l = site.norm() * metres_per_unit;
-                if l > 1e-3 && tj == t {
-                    let end = m.add_link(
-                        &format!("toes_{tag}.end"),
-                        Some(toes),
-                        &format!("toes_{tag}.end"),
-                        Arc::new(Fixed::new(Se3::identity())),
-                        Se3::from_translation(z * l),
-                        Inertia::zero(),
-                    )?;
-                    targets.push((end, Target::EndSite(t)));
+        let Some(t) = lm.toe[s] else { return Ok(()) };
+        self.targets.push((toes, Target::Joint(t)));
+        if let (tj, Some(site)) = chain_end(self.sk, t) {
+            let l = site.norm() * self.metres_per_unit;
+            if l > 1e-3 && tj == t {
+                let end = self.m.add_link(
+                    &format!("toes_{tag}.end"),
+                    Some(toes),
+                    &format!("toes_{tag}.end"),
+                    Arc::new(Fixed::new(Se3::identity())),
+                    Se3::from_translation(z * l),
+                    Inertia::zero(),
+                )?;
+                self.targets.push((end, Target::EndSite(t)));
+            }
+        }
+        Ok(())
+    }
+
+    /// Scales every massive link so the total is exactly `mass` (neck and
+    /// clavicles carry none; their de Leva shares sit on head and thorax).
+    fn keep_total_mass(&mut self) -> Result<(), MocapError> {
+        let total = self.m.total_mass();
+        if total > 0.0 {
+            for i in 0..self.m.num_links() {
+                let l = self.m.link(i).inertia;
+                if l.mass > 0.0 {
+                    let k = self.mass / total;
+                    let scaled = Inertia::from_com(l.mass * k, l.com(), l.inertia_com() * k)
+                        .map_err(MocapError::Invalid)?;
+                    self.m.set_inertia(i, scaled)?;
                 }
             }
         }
+        Ok(())
     }
-    // Keep the total exactly `mass` (neck and clavicles carry none; their
-    // de Leva shares sit on head and thorax).
-    let total = m.total_mass();
-    if total > 0.0 {
-        for i in 0..m.num_links() {
-            let l = m.link(i).inertia;
-            if l.mass > 0.0 {
-                let k = mass / total;
-                let scaled = Inertia::from_com(l.mass * k, l.com(), l.inertia_com() * k)
-                    .map_err(MocapError::Invalid)?;
-                m.set_inertia(i, scaled)?;
-            }
-        }
-    }
-    debug_assert_eq!(m.nq(), 44);
-    Ok(Human { model: m, targets })
 }

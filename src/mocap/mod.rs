@@ -11,6 +11,9 @@ pub mod human;
 pub mod positions;
 pub mod registry;
 pub mod segments;
+/// The project's own procedural clips (`examples/data/*.bvh`): fixtures of the
+/// report and the tests.
+#[cfg(feature = "report")]
 pub mod synth;
 pub mod to_motion;
 

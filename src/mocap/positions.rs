@@ -41,42 +41,8 @@ pub enum Missing {
     Hold,
 }
 
-/// The links reported as joints and their parents among them.
-pub fn joint_points(body: &Model) -> (Vec<usize>, Vec<Option<usize>>) {
-    let n = body.num_links();
-    let skip: Vec<bool> = (0..n)
-        .map(|i| {
-            let kids = body.children(i);
-            let l = body.link(i);
-            // Intermediate links are named after their joint (as `body_of` and
-            // `human` name them), unlike the link that ends a multi-DOF joint.
-            l.name == l.joint_name
-                && kids.len() == 1
-                && l.inertia.mass == 0.0
-                && body.link(kids[0]).offset.p.norm() < 1e-12
-        })
-        .collect();
-    let mut index = vec![None; n];
-    let mut links = vec![];
-    let mut parents = vec![];
-    for i in 0..n {
-        if skip[i] {
-            continue;
-        }
-        // Nearest reported ancestor.
-        let mut p = body.link(i).parent;
-        while let Some(k) = p {
-            if index[k].is_some() {
-                break;
-            }
-            p = body.link(k).parent;
-        }
-        index[i] = Some(links.len());
-        links.push(i);
-        parents.push(p.and_then(|k| index[k]));
-    }
-    (links, parents)
-}
+/// The links reported as joints (the topology lives with the model).
+pub use crate::model::topology::joint_points;
 
 /// Samples `mu` at `rate` Hz (default: the clip's own frame rate, else 30 Hz)
 /// over its span and runs forward kinematics of `body` at each time.

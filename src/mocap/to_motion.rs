@@ -209,15 +209,5 @@ pub fn save(
     Ok(report)
 }
 
-/// The frame time of the first sampled curve in `mu` (how a loaded clip was
-/// sampled), if any.
-pub fn sample_period(mu: &Mu) -> Option<f64> {
-    mu.dofs
-        .values()
-        .flat_map(|d| &d.intervals)
-        .flat_map(|i| &i.funcs)
-        .find_map(|f| match f.curve.as_ref() {
-            Curve::Samples(s) => Some(s.dt() * f.scale),
-            _ => None,
-        })
-}
+/// The frame time of a loaded clip (at its path of old; it lives with the motions).
+pub use crate::motion::sample_period;

@@ -6,11 +6,15 @@ pub mod joints;
 pub use joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};
 pub mod body;
 pub mod coupling;
+pub mod files;
 pub mod kinematics;
-pub mod osim;
+pub mod topology;
 pub mod tree;
-pub mod urdf;
+
+// the readers, at the paths they have always had (`model::urdf::load_urdf`, …)
+pub use files::{osim, urdf};
 
 pub use body::Inertia;
 pub use coupling::{Coupling, Follower};
+pub use topology::joint_points;
 pub use tree::{Link, Model, ModelError};

@@ -16,6 +16,7 @@
 
 pub mod compose;
 pub mod curve;
+pub mod cyclify;
 mod display;
 pub mod dof;
 pub mod error;
@@ -39,7 +40,7 @@ pub use ops::{
     DofSpan, affine, and, clip, clip_in_place, concatenate, conflicts, gaps, minus, only, plus,
     span,
 };
-pub use sample::{Grid, Located, grid_times, sample_grid};
+pub use sample::{Grid, Located, grid_times, sample_grid, sample_period};
 
 /// Two times closer than this are treated as equal: 1e-9 s, relative beyond
 /// one second. Far below any frame period (mocap runs at ≤ 1 kHz) and far

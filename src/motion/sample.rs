@@ -227,3 +227,16 @@ pub fn sample_grid(m: &Mu, rate: f64, cancel: Option<&CancelToken>) -> Result<Gr
         values,
     })
 }
+
+/// The frame time of the first sampled curve in `mu` (how a loaded clip was
+/// sampled), if any.
+pub fn sample_period(mu: &Mu) -> Option<f64> {
+    mu.dofs
+        .values()
+        .flat_map(|d| &d.intervals)
+        .flat_map(|i| &i.funcs)
+        .find_map(|f| match f.curve.as_ref() {
+            super::curve::Curve::Samples(s) => Some(s.dt() * f.scale),
+            _ => None,
+        })
+}

@@ -22,39 +22,12 @@ use crate::spacetime::{
     solve_group,
 };
 use crate::spline::BSplineBasis;
+
+pub use super::hard_case::HardCase;
+use super::hard_case::case;
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
 use std::sync::Arc;
-
-/// One delicate case and its outcome.
-#[derive(Clone, Debug)]
-pub struct HardCase {
-    pub name: &'static str,
-    /// Module it exercises.
-    pub area: &'static str,
-    /// What the engine returned (a value summary or the error message).
-    pub returned: String,
-    pub worst_error: f64,
-    pub bound: f64,
-    pub passed: bool,
-}
-
-pub(crate) fn case(
-    name: &'static str,
-    area: &'static str,
-    returned: String,
-    worst: f64,
-    bound: f64,
-) -> HardCase {
-    HardCase {
-        name,
-        area,
-        returned,
-        worst_error: worst,
-        bound,
-        passed: worst.is_finite() && worst <= bound,
-    }
-}
 
 /// A case whose correct outcome is an error containing every word in `want`.
 fn expect_err<T>(

@@ -2,7 +2,7 @@
 //! Euler at 100 ms on beads sliding round closed wires of a spinning frame,
 //! and an n-DOF spline joint driven past the end of its parameter range.
 
-use super::hard_cases::{HardCase, case};
+use super::hard_case::{HardCase, case};
 use crate::cancel::CancelToken;
 use crate::dynamics::{Integrator, LimitPenalty, Scene, State, simulate};
 use crate::lie::{Se3, exp_so3};

@@ -292,13 +292,12 @@ fn is_foot(name: &str) -> bool {
     (n.contains("foot") || n.contains("toe") || n.contains("ankle")) && !n.ends_with(".end")
 }
 
-/// Scores `filled` against the capture over the gap of the window at `start`.
-#[allow(clippy::too_many_arguments)]
+/// Scores `filled` against the capture over the gap of the window at `start`
+/// (`(start, gap)`: the window's first frame and the gap's length in frames).
 pub fn score(
     case: &Case,
     p: &Protocol,
-    start: usize,
-    gap: usize,
+    (start, gap): (usize, usize),
     root: RootMode,
     method: &str,
     filled: &Mu,
@@ -469,8 +468,7 @@ pub fn run_window(
     let mut r = score(
         case,
         p,
-        start,
-        gap,
+        (start, gap),
         root,
         method.label(),
         &f.motion,

@@ -4,8 +4,8 @@
 //! the same file. The measurement is the one of `benches/dynamics.rs`.
 
 use crate::dynamics::{
-    Workspace, forward_dynamics, inverse_dynamics, mass_matrix, rnea_derivatives,
-    torque_sq_gradient,
+    JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics, mass_matrix,
+    rnea_derivatives, torque_sq_gradient,
 };
 use crate::model::Model;
 use nalgebra::DMatrix;
@@ -92,10 +92,28 @@ pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
         inverse_dynamics(model, &mut ws, q, v, a, &g, &mut out).map_err(|e| e.to_string())?;
         forward_dynamics(model, &mut ws, q, v, a, &g, &mut out).map_err(|e| e.to_string())?;
         mass_matrix(model, &mut ws, q, &mut mm).map_err(|e| e.to_string())?;
-        rnea_derivatives(model, &mut ws, q, v, a, &g, &mut dq, &mut dv)
-            .map_err(|e| e.to_string())?;
-        torque_sq_gradient(model, &mut ws, q, v, a, &g, &w, &mut gq, &mut gv, &mut ga)
-            .map_err(|e| e.to_string())?;
+        rnea_derivatives(
+            model,
+            &mut ws,
+            &JointState::new(q, v, a),
+            &g,
+            &mut dq,
+            &mut dv,
+        )
+        .map_err(|e| e.to_string())?;
+        torque_sq_gradient(
+            model,
+            &mut ws,
+            &JointState::new(q, v, a),
+            &g,
+            &w,
+            StateGradient {
+                q: &mut gq,
+                v: &mut gv,
+                a: &mut ga,
+            },
+        )
+        .map_err(|e| e.to_string())?;
     }
     let rnea = median_us(n_states, |i| {
         let [q, v, a] = &states[i];
@@ -113,12 +131,30 @@ pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
     });
     let der = median_us(n_states, |i| {
         let [q, v, a] = &states[i];
-        let _ = rnea_derivatives(model, &mut ws, q, v, a, &g, &mut dq, &mut dv);
+        let _ = rnea_derivatives(
+            model,
+            &mut ws,
+            &JointState::new(q, v, a),
+            &g,
+            &mut dq,
+            &mut dv,
+        );
         black_box(&dq);
     });
     let adj = median_us(n_states, |i| {
         let [q, v, a] = &states[i];
-        let j = torque_sq_gradient(model, &mut ws, q, v, a, &g, &w, &mut gq, &mut gv, &mut ga);
+        let j = torque_sq_gradient(
+            model,
+            &mut ws,
+            &JointState::new(q, v, a),
+            &g,
+            &w,
+            StateGradient {
+                q: &mut gq,
+                v: &mut gv,
+                a: &mut ga,
+            },
+        );
         let _ = black_box(j);
     });
     Ok([rnea, aba, crba, der, adj])

@@ -107,7 +107,6 @@ const BISECTION_STEPS: usize = 8;
 /// ([`nearest_cheaper`]). So SP returns the transition nearest the prior's
 /// motion along this continuation that costs less effort than
 /// interpolation, or the last step's. The report's energies are ∫Στ² alone.
-#[allow(clippy::too_many_arguments)]
 fn solve_with_prior<M: TorqueModel>(
     model: &M,
     dofs: Vec<GapDof>,

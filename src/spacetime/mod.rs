@@ -13,6 +13,8 @@ pub mod transition;
 
 pub use error::SpError;
 pub use transition::{Continuity, EndState, TransitionCurve};
+/// A hand-checked two-link arm: a fixture of the unit tests and the report.
+#[cfg(any(test, feature = "report"))]
 pub mod planar2;
 pub mod torque;
 pub use torque::{BodyDynamics, TorqueModel};
@@ -24,6 +26,8 @@ pub mod root;
 pub use root::{RootCoords, RootTransition};
 pub mod groups;
 pub use groups::{group_overlapping, solve_all};
+/// The Fig. 8 case shared by the report and `benches/spacetime.rs`.
+#[cfg(feature = "report")]
 pub mod fig8;
 pub mod precond;
 pub mod progress;

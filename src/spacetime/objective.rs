@@ -12,6 +12,7 @@ use super::precond::Precond;
 use super::quadrature::GaussLegendre;
 use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
+use crate::dynamics::{JointState, StateGradient};
 use nalgebra::DMatrix;
 
 /// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has
@@ -434,13 +435,13 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             self.load_node(k, x, s);
             let f = self.model.torque_sq_grad(
                 &mut s.ws,
-                &s.q,
-                &s.v,
-                &s.a,
+                &JointState::new(&s.q, &s.v, &s.a),
                 &self.weights,
-                &mut s.gq,
-                &mut s.gv,
-                &mut s.ga,
+                StateGradient {
+                    q: &mut s.gq,
+                    v: &mut s.gv,
+                    a: &mut s.ga,
+                },
             )?;
             let wk = self.qweights[k];
             e += wk * f;

@@ -5,6 +5,7 @@
 
 use super::error::SpError;
 use super::torque::TorqueModel;
+use crate::dynamics::{JointState, StateGradient};
 
 /// Joint 1 at the origin rotating in the vertical plane (angle from the
 /// horizontal), joint 2 at the end of link 1; gravity `g` pulls along −y.
@@ -100,14 +101,16 @@ impl TorqueModel for TwoLinkArm {
     fn torque_sq_grad(
         &self,
         _: &mut (),
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
+        x: &JointState,
         w: &[f64],
-        gq: &mut [f64],
-        gv: &mut [f64],
-        ga: &mut [f64],
+        grad: StateGradient,
     ) -> Result<f64, SpError> {
+        let (q, v, a) = (x.q, x.v, x.a);
+        let StateGradient {
+            q: gq,
+            v: gv,
+            a: ga,
+        } = grad;
         check_len(2, q, v, a)?;
         let t = self.tau(q, v, a);
         let ([m11, m12, m22], h, _) = self.terms(q);
@@ -185,7 +188,16 @@ mod tests {
             let (gq, rest) = g.split_at_mut(2);
             let (gv, ga) = rest.split_at_mut(2);
             let e = arm
-                .torque_sq_grad(&mut (), &x[0..2], &x[2..4], &x[4..6], &w, gq, gv, ga)
+                .torque_sq_grad(
+                    &mut (),
+                    &JointState::new(&x[0..2], &x[2..4], &x[4..6]),
+                    &w,
+                    StateGradient {
+                        q: gq,
+                        v: gv,
+                        a: ga,
+                    },
+                )
                 .unwrap();
             (e, g)
         };

@@ -39,7 +39,7 @@ use super::precond::Precond;
 use super::torque::TorqueModel;
 use crate::cancel::CancelToken;
 use argmin::core::{
-    CostFunction, Executor, Gradient, KV, Problem as ArgminProblem, Solver, State,
+    CostFunction, Executor, Gradient, IterState, KV, Problem as ArgminProblem, Solver, State,
     TerminationReason, TerminationStatus,
 };
 use argmin::solver::linesearch::MoreThuenteLineSearch;
@@ -309,6 +309,51 @@ where
     }
 }
 
+/// The stall rule of one round (see [`StallAware`]).
+struct Stall<'h> {
+    start: u64,
+    window: u64,
+    tolerance: f64,
+    history: &'h RefCell<Vec<(u64, f64)>>,
+}
+
+/// One round of a quasi-Newton `solver` (BFGS or L-BFGS: they differ only in
+/// the solver and in BFGS's starting inverse Hessian, which `init` sets with the
+/// start point and the round's budget) under the stall rule: the iterations it
+/// ran and why it stopped.
+fn run_round<'p, 'o, 'a, M, S, H>(
+    problem: &'p Problem<'o, 'a, M>,
+    solver: S,
+    stall: Stall<'_>,
+    init: impl FnOnce(RoundState<H>) -> RoundState<H>,
+) -> Result<(u64, String), argmin::core::Error>
+where
+    M: TorqueModel,
+    S: Solver<Lend<'p, 'o, 'a, M>, RoundState<H>>,
+    RoundState<H>: State<Float = f64>,
+{
+    let solver = StallAware {
+        inner: solver,
+        start: stall.start,
+        window: stall.window,
+        tolerance: stall.tolerance,
+        history: stall.history,
+    };
+    Executor::new(Lend(problem), solver)
+        .configure(init)
+        .run()
+        .map(|r| {
+            (
+                r.state().get_iter(),
+                stop_text(r.state().get_termination_status()),
+            )
+        })
+}
+
+/// The argmin state of a round: parameters and gradients as vectors, `H` the
+/// inverse Hessian BFGS keeps (`()` for L-BFGS).
+type RoundState<H> = IterState<Vec<f64>, Vec<f64>, (), H, (), f64>;
+
 /// Minimise the objective from the Hermite start.
 pub fn solve_group<M: TorqueModel>(
     obj: &Objective<'_, M>,
@@ -364,6 +409,13 @@ pub fn solve_group_from<M: TorqueModel>(
         while total < opts.max_iters {
             let budget = round.min(opts.max_iters - total);
             let linesearch = MoreThuenteLineSearch::new();
+            let stall = Stall {
+                start: total,
+                window: opts.stall_window.max(1),
+                tolerance: opts.tolerance,
+                history: &history,
+            };
+            let y = y_start.clone();
             run = if n <= opts.bfgs_max_vars {
                 method = "BFGS";
                 // In the preconditioned variables the Hessian is about 2·I.
@@ -375,44 +427,16 @@ pub fn solve_group_from<M: TorqueModel>(
                     .with_tolerance_grad(tol_grad)
                     .and_then(|s| s.with_tolerance_cost(tol_cost))
                     .map_err(|e| SpError::Invalid(e.to_string()))?;
-                let solver = StallAware {
-                    inner: solver,
-                    start: total,
-                    window: opts.stall_window.max(1),
-                    tolerance: opts.tolerance,
-                    history: &history,
-                };
-                Executor::new(Lend(&problem), solver)
-                    .configure(|st| st.param(y_start.clone()).inv_hessian(h0).max_iters(budget))
-                    .run()
-                    .map(|r| {
-                        (
-                            r.state().get_iter(),
-                            stop_text(r.state().get_termination_status()),
-                        )
-                    })
+                run_round(&problem, solver, stall, |st| {
+                    st.param(y).inv_hessian(h0).max_iters(budget)
+                })
             } else {
                 method = "L-BFGS";
                 let solver = LBFGS::new(linesearch, mem)
                     .with_tolerance_grad(tol_grad)
                     .and_then(|s| s.with_tolerance_cost(tol_cost))
                     .map_err(|e| SpError::Invalid(e.to_string()))?;
-                let solver = StallAware {
-                    inner: solver,
-                    start: total,
-                    window: opts.stall_window.max(1),
-                    tolerance: opts.tolerance,
-                    history: &history,
-                };
-                Executor::new(Lend(&problem), solver)
-                    .configure(|st| st.param(y_start.clone()).max_iters(budget))
-                    .run()
-                    .map(|r| {
-                        (
-                            r.state().get_iter(),
-                            stop_text(r.state().get_termination_status()),
-                        )
-                    })
+                run_round(&problem, solver, stall, |st| st.param(y).max_iters(budget))
             };
             let it = run.as_ref().map(|r| r.0).unwrap_or(budget);
             total += it.max(1);

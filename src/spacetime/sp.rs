@@ -330,18 +330,11 @@ fn hermite_curve(t0: f64, t1: f64, a: &EndState, b: &EndState) -> Result<Curve, 
 }
 
 /// `fill(m, "hermite")`: every interior gap of every DOF becomes the cubic
-/// Hermite curve between the end values and velocities. Conflicts are an error.
+/// Hermite curve between the end values and velocities
+/// ([`crate::motion::fill_hermite`]). Conflicts are an error, worded for SP.
 pub fn fill_hermite(m: &Mu) -> Result<Mu, SpError> {
     check_conflicts(m)?;
-    let mut out = m.clone();
-    for (name, dof) in out.dofs.iter_mut() {
-        for (t0, t1) in dof.gaps() {
-            let a = end_state(m, name, t0)?;
-            let b = end_state(m, name, t1)?;
-            insert_curve(dof, hermite_curve(t0, t1, &a, &b)?, t0, t1)?;
-        }
-    }
-    Ok(out)
+    crate::motion::fill_hermite(m).map_err(motion_err)
 }
 
 /// Shift every interval of `dof` that starts at or after `t` by `delta` in value.

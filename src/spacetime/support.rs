@@ -92,7 +92,7 @@ pub(crate) fn owner(model: &Model, c: usize) -> Option<usize> {
 /// Candidate support frames: every link that is not an intermediate link of a
 /// multi-DOF joint (those coincide with the next link).
 fn candidates(model: &Model) -> Vec<usize> {
-    crate::mocap::positions::joint_points(model).0
+    crate::model::joint_points(model).0
 }
 
 /// Frames whose position stays in a cube of edge `box_size` over `q_before`

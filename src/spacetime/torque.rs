@@ -3,6 +3,7 @@
 //! a hand-checked model and run on the real multibody engine alike.
 
 use super::error::SpError;
+use crate::dynamics::{JointState, StateGradient};
 
 /// A body whose joint torques τ(q, q̇, q̈) the objective ∫Σwᵢτᵢ² dt penalises.
 pub trait TorqueModel: Sync {
@@ -29,19 +30,14 @@ pub trait TorqueModel: Sync {
         tau: &mut [f64],
     ) -> Result<(), SpError>;
 
-    /// Σ wᵢτᵢ², with its gradient with respect to q, q̇, q̈ written (not added) into
-    /// `gq`, `gv`, `ga`.
-    #[allow(clippy::too_many_arguments)]
+    /// Σ wᵢτᵢ² at `x`, with its gradient with respect to q, q̇, q̈ written (not
+    /// added) into `grad`.
     fn torque_sq_grad(
         &self,
         ws: &mut Self::Workspace,
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
+        x: &JointState,
         w: &[f64],
-        gq: &mut [f64],
-        gv: &mut [f64],
-        ga: &mut [f64],
+        grad: StateGradient,
     ) -> Result<f64, SpError>;
 
     /// ∂τ/∂q_c, ∂τ/∂q̇_c, ∂τ/∂q̈_c for the coordinates c of `coords` (each
@@ -139,15 +135,11 @@ impl TorqueModel for BodyDynamics<'_> {
     fn torque_sq_grad(
         &self,
         ws: &mut Self::Workspace,
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
+        x: &JointState,
         w: &[f64],
-        gq: &mut [f64],
-        gv: &mut [f64],
-        ga: &mut [f64],
+        grad: StateGradient,
     ) -> Result<f64, SpError> {
-        crate::dynamics::torque_sq_gradient(self.model, ws, q, v, a, &self.gravity, w, gq, gv, ga)
+        crate::dynamics::torque_sq_gradient(self.model, ws, x, &self.gravity, w, grad)
             .map_err(dyn_err)
     }
 
@@ -164,8 +156,15 @@ impl TorqueModel for BodyDynamics<'_> {
         let mut dq = nalgebra::DMatrix::zeros(n, n);
         let mut dv = nalgebra::DMatrix::zeros(n, n);
         let mut m = nalgebra::DMatrix::zeros(n, n);
-        crate::dynamics::rnea_derivatives(self.model, ws, q, v, a, &self.gravity, &mut dq, &mut dv)
-            .map_err(dyn_err)?;
+        crate::dynamics::rnea_derivatives(
+            self.model,
+            ws,
+            &JointState::new(q, v, a),
+            &self.gravity,
+            &mut dq,
+            &mut dv,
+        )
+        .map_err(dyn_err)?;
         crate::dynamics::mass_matrix(self.model, ws, q, &mut m).map_err(dyn_err)?;
         Ok([
             dq.select_columns(coords),

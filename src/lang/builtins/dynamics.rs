@@ -12,9 +12,9 @@ use nalgebra::{DMatrix, Vector3};
 use super::body::Body;
 use super::{ArgValue, Args, Registry};
 use crate::dynamics::{
-    DynamicsError, ExternalForce, Integrator, LimitPenalty, Scene, Spring, State, Workspace,
-    coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix, forward_dynamics,
-    inverse_dynamics, mass_matrix, simulate,
+    DynamicsError, ExternalForce, Forces, Integrator, JointState, LimitPenalty, Scene, Spring,
+    State, Workspace, coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix,
+    forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
 use crate::lang::builtins::motion::Motion;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
@@ -629,7 +629,14 @@ pub fn register(reg: &mut Registry) {
             let mut ws = Workspace::new(&m);
             let mut tau = vec![0.0; q.len()];
             match &b.coupling {
-                Some(c) => coupled_inverse_dynamics(&m, c, &mut ws, &q, &v, &acc, &g, &mut tau),
+                Some(c) => coupled_inverse_dynamics(
+                    &m,
+                    c,
+                    &mut ws,
+                    &JointState::new(&q, &v, &acc),
+                    &g,
+                    &mut tau,
+                ),
                 None => inverse_dynamics(&m, &mut ws, &q, &v, &acc, &g, &mut tau),
             }
             .map_err(|e| dyn_error(e, a))?;
@@ -649,7 +656,15 @@ pub fn register(reg: &mut Registry) {
             let mut ws = Workspace::new(&m);
             let mut qdd = vec![0.0; q.len()];
             match &b.coupling {
-                Some(c) => coupled_forward_dynamics(&m, c, &mut ws, &q, &v, &tau, &g, &mut qdd),
+                Some(c) => coupled_forward_dynamics(
+                    &m,
+                    c,
+                    &mut ws,
+                    &q,
+                    &v,
+                    &Forces::new(&tau, &g),
+                    &mut qdd,
+                ),
                 None => forward_dynamics(&m, &mut ws, &q, &v, &tau, &g, &mut qdd),
             }
             .map_err(|e| dyn_error(e, a))?;

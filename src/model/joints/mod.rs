@@ -3,6 +3,7 @@
 //! Most joints are products of exponentials and share the recursion of
 //! [`poe`] (spline-joint paper eq. 27–31) for their Jacobian and Hessian.
 
+pub mod axis;
 pub mod curve;
 pub mod curve_fit;
 pub mod cylindrical;
@@ -11,11 +12,8 @@ pub mod error;
 pub mod fixed;
 pub mod function_based;
 pub mod helical;
-pub(crate) mod osim;
 pub mod planar;
 pub mod poe;
-pub mod prismatic;
-pub mod revolute;
 pub mod root6;
 pub mod samples;
 pub mod scalar_function;
@@ -25,6 +23,7 @@ pub mod spline_ndof;
 pub mod spline_surface;
 pub mod universal;
 
+pub use axis::{AxisJoint, Prismatic, Revolute};
 pub use curve::SplineCurveJoint;
 pub use curve_fit::{
     AUTO_WEIGHTS, AutoFit, FitOptions, FitReport, KnotPlacement, fit_spline_joint,
@@ -37,8 +36,6 @@ pub use fixed::Fixed;
 pub use function_based::{FunctionJoint, FunctionJointError, TransformAxis};
 pub use helical::Helical;
 pub use planar::Planar;
-pub use prismatic::Prismatic;
-pub use revolute::Revolute;
 pub use root6::Root6;
 pub use samples::{JointError, JointSamples, joint_error};
 pub use scalar_function::ScalarFunction;

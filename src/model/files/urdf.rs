@@ -216,6 +216,9 @@ fn mimic_coupling(
         .map_err(|e| ModelError::Urdf(e.to_string()))
 }
 
+// Long (about 160 lines): the broken-file checks (duplicates, missing links, several
+// roots, cycles) and the depth-first build in Pinocchio's joint order share the name
+// maps and must run in this order, each check naming what it found.
 fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
     let mut links: HashMap<&str, &urdf_rs::Link> = HashMap::new();
     for l in &robot.links {

@@ -2,12 +2,12 @@
 //! `coordinates/Coordinate`, `frames/PhysicalOffsetFrame`,
 //! `SpatialTransform/TransformAxis`).
 
-use super::function_based::{
-    FunctionJoint, FunctionJointError, TransformAxis, body_fixed_xyz, coordinate_index,
-};
-use super::scalar_function::ScalarFunction;
 use crate::lie::Se3;
 use crate::model::joint::Limit;
+use crate::model::joints::function_based::{
+    FunctionJoint, FunctionJointError, TransformAxis, body_fixed_xyz, coordinate_index,
+};
+use crate::model::joints::scalar_function::ScalarFunction;
 use crate::spline::SimmSpline;
 use nalgebra::Vector3;
 use roxmltree::{Document, Node};
@@ -229,5 +229,23 @@ pub(crate) fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJoint
             "function type '{other}' is not supported (Constant, LinearFunction, SimmSpline, NaturalCubicSpline, \
              PiecewiseLinearFunction, PolynomialFunction, MultiplierFunction are)"
         )),
+    }
+}
+
+impl FunctionJoint {
+    /// From an OpenSim model file (`.osim`), the `CustomJoint` named `joint_name`.
+    pub fn from_osim_file(
+        path: impl AsRef<std::path::Path>,
+        joint_name: &str,
+    ) -> Result<Self, FunctionJointError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| FunctionJointError(format!("cannot read {}: {e}", path.display())))?;
+        Self::from_osim_str(&text, joint_name)
+    }
+
+    /// From OpenSim XML text, the `CustomJoint` named `joint_name`.
+    pub fn from_osim_str(xml: &str, joint_name: &str) -> Result<Self, FunctionJointError> {
+        custom_joint_from_xml(xml, joint_name)
     }
 }
