@@ -9,7 +9,6 @@ pub mod bvh;
 mod error;
 pub mod human;
 pub mod positions;
-pub mod registry;
 pub mod segments;
 pub mod synth;
 pub mod to_motion;
