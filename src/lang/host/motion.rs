@@ -141,7 +141,8 @@ impl HostObject for Motion {
     }
 }
 
-pub fn article(name: &str) -> String {
+/// "a Dof", "an Interval": a type name with its article.
+fn article(name: &str) -> String {
     if name.starts_with(['A', 'E', 'I', 'O', 'U']) {
         format!("an {name}")
     } else {
