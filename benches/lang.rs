@@ -98,3 +98,19 @@ fn composite_60dof_60s_at_120hz_sampled_data(b: Bencher) {
 fn composite_60dof_60s_at_120hz_mx_functions(b: Bencher) {
     composite_and_sample(b, false);
 }
+
+/// The small helpers the prelude may define in mx (`clamp`, `lerp`, `sign`,
+/// `zip`, `values`), called 20,000 times each from an mx loop: what moving
+/// them from Rust to mx costs a script that leans on them.
+#[divan::bench(sample_count = 10)]
+fn prelude_helpers_20000_calls(b: Bencher) {
+    let mut mx = Interpreter::new();
+    mx.capture_output();
+    let src = "let r = {a: 1, b: 2, c: 3}\n\
+               fold(range(20000), 0, fn(acc, i) = acc + clamp(lerp(-1, 2, i / 20000), 0, 1) \
+               + sign(i - 10000) + len(zip([i, 1], [2, 3])) + len(values(r)))";
+    b.bench_local(|| {
+        let v = mx.eval_str(src).expect("the helpers evaluate");
+        v.as_number().expect("a number")
+    });
+}

@@ -1,4 +1,5 @@
 //! The `mx` command line: `mx run FILE`, `mx check FILE`, `mx eval 'EXPR'`,
+//! `mx help [TOPIC|NAME]` (`--markdown`: the page `docs/reference.md`),
 //! and `mx` alone for the REPL. stdout carries only `print` output (and the
 //! value printed by `eval`); diagnostics go to stderr. Exit status: 0 on
 //! success, 1 on a user error, 2 on a usage error (clap).
@@ -12,7 +13,12 @@ use clap::{Parser, Subcommand};
 mod repl;
 
 #[derive(Parser)]
-#[command(name = "mx", version, about = "The mx motion expression language")]
+#[command(
+    name = "mx",
+    version,
+    about = "The mx motion expression language",
+    disable_help_subcommand = true
+)]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
@@ -34,6 +40,14 @@ enum Command {
     Eval { source: String },
     /// Start the interactive REPL (the default).
     Repl,
+    /// Print the built-ins' help: all by topic, one topic, or one name (the REPL's `:help`).
+    Help {
+        /// A topic (language, motion, spacetime, joints, dynamics, files), `formats` or a name.
+        topic: Option<String>,
+        /// Print the whole reference page as Markdown (`mx help --markdown > docs/reference.md`).
+        #[arg(long)]
+        markdown: bool,
+    },
     /// Regenerate the accuracy report (docs/accuracy.md and its figures).
     #[cfg(feature = "report")]
     Report {
@@ -82,6 +96,22 @@ fn main() -> ExitCode {
             Err(d) => report(d),
         },
         Command::Repl => repl::run(mx),
+        Command::Help { topic, markdown } => {
+            if markdown {
+                print!("{}", mx.help_markdown());
+                return ExitCode::SUCCESS;
+            }
+            match mx.help(topic.as_deref().unwrap_or("")) {
+                Ok(text) => {
+                    print!("{text}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(1)
+                }
+            }
+        }
         #[cfg(feature = "report")]
         Command::Report { smoke, out } => {
             match mx::report::generate(&mx::report::Options::new(out, smoke)) {

@@ -1,6 +1,6 @@
 //! The interactive REPL (rustyline): persistent history in the user's data
 //! folder, multi-line input while brackets are open, tab completion of names
-//! in scope and built-ins, `:help`, `:type`, `:info`, `:load`, `:time`, `:quit`.
+//! in scope and built-ins, `:help` (by topic), `:type`, `:info`, `:load`, `:time`, `:quit`.
 //! Ctrl-C during an evaluation cancels it (through the interpreter's
 //! cancellation token) and returns to the prompt; at the prompt it clears the line.
 
@@ -16,8 +16,8 @@ use rustyline::hint::Hinter;
 use rustyline::validate::{ValidationContext, ValidationResult, Validator};
 use rustyline::{Config, Context, Editor, Helper};
 
+use mx::Interpreter;
 use mx::lang::ErrorKind;
-use mx::lang::parser::is_incomplete;
 
 const COMMANDS: &[&str] = &[
     ":help", ":type", ":info", ":load", ":time", ":plot", ":quit",
@@ -86,7 +86,7 @@ impl Highlighter for MxHelper {
 impl Validator for MxHelper {
     fn validate(&self, ctx: &mut ValidationContext) -> rustyline::Result<ValidationResult> {
         let input = ctx.input();
-        if !input.trim_start().starts_with(':') && is_incomplete(input) {
+        if !input.trim_start().starts_with(':') && Interpreter::is_incomplete(input) {
             Ok(ValidationResult::Incomplete)
         } else {
             Ok(ValidationResult::Valid(None))
@@ -224,7 +224,7 @@ fn info(mx: &mut mx::Interpreter, expr: &str, n: usize) {
         Err(d) => return report(d),
     };
     println!("{}: {}", v.type_name(), v.repr());
-    if let Some(r) = mx::lang::builtins::sp_report::report_of(&v) {
+    if let Some(r) = Interpreter::sp_report_text(&v) {
         print!("SP report:\n{r}");
     }
 }
@@ -232,21 +232,13 @@ fn info(mx: &mut mx::Interpreter, expr: &str, n: usize) {
 /// `:plot EXPR`: a quick text plot of a motion's first DOF curves, in the
 /// terminal. Samples the curves only; runs no dynamics.
 fn plot(mx: &mut mx::Interpreter, expr: &str, n: usize) {
-    use mx::lang::builtins::motion::Motion;
     const MAX_CURVES: usize = 6;
     let v = match mx.eval_named(&format!("<repl:{n}>"), expr) {
         Ok(v) => v,
         Err(d) => return report(d),
     };
-    let mu = match v.as_object::<Motion>() {
-        Some(Motion::Mu(m)) => m.clone(),
-        Some(other) => {
-            let mut m = mx::motion::Mu::new();
-            if let Some(d) = other.as_dof() {
-                m.insert("value", d);
-            }
-            m
-        }
+    let mu = match Interpreter::motion_of(&v) {
+        Some(m) => m,
         None => {
             eprintln!(
                 ":plot needs a motion (an Mu, Dof or Interval), not a {}",
@@ -268,36 +260,11 @@ fn plot(mx: &mut mx::Interpreter, expr: &str, n: usize) {
     }
 }
 
-fn help(mx: &mx::Interpreter, topic: &str) {
-    let reg = mx.registry();
-    if topic.is_empty() {
-        println!(
-            "Commands: :help [name], :type EXPR, :info EXPR, :load FILE, :time EXPR, :plot EXPR, :quit"
-        );
-        println!("Built-ins (:help NAME for details, :help formats for files):");
-        let mut sigs: Vec<String> = reg.functions().map(|b| b.signature.to_string()).collect();
-        sigs.sort();
-        for s in sigs {
-            println!("  {s}");
-        }
-        return;
-    }
-    if topic == "formats" {
-        for f in reg.formats() {
-            let rw = match (f.load.is_some(), f.save.is_some()) {
-                (true, true) => "load/save",
-                (true, false) => "load",
-                _ => "save",
-            };
-            println!("  .{} ({rw}): {}", f.ext, f.doc);
-        }
-        return;
-    }
-    match reg.help(topic) {
-        Some((sig, doc)) => println!("{sig}\n  {doc}"),
-        None => match mx.get(topic) {
-            Some(v) => println!("{topic}: {} = {}", v.type_name(), v.repr()),
-            None => eprintln!("no built-in or name `{topic}`"),
-        },
+/// `:help`, `:help TOPIC`, `:help NAME`, `:help formats` (the text is the
+/// interpreter's, the same as `docs/reference.md`).
+fn help(mx: &mx::Interpreter, word: &str) {
+    match mx.help(word) {
+        Ok(text) => print!("{text}"),
+        Err(e) => eprintln!("{e}"),
     }
 }

@@ -68,16 +68,18 @@ impl Builtins {
         self.interp.get(name)
     }
 
+    /// `(signature, doc)` of a built-in or prelude function.
     pub fn help(&self, name: &str) -> Option<(String, String)> {
-        self.interp.registry().help(name)
+        self.interp.help_entry(name).map(|e| (e.signature, e.doc))
     }
 
-    /// `(name, signature, doc)` of every built-in function.
+    /// `(name, signature, doc)` of every built-in and prelude function.
     pub fn all_help(&self) -> Vec<(String, String, String)> {
         self.interp
-            .registry()
-            .functions()
-            .map(|b| (b.name.clone(), b.signature.to_string(), b.doc.clone()))
+            .help_entries()
+            .into_iter()
+            .filter(|e| e.signature.starts_with(&format!("{}(", e.name)))
+            .map(|e| (e.name, e.signature, e.doc))
             .collect()
     }
 }

@@ -332,9 +332,8 @@ impl PyInterpreter {
     fn help(&self, py: Python<'_>, name: &str) -> PyResult<Option<String>> {
         Ok(self
             .lock(py)?
-            .registry()
-            .help(name)
-            .map(|(s, d)| format!("{s}\n\n{d}")))
+            .help_entry(name)
+            .map(|e| format!("{}\n\n{}", e.signature, e.doc)))
     }
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {

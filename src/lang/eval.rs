@@ -12,12 +12,46 @@ use std::sync::{Arc, Mutex};
 
 use indexmap::IndexMap;
 
+use super::args::{ArgValue, Args, describe};
 use super::ast::*;
-use super::builtins::{ArgValue, Args, Registry, describe};
 use super::diagnostics::{ErrorKind, MxError, MxResult, did_you_mean};
-use super::env::Env;
-use super::value::{Closure, Value};
+use super::registry::{Format, Registry};
+use super::session::Session;
+use super::value::{Builtin, Closure, Env, Value};
 use crate::cancel::CancelToken;
+
+/// The body of a built-in function (`Registry::add`).
+pub type BuiltinFn = dyn Fn(&mut Args, &mut Evaluator) -> MxResult<Value> + Send + Sync;
+/// Reads a file into a value: `(path, remaining args, evaluator)`.
+pub type LoadFn = dyn Fn(&Path, &mut Args, &mut Evaluator) -> MxResult<Value> + Send + Sync;
+/// Writes a value to a file: `(value, path, remaining args, evaluator)`.
+/// The path is already confined to the interpreter's file root.
+pub type SaveFn = dyn Fn(&Value, &Path, &mut Args, &mut Evaluator) -> MxResult<()> + Send + Sync;
+
+impl Builtin {
+    /// The Rust closure (`None` only for a `Builtin` assembled by hand with
+    /// some other body).
+    pub fn body(&self) -> Option<&BuiltinFn> {
+        self.func.downcast_ref::<Box<BuiltinFn>>().map(|b| &**b)
+    }
+}
+
+impl Format {
+    /// The reader `load` calls, if the format can be read.
+    pub fn reader(&self) -> Option<&LoadFn> {
+        self.load
+            .as_ref()?
+            .downcast_ref::<Box<LoadFn>>()
+            .map(|b| &**b)
+    }
+    /// The writer `save` calls, if the format can be written.
+    pub fn writer(&self) -> Option<&SaveFn> {
+        self.save
+            .as_ref()?
+            .downcast_ref::<Box<SaveFn>>()
+            .map(|b| &**b)
+    }
+}
 
 /// Named arguments of a call: `(name, name span, value)`.
 pub type NamedArgs = Vec<(String, Span, ArgValue)>;
@@ -53,6 +87,9 @@ pub struct Context {
     /// When set, `load`/`save` may only touch files under this folder.
     pub file_root: Option<Arc<PathBuf>>,
     pub out: Output,
+    /// What built-ins remember for this interpreter (shared by its
+    /// evaluators, never by two interpreters).
+    pub session: Arc<Session>,
 }
 
 impl Context {
@@ -63,6 +100,7 @@ impl Context {
             limits: Limits::default(),
             file_root: None,
             out: Arc::new(Mutex::new(std::io::stdout())),
+            session: Arc::new(Session::new()),
         }
     }
 }
@@ -368,7 +406,13 @@ impl Evaluator {
         match f {
             Value::Builtin(b) => {
                 let mut args = Args::new(b.signature.clone(), call_span, pos, named);
-                let v = (b.func)(&mut args, self).map_err(|e| e.or_at(call_span))?;
+                let Some(body) = b.body() else {
+                    return Err(
+                        MxError::host(format!("built-in `{}` has no Rust body", b.name))
+                            .at(call_span),
+                    );
+                };
+                let v = body(&mut args, self).map_err(|e| e.or_at(call_span))?;
                 args.finish()?;
                 Ok(v)
             }

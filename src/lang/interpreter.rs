@@ -11,24 +11,41 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
+use super::args::Args;
 use super::ast::{Program, SourceId, Span};
-use super::builtins::{Args, Registry};
 use super::diagnostics::{Diagnostic, ErrorKind, MxError, MxResult, Source};
-use super::env::Env;
 use super::eval::{Context, Evaluator, Limits, Output};
+use super::help::{self, Entry};
+use super::host::Motion;
+use super::host::sp_report::report_of;
 use super::parser;
+use super::registry::Registry;
 use super::resolve::Resolver;
-use super::value::Value;
+use super::session::Session;
+use super::value::{Env, Value};
 use crate::cancel::CancelToken;
 
 /// The standard library, written in mx and loaded by [`Interpreter::new`].
 pub const PRELUDE: &str = include_str!("../../stdlib/prelude.mx");
 
-#[derive(Clone)]
 pub struct Interpreter {
     sources: Vec<Source>,
     globals: Env,
     ctx: Context,
+}
+
+/// A clone has the same globals, registry and settings but its own
+/// [`Session`]: two interpreters never share mutable state.
+impl Clone for Interpreter {
+    fn clone(&self) -> Self {
+        let mut ctx = self.ctx.clone();
+        ctx.session = Arc::new(Session::new());
+        Interpreter {
+            sources: self.sources.clone(),
+            globals: self.globals.clone(),
+            ctx,
+        }
+    }
 }
 
 impl Default for Interpreter {
@@ -215,6 +232,79 @@ impl Interpreter {
         let mut ev = Evaluator::new(self.ctx.clone());
         ev.call(f, args, Span::default())
             .map_err(|e| self.diagnostic(e))
+    }
+}
+
+/// Help and what the REPL shows about values.
+impl Interpreter {
+    /// Every documented name: the built-ins, then the prelude's functions
+    /// (those still bound to the prelude's definition).
+    pub fn help_entries(&self) -> Vec<Entry> {
+        let mut entries = help::builtin_entries(&self.ctx.registry);
+        entries.extend(help::prelude_entries(PRELUDE).into_iter().filter(|e| {
+            matches!(self.globals.get(&e.name), Some(Value::Function(c))
+                if c.def.name.as_deref() == Some(e.name.as_str()))
+        }));
+        entries
+    }
+
+    /// The help for one name (built-in or prelude function).
+    pub fn help_entry(&self, name: &str) -> Option<Entry> {
+        self.help_entries().into_iter().find(|e| e.name == name)
+    }
+
+    /// The text of `:help WORD`: every name by topic for an empty word, one
+    /// topic's names and docs, `formats`, one name's signature and doc, or
+    /// what a global holds; `Err` for a word that is none of these.
+    pub fn help(&self, word: &str) -> Result<String, String> {
+        let word = word.trim();
+        if word.is_empty() {
+            return Ok(help::overview(&self.help_entries()));
+        }
+        if word == "formats" {
+            return Ok(help::formats_text(&self.ctx.registry));
+        }
+        if let Some(e) = self.help_entry(word) {
+            return Ok(help::entry_text(&e) + "\n");
+        }
+        if let Some(t) = super::topic::Topic::parse(word) {
+            return Ok(help::topic_text(&self.help_entries(), t));
+        }
+        match self.get(word) {
+            Some(v) => Ok(format!("{word}: {} = {}\n", v.type_name(), v.repr())),
+            None => Err(format!("no built-in or name `{word}`")),
+        }
+    }
+
+    /// The reference page `docs/reference.md` (`mx help --markdown`).
+    pub fn help_markdown(&self) -> String {
+        help::markdown(&self.help_entries(), &self.ctx.registry)
+    }
+
+    /// The report SP attached to the motion it returned, as text (`:info`).
+    pub fn sp_report_text(v: &Value) -> Option<String> {
+        report_of(v).map(|r| r.to_string())
+    }
+
+    /// A motion value as a motion unit (a DOF or interval as one DOF named
+    /// `value`), e.g. to plot it; `None` for a value that is no motion.
+    pub fn motion_of(v: &Value) -> Option<crate::motion::Mu> {
+        match v.as_object::<Motion>()? {
+            Motion::Mu(m) => Some(m.clone()),
+            other => {
+                let mut m = crate::motion::Mu::new();
+                if let Some(d) = other.as_dof() {
+                    m.insert("value", d);
+                }
+                Some(m)
+            }
+        }
+    }
+
+    /// Whether `src` is unfinished input (open brackets, a dangling operator):
+    /// the REPL then reads another line.
+    pub fn is_incomplete(src: &str) -> bool {
+        parser::is_incomplete(src)
     }
 }
 

@@ -2,20 +2,30 @@
 //! tree-walking evaluator over persistent environments, built-ins,
 //! diagnostics (miette) and the embedding API [`Interpreter`].
 
+pub mod args;
 pub mod ast;
 pub mod builtins;
+pub mod busy;
 pub mod diagnostics;
 pub mod env;
 pub mod eval;
+pub mod help;
+pub mod host;
 pub mod interpreter;
+pub mod native;
 pub mod nesting;
 pub mod parser;
+pub mod registry;
 pub mod resolve;
+pub mod session;
 pub mod timefn;
+pub mod topic;
 pub mod value;
 
-pub use builtins::{Args, Registry};
+pub use args::Args;
 pub use diagnostics::{Diagnostic, ErrorKind, MxError, MxResult};
 pub use eval::{Context, Evaluator};
 pub use interpreter::Interpreter;
+pub use registry::Registry;
+pub use topic::Topic;
 pub use value::{HostObject, Value};

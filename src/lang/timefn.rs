@@ -45,7 +45,7 @@ impl TimeFunction for MxTimeFn {
             Ok(Value::Number(x)) => Ok(x),
             Ok(other) => Err(format!(
                 "the function returned {}, not a number",
-                super::builtins::describe(&other)
+                super::args::describe(&other)
             )),
             Err(e) => Err(e.message),
         }
@@ -63,12 +63,12 @@ pub fn compile(src: &str, ctx: &Context) -> Result<Arc<dyn TimeFunction>, String
         .map_err(|e| format!("function source does not parse: {}", e.message))?;
     let mut ev = Evaluator::new(ctx.clone());
     let v = ev
-        .eval(&expr, &super::env::Env::empty())
+        .eval(&expr, &super::value::Env::empty())
         .map_err(|e| format!("function source fails: {}", e.message))?;
     if !v.is_callable() {
         return Err(format!(
             "function source gives {}, not a function",
-            super::builtins::describe(&v)
+            super::args::describe(&v)
         ));
     }
     Ok(Arc::new(MxTimeFn::new(v, ctx.clone())))

@@ -11,8 +11,11 @@ use std::sync::Arc;
 use indexmap::IndexMap;
 
 use super::ast::{BinOp, FnDef};
-use super::builtins::Builtin;
-use super::env::Env;
+use super::env::Scope;
+use super::topic::Topic;
+
+/// The environments mx closures keep and the evaluator extends.
+pub type Env = Scope<Value>;
 
 /// A value of a domain type defined outside the core language.
 pub trait HostObject: Send + Sync + fmt::Debug + 'static {
@@ -40,6 +43,12 @@ pub trait HostObject: Send + Sync + fmt::Debug + 'static {
     fn equals(&self, _other: &dyn HostObject) -> bool {
         false
     }
+    /// Data that travels with this value without being part of it (a
+    /// motion's provenance: its clip's skeleton, SP's report). Printing and
+    /// equality ignore it; [`Value::attachment`] reads it.
+    fn attachment(&self) -> Option<&(dyn Any + Send + Sync)> {
+        None
+    }
 }
 
 /// A user-defined function together with the environment it closes over.
@@ -47,6 +56,31 @@ pub trait HostObject: Send + Sync + fmt::Debug + 'static {
 pub struct Closure {
     pub def: Arc<FnDef>,
     pub env: Env,
+}
+
+/// The Rust closure behind a built-in or a file format, type-erased. Its
+/// calling convention (`Args`, `Evaluator`) is defined by the evaluator,
+/// which is built on values: naming it here would make `value.rs` and
+/// `eval.rs` import each other. `Registry::add` stores a `Box<BuiltinFn>`
+/// and the evaluator takes it back out (`Builtin::body`, in `eval.rs`).
+pub type NativeBody = Arc<dyn Any + Send + Sync>;
+
+/// A function implemented in Rust, as a value (`map(xs, sin)`); made by
+/// `Registry::add`.
+pub struct Builtin {
+    pub name: String,
+    /// `name(a, b, rate: 30)`: shown in `:help` and in arity/type errors.
+    pub signature: Arc<str>,
+    pub doc: String,
+    /// The `:help` group it is listed in.
+    pub topic: Topic,
+    pub func: NativeBody,
+}
+
+impl fmt::Debug for Builtin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "<builtin {}>", self.name)
+    }
 }
 
 #[derive(Clone, Debug, Default)]
@@ -126,6 +160,13 @@ impl Value {
     pub fn as_object<T: 'static>(&self) -> Option<&T> {
         match self {
             Value::Object(o) => o.as_any().downcast_ref::<T>(),
+            _ => None,
+        }
+    }
+    /// The attachment of a host object, if it is a `T` (see [`HostObject::attachment`]).
+    pub fn attachment<T: 'static>(&self) -> Option<&T> {
+        match self {
+            Value::Object(o) => o.attachment()?.downcast_ref::<T>(),
             _ => None,
         }
     }

@@ -9,7 +9,6 @@ pub mod bvh;
 mod error;
 pub mod human;
 pub mod positions;
-pub mod registry;
 pub mod segments;
 /// The project's own procedural clips (`examples/data/*.bvh`): fixtures of the
 /// report and the tests.

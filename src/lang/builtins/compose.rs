@@ -4,20 +4,19 @@
 
 use std::sync::Arc;
 
-use super::motion::{Motion, motion_error};
-use super::{ArgValue, Args, Registry};
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{MxError, MxResult};
+use crate::lang::host::errors::motion_error;
+use crate::lang::host::motion::Motion;
+use crate::lang::registry::Registry;
 use crate::lang::timefn::MxTimeFn;
+use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::motion::compose::{self, Weight};
 use crate::motion::{Dof, MotionError, Mu, TimeFunction};
 
 fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
-    let arg = a.arg(name)?;
-    match arg.value.as_object::<Motion>() {
-        Some(Motion::Mu(m)) => Ok((m.clone(), arg)),
-        _ => Err(a.type_error(name, "a motion unit (Mu), e.g. load(\"walk.bvh\")", &arg)),
-    }
+    a.mu(name)
 }
 
 /// A compose error at `span` with a help line.
@@ -75,7 +74,15 @@ fn up_axis(a: &mut Args) -> MxResult<usize> {
     }
 }
 
+/// The animator's operators.
 pub fn register(reg: &mut Registry) {
+    mixing(reg);
+    reshaping(reg);
+}
+
+/// Mixing two motions: `blend`, `crossfade`, `align`, `layer`, `mask`.
+fn mixing(reg: &mut Registry) {
+    reg.topic(Topic::Motion);
     reg.add(
         "blend(a, b, w)",
         "a mixed toward b by w (a number in [0, 1] or a function of time): joint rotations slerped as unit quaternions \
@@ -167,6 +174,11 @@ pub fn register(reg: &mut Registry) {
             })
         },
     );
+}
+
+/// Reshaping one motion: `mirror`, `reverse`, `warp`, `resample`.
+fn reshaping(reg: &mut Registry) {
+    reg.topic(Topic::Motion);
     reg.add(
         "mirror(m, axis: \"x\")",
         "m with left and right swapped by name (`Left…`/`Right…`, `…_L`/`…_R`, `L…`/`R…` + capital) and reflected in \
@@ -193,6 +205,7 @@ pub fn register(reg: &mut Registry) {
                 .map_err(|e| fail(e, marg.span, "mirror needs joint names with sides, like LeftArm/RightArm or Arm_L/Arm_R"))
         },
     );
+    reg.topic(Topic::Language);
     reg.add(
         "reverse(xs)",
         "A list in reverse order; a motion unit played backwards over its own span (t ↦ start + stop − t, \
@@ -208,6 +221,7 @@ pub fn register(reg: &mut Registry) {
             }
         },
     );
+    reg.topic(Topic::Motion);
     reg.add(
         "warp(m, f)",
         "m played on the clock f: warp(m, f)(t) = m(f(t)), for f a strictly increasing function of time or an \

@@ -4,9 +4,11 @@ use std::sync::Arc;
 
 use indexmap::IndexMap;
 
-use super::{Args, Registry, describe};
+use crate::lang::args::{Args, describe};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
+use crate::lang::registry::{Format, Registry};
+use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 
 fn num(x: f64) -> MxResult<Value> {
@@ -43,7 +45,20 @@ fn checked(
     num(f(x))
 }
 
+/// The core language built-ins, by topic.
 pub fn register(reg: &mut Registry) {
+    constants_and_output(reg);
+    math(reg);
+    list_basics(reg);
+    list_functions(reg);
+    records(reg);
+    strings(reg);
+    files(reg);
+}
+
+/// Constants, `print`, `str`, `type`, `error`, `assert`.
+fn constants_and_output(reg: &mut Registry) {
+    reg.topic(Topic::Language);
     use std::f64::consts;
     reg.constant("pi", "π = 3.14159…", Value::Number(consts::PI));
     reg.constant("tau", "τ = 2π", Value::Number(consts::TAU));
@@ -109,8 +124,11 @@ pub fn register(reg: &mut Registry) {
             }
         },
     );
+}
 
-    // ---- math ----
+/// Numbers: elementary functions, rounding, `min`/`max`.
+fn math(reg: &mut Registry) {
+    reg.topic(Topic::Language);
     unary(reg, "abs(x)", "Absolute value.", f64::abs);
     unary(reg, "sin(x)", "Sine (radians).", f64::sin);
     unary(reg, "cos(x)", "Cosine (radians).", f64::cos);
@@ -125,9 +143,6 @@ pub fn register(reg: &mut Registry) {
         "Nearest whole number (halves away from zero).",
         f64::round,
     );
-    unary(reg, "sign(x)", "-1, 0 or 1 by the sign of x.", |x| {
-        if x == 0.0 { 0.0 } else { x.signum() }
-    });
     unary(
         reg,
         "deg(x)",
@@ -183,20 +198,6 @@ pub fn register(reg: &mut Registry) {
         let x = a.number("x")?;
         num(x.hypot(a.number("y")?))
     });
-    reg.add("clamp(x, lo, hi)", "x limited to [lo, hi].", |a, _| {
-        let (x, lo, hi) = (a.number("x")?, a.number("lo")?, a.number("hi")?);
-        if lo > hi {
-            return Err(a.error(
-                ErrorKind::Value,
-                format!("clamp: lo ({lo}) is greater than hi ({hi})"),
-            ));
-        }
-        num(x.clamp(lo, hi))
-    });
-    reg.add("lerp(a, b, s)", "a + s·(b − a).", |a, _| {
-        let (x, y, s) = (a.number("a")?, a.number("b")?, a.number("s")?);
-        num(x + s * (y - x))
-    });
     reg.add(
         "min(x, ...)",
         "Smallest of the numbers given, or of one list of numbers.",
@@ -210,8 +211,11 @@ pub fn register(reg: &mut Registry) {
     reg.add("is_nan(x)", "Whether x is not a number.", |a, _| {
         Ok(Value::Bool(a.number("x")?.is_nan()))
     });
+}
 
-    // ---- lists ----
+/// Lists: `len`, `range`, `linspace`.
+fn list_basics(reg: &mut Registry) {
+    reg.topic(Topic::Language);
     reg.add(
         "len(x)",
         "Number of items of a list or record, or characters of a string.",
@@ -273,6 +277,11 @@ pub fn register(reg: &mut Registry) {
             ))
         },
     );
+}
+
+/// Lists with functions: `map`, `filter`, `fold`, and `sum`, `sort`, `append`, `zip`.
+fn list_functions(reg: &mut Registry) {
+    reg.topic(Topic::Language);
     reg.add("map(xs, f)", "[f(x) for each x in xs].", |a, ev| {
         let xs = a.list("xs")?;
         let f = a.function("f")?;
@@ -373,22 +382,17 @@ pub fn register(reg: &mut Registry) {
             ))
         },
     );
+}
 
-    // ---- records ----
+/// Records: `keys`, `values`, `has`, `with`.
+fn records(reg: &mut Registry) {
+    reg.topic(Topic::Language);
     reg.add(
         "keys(r)",
         "The field names of a record, in order.",
         |a, _| {
             let r = a.record("r")?;
             Ok(Value::list(r.keys().map(Value::str).collect()))
-        },
-    );
-    reg.add(
-        "values(r)",
-        "The field values of a record, in order.",
-        |a, _| {
-            let r = a.record("r")?;
-            Ok(Value::list(r.values().cloned().collect()))
         },
     );
     reg.add(
@@ -412,8 +416,11 @@ pub fn register(reg: &mut Registry) {
             Ok(Value::Record(Arc::new(m)))
         },
     );
+}
 
-    // ---- strings ----
+/// Strings: `join`.
+fn strings(reg: &mut Registry) {
+    reg.topic(Topic::Language);
     reg.add(
         "join(xs, sep)",
         "The items of xs as text, separated by sep.",
@@ -425,8 +432,11 @@ pub fn register(reg: &mut Registry) {
             ))
         },
     );
+}
 
-    // ---- files ----
+/// `load` and `save`, dispatching on the extension to the formats other domains register.
+fn files(reg: &mut Registry) {
+    reg.topic(Topic::Files);
     reg.add(
         "load(path)",
         "Read a file; the format follows the extension (`:help formats` lists them).",
@@ -436,7 +446,7 @@ pub fn register(reg: &mut Registry) {
                 return Err(a.type_error("path", "a file name string", &arg));
             };
             let (ext, fmt) = format_for(ev, path, arg.span)?;
-            let Some(load) = fmt.load.clone() else {
+            let Some(load) = fmt.reader() else {
                 return Err(MxError::new(
                     ErrorKind::Io,
                     format!("cannot load .{ext} files (only save)"),
@@ -456,7 +466,7 @@ pub fn register(reg: &mut Registry) {
             let arg = a.arg("path")?;
             let Value::Str(path) = &arg.value else { return Err(a.type_error("path", "a file name string", &arg)) };
             let (ext, fmt) = format_for(ev, path, arg.span)?;
-            let Some(save) = fmt.save.clone() else {
+            let Some(save) = fmt.writer() else {
                 return Err(MxError::new(ErrorKind::Io, format!("cannot save .{ext} files (only load)")).at(arg.span).help(formats_help(ev)));
             };
             let p = ev.resolve_path(path, arg.span)?;
@@ -493,7 +503,7 @@ fn format_for(
     ev: &Evaluator,
     path: &str,
     span: crate::lang::ast::Span,
-) -> MxResult<(String, super::Format)> {
+) -> MxResult<(String, Format)> {
     let ext = std::path::Path::new(path)
         .extension()
         .and_then(|e| e.to_str())

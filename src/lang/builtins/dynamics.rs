@@ -9,97 +9,28 @@ use std::sync::Arc;
 use indexmap::IndexMap;
 use nalgebra::{DMatrix, Vector3};
 
-use super::body::Body;
-use super::{ArgValue, Args, Registry};
 use crate::dynamics::{
     DynamicsError, ExternalForce, Forces, Integrator, JointState, LimitPenalty, Scene, Spring,
     State, Workspace, coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix,
     forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
-use crate::lang::builtins::motion::Motion;
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
-use crate::lang::value::{HostObject, Value};
+use crate::lang::host::errors::dyn_error;
+use crate::lang::host::{Body, Motion};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
+use crate::lang::value::Value;
+
+// The scene value lives in `lang::host`; this keeps the path embedders use.
+pub use crate::lang::host::scene::SceneValue;
 use crate::model::Model;
 use crate::model::urdf::UrdfOptions;
 use crate::motion::{Curve, Dof, Interval, Mu};
 
-/// A scene: a body and the effects it declares.
-#[derive(Clone, Debug)]
-pub struct SceneValue {
-    pub scene: Scene,
-}
-
-/// `1 spring`, `2 springs`: the plural only when the count is not one.
-fn count(n: usize, noun: &str) -> String {
-    if n == 1 {
-        format!("1 {noun}")
-    } else {
-        format!("{n} {noun}s")
-    }
-}
-
-impl HostObject for SceneValue {
-    fn type_name(&self) -> &'static str {
-        "Scene"
-    }
-    fn summary(&self) -> String {
-        let s = &self.scene;
-        let mut fx = Vec::new();
-        if let Some(g) = s.gravity {
-            fx.push(format!("gravity [{}, {}, {}]", g.x, g.y, g.z));
-        }
-        if s.damping.is_some() {
-            fx.push("damping".into());
-        }
-        if !s.springs.is_empty() {
-            fx.push(count(s.springs.len(), "spring"));
-        }
-        if !s.forces.is_empty() {
-            fx.push(count(s.forces.len(), "force"));
-        }
-        if s.limits.is_some() {
-            fx.push("joint limits".into());
-        }
-        format!(
-            "Scene of `{}` ({})",
-            s.model.name,
-            if fx.is_empty() {
-                "no effects".to_string()
-            } else {
-                fx.join(", ")
-            }
-        )
-    }
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-    fn field(&self, name: &str) -> Option<Value> {
-        match name {
-            "body" => Some(Value::object(Body::from_model(self.scene.model.clone()))),
-            "coordinates" => Some(names_value(&self.scene.model)),
-            _ => None,
-        }
-    }
-}
-
-fn names_value(m: &Model) -> Value {
-    Value::list(m.coordinate_names().iter().map(Value::str).collect())
-}
-
 fn nums(v: &[f64]) -> Value {
     Value::list(v.iter().map(|x| Value::Number(*x)).collect())
-}
-
-pub(crate) fn dyn_error(e: DynamicsError, a: &Args) -> MxError {
-    let kind = match e {
-        DynamicsError::Cancelled => ErrorKind::Cancelled,
-        DynamicsError::Input(_) => ErrorKind::Value,
-        DynamicsError::Singular(_) => ErrorKind::Host,
-    };
-    MxError::new(kind, e.to_string())
-        .at(a.call_span())
-        .help(format!("usage: {}", a.signature()))
 }
 
 /// The `body` argument as a body with every coordinate free (scenes).
@@ -163,30 +94,8 @@ fn list_of(a: &Args, arg: &ArgValue, name: &str, names: &[String]) -> MxResult<V
         .collect()
 }
 
-pub(crate) fn vec3(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vector3<f64>> {
-    let bad = || {
-        MxError::type_error(format!(
-            "`{}`: `{name}` must be a list of 3 finite numbers",
-            a.name()
-        ))
-        .at(arg.span)
-        .help(format!("usage: {}", a.signature()))
-    };
-    let Value::List(l) = &arg.value else {
-        return Err(bad());
-    };
-    if l.len() != 3 {
-        return Err(bad());
-    }
-    let x: Vec<f64> = l
-        .iter()
-        .filter_map(|v| v.as_number())
-        .filter(|x| x.is_finite())
-        .collect();
-    if x.len() != 3 {
-        return Err(bad());
-    }
-    Ok(Vector3::new(x[0], x[1], x[2]))
+fn vec3(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vector3<f64>> {
+    a.vector3(arg, name)
 }
 
 fn gravity(a: &mut Args, m: &Model) -> MxResult<Vector3<f64>> {
@@ -579,6 +488,7 @@ fn run_simulation(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 }
 
 pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Dynamics);
     reg.add(
         "simulate(scene, duration, dt: 0.001, integrator: \"rk4\", tol: 1e-8, init: {}, velocities: false)",
         "Simulate a scene from `init` (coordinate values; or {q: {…}, v: {…}}) and return a motion of its \

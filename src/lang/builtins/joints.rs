@@ -1,115 +1,24 @@
 //! Joint built-ins (issue 3 §5): joint constructors, `transform`, `jacobian`,
 //! `load_samples`, `fit_spline_joint`, `joint_error`, OpenSim joints.
 //!
-//! Joints are [`JointValue`] host objects (type name "Joint") holding an
-//! `Arc<dyn Joint>`, so other domains (bodies, scenes) can take them with
-//! `args.object::<JointValue>("joint", "a joint")`.
+//! Joints are `JointValue` host objects (`lang::host::joint`, type name
+//! "Joint") holding an `Arc<dyn Joint>`; other domains take them with
+//! `args.joint("joint")`.
 
-use std::any::Any;
 use std::sync::Arc;
 
 use indexmap::IndexMap;
-use nalgebra::{Matrix4, Vector3};
+use nalgebra::Vector3;
 
-use super::{ArgValue, Args, Registry};
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
-use crate::lang::value::{HostObject, Value};
+use crate::lang::host::joint::{JointValue, SamplesValue, matrix_value, numbers};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
+use crate::lang::value::Value;
 use crate::lie::Se3;
 use crate::model::joint::{Derivatives, Joint, JointKinematics};
 use crate::model::joints::*;
-
-/// A joint as an mx value.
-#[derive(Debug, Clone)]
-pub struct JointValue {
-    pub joint: Arc<dyn Joint>,
-    /// Set for spline curve joints (for `.frames` / `.knots`).
-    pub curve: Option<Arc<SplineCurveJoint>>,
-}
-
-impl JointValue {
-    pub fn new(j: impl Joint + 'static) -> Self {
-        JointValue {
-            joint: Arc::new(j),
-            curve: None,
-        }
-    }
-    fn curve(j: SplineCurveJoint) -> Self {
-        let c = Arc::new(j);
-        JointValue {
-            joint: c.clone(),
-            curve: Some(c),
-        }
-    }
-}
-
-impl HostObject for JointValue {
-    fn type_name(&self) -> &'static str {
-        "Joint"
-    }
-    fn summary(&self) -> String {
-        format!("<{} joint, {} dof>", self.joint.kind(), self.joint.dof())
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-    fn field(&self, name: &str) -> Option<Value> {
-        match name {
-            "kind" => Some(Value::str(self.joint.kind())),
-            "dof" => Some(Value::Number(self.joint.dof() as f64)),
-            "frames" => self
-                .curve
-                .as_ref()
-                .map(|c| Value::list(c.frames().iter().map(matrix_value).collect())),
-            "knots" => self.curve.as_ref().map(|c| numbers(c.basis().knots())),
-            "domain" => self.curve.as_ref().map(|c| {
-                let (a, b) = c.domain();
-                numbers(&[a, b])
-            }),
-            _ => None,
-        }
-    }
-}
-
-/// Sampled joint motion as an mx value (type name "Samples").
-#[derive(Debug, Clone)]
-pub struct SamplesValue(pub Arc<JointSamples>);
-
-impl HostObject for SamplesValue {
-    fn type_name(&self) -> &'static str {
-        "Samples"
-    }
-    fn summary(&self) -> String {
-        let (a, b) = self.0.range();
-        format!("<{} joint samples, q in [{a}, {b}]>", self.0.len())
-    }
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-    fn field(&self, name: &str) -> Option<Value> {
-        match name {
-            "q" => Some(numbers(&self.0.q)),
-            "count" => Some(Value::Number(self.0.len() as f64)),
-            "transforms" => Some(Value::list(
-                self.0.transforms.iter().map(matrix_value).collect(),
-            )),
-            _ => None,
-        }
-    }
-}
-
-fn numbers(x: &[f64]) -> Value {
-    Value::list(x.iter().map(|&v| Value::Number(v)).collect())
-}
-
-/// A 4×4 homogeneous matrix as a list of rows.
-pub(crate) fn matrix_value(t: &Se3) -> Value {
-    let m = t.to_matrix();
-    Value::list(
-        (0..4)
-            .map(|i| numbers(&[m[(i, 0)], m[(i, 1)], m[(i, 2)], m[(i, 3)]]))
-            .collect(),
-    )
-}
 
 fn value_error(a: &Args, at: &ArgValue, msg: impl Into<String>) -> MxError {
     MxError::value(msg)
@@ -128,16 +37,7 @@ fn vec3(a: &mut Args, name: &str) -> MxResult<Vector3<f64>> {
 }
 
 fn vec3_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Vector3<f64>> {
-    let v = arg
-        .value
-        .as_list()
-        .and_then(|l| l.iter().map(Value::as_number).collect::<Option<Vec<f64>>>());
-    match v {
-        Some(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => {
-            Ok(Vector3::new(v[0], v[1], v[2]))
-        }
-        _ => Err(a.type_error(name, "a list of 3 finite numbers such as [0, 0, 1]", arg)),
-    }
+    a.vec3_of(name, arg, "a list of 3 finite numbers such as [0, 0, 1]")
 }
 
 fn vec3_or(a: &mut Args, name: &str, default: Vector3<f64>) -> MxResult<Vector3<f64>> {
@@ -147,50 +47,12 @@ fn vec3_or(a: &mut Args, name: &str, default: Vector3<f64>) -> MxResult<Vector3<
     }
 }
 
-/// A rigid transform from a 4×4 list of rows (rotation block must be orthonormal).
-pub(crate) fn transform_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Se3> {
-    let rows = arg.value.as_list().filter(|r| r.len() == 4 || r.len() == 3);
-    let Some(rows) = rows else {
-        return Err(a.type_error(name, "a 4×4 matrix (a list of 4 rows of 4 numbers)", arg));
-    };
-    let mut m = Matrix4::identity();
-    for (i, r) in rows.iter().enumerate() {
-        let r = r
-            .as_list()
-            .and_then(|r| r.iter().map(Value::as_number).collect::<Option<Vec<f64>>>());
-        match r {
-            Some(r) if r.len() == 4 && r.iter().all(|x| x.is_finite()) => {
-                for (j, x) in r.into_iter().enumerate() {
-                    m[(i, j)] = x;
-                }
-            }
-            _ => {
-                return Err(a.type_error(
-                    name,
-                    "a 4×4 matrix (a list of 4 rows of 4 finite numbers)",
-                    arg,
-                ));
-            }
-        }
-    }
-    let t = Se3::from_matrix(&m);
-    let err = (t.r.transpose() * t.r - nalgebra::Matrix3::identity())
-        .abs()
-        .max();
-    if err > 1e-6 || t.r.determinant() < 0.0 {
-        return Err(value_error(
-            a,
-            arg,
-            format!(
-                "`{name}`: the upper-left 3×3 block is not a rotation (‖RᵀR − I‖ = {err:.1e}); give a proper rigid transform"
-            ),
-        ));
-    }
-    Ok(t)
+fn transform_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Se3> {
+    a.transform_of(name, arg)
 }
 
 fn joint_arg(a: &mut Args, name: &str) -> MxResult<Arc<dyn Joint>> {
-    Ok(a.object::<JointValue>(name, "a joint")?.joint.clone())
+    a.joint(name)
 }
 
 /// q as a number (1-DOF) or a list of numbers, checked against the joint.
@@ -236,7 +98,16 @@ fn euler_order(a: &mut Args, default: EulerOrder) -> MxResult<EulerOrder> {
     }
 }
 
+/// The joint built-ins, by topic.
 pub fn register(reg: &mut Registry) {
+    constructors(reg);
+    evaluation(reg);
+    design(reg);
+}
+
+/// The joint constructors: `revolute` … `opensim_joint`.
+fn constructors(reg: &mut Registry) {
+    reg.topic(Topic::Joints);
     // ---- constructors ----
     reg.add(
         "revolute(axis)",
@@ -383,8 +254,11 @@ pub fn register(reg: &mut Registry) {
             Ok(Value::object(JointValue::new(j.map_err(|e| spec(a, e))?)))
         },
     );
+}
 
-    // ---- evaluation ----
+/// Evaluating a joint: `transform`, `jacobian`, `hessian`.
+fn evaluation(reg: &mut Registry) {
+    reg.topic(Topic::Joints);
     reg.add(
         "transform(joint, q)",
         "The joint's 4×4 transform G(q) as a list of rows (q a number or a list).",
@@ -425,8 +299,11 @@ pub fn register(reg: &mut Registry) {
             ))
         },
     );
+}
 
-    // ---- design ----
+/// Designing spline joints from samples: `load_samples`, `fit_spline_joint`, `joint_error`.
+fn design(reg: &mut Registry) {
+    reg.topic(Topic::Joints);
     reg.add(
         "load_samples(path)",
         "Joint samples (q and the 4×4 T_parent_child) from a JSON file in the layout of OpenSim's *_samples.json.",

@@ -9,10 +9,11 @@ use std::sync::Arc;
 use indexmap::IndexMap;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
-use super::body::Body;
-use super::joints::{JointValue, transform_of};
-use super::{ArgValue, Args, Registry};
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::host::{Body, JointValue};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
 use crate::lang::value::{HostObject, Value};
 use crate::lie::Se3;
 use crate::model::joint::Joint;
@@ -64,10 +65,7 @@ fn numbers_of(v: &Value) -> Option<Vec<f64>> {
 }
 
 fn vec3_arg(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Vector3<f64>> {
-    match numbers_of(&arg.value) {
-        Some(v) if v.len() == 3 => Ok(Vector3::new(v[0], v[1], v[2])),
-        _ => Err(a.type_error(name, "a list of 3 finite numbers", arg)),
-    }
+    a.vec3_of(name, arg, "a list of 3 finite numbers")
 }
 
 /// `offset:` as a translation [x, y, z] or a 4×4 transform; `rpy:` (URDF's
@@ -79,7 +77,7 @@ fn offset(a: &mut Args) -> MxResult<Se3> {
             Some(3) if numbers_of(&arg.value).is_some() => {
                 Se3::from_translation(vec3_arg(a, "offset", &arg)?)
             }
-            Some(4) => transform_of(a, "offset", &arg)?,
+            Some(4) => a.transform_of("offset", &arg)?,
             _ => {
                 return Err(a.type_error(
                     "offset",
@@ -343,6 +341,7 @@ fn make_body(a: &mut Args) -> MxResult<Value> {
 }
 
 pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Dynamics);
     reg.add(
         "link(name, parent: \"world\", joint: j, offset: [x, y, z], rpy: [r, p, y], mass: m, com: [0, 0, 0], inertia: [ixx, iyy, izz], joint_name: name)",
         "One link of a body: carried by `joint` from its `parent` link (by name, or \"world\"). `offset` places the joint frame in the parent's frame \

@@ -3,11 +3,13 @@
 
 use nalgebra::Vector3;
 
-use super::body::Body;
-use super::dynamics::{SceneValue, dyn_error};
-use super::{ArgValue, Args, Registry};
 use crate::dynamics::SceneWorkspace;
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{MxError, MxResult};
+use crate::lang::host::errors::dyn_error;
+use crate::lang::host::{Body, SceneValue};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::model::Model;
 
@@ -82,6 +84,7 @@ fn point(a: &mut Args) -> MxResult<Value> {
 }
 
 pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Dynamics);
     reg.add(
         "energy(scene, q, v)",
         "The scene's mechanical energy at coordinates q and velocities v: kinetic + gravity + spring potential (J). \

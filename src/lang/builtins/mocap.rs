@@ -11,14 +11,18 @@ use std::sync::Arc;
 
 use indexmap::IndexMap;
 
-use super::body::Body;
-use super::motion::{Motion, file_error, motion_error};
-use super::{ArgValue, Args, Registry, describe};
+use crate::lang::args::{ArgValue, Args, describe};
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::eval::Evaluator;
+use crate::lang::host::errors::{file_error, motion_error};
+use crate::lang::host::motion::{ClipSource, LoadedClips, Provenance, provenance};
+use crate::lang::host::{Body, Motion};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::mocap::bvh::Units;
-use crate::mocap::{self, Missing, MocapError, registry, to_motion};
+use crate::mocap::{self, Missing, MocapError, to_motion};
 use crate::motion::{Curve, Dof, Interval, Mu};
 
 fn mocap_error(e: MocapError, span: Span) -> MxError {
@@ -32,22 +36,21 @@ fn mocap_error(e: MocapError, span: Span) -> MxError {
 }
 
 fn mu_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Mu> {
-    match arg.value.as_object::<Motion>() {
-        Some(Motion::Mu(m)) => Ok(m.clone()),
-        _ => Err(a.type_error(name, "a motion unit (Mu), e.g. load(\"walk.bvh\")", arg)),
-    }
+    a.mu_of(name, arg)
 }
 
 fn body_of_arg(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Body> {
-    match arg.value.as_object::<Body>() {
-        Some(b) if b.coupling.is_some() => Err(MxError::new(
-            ErrorKind::Value,
-            b.free_model(&format!("`{}`", a.name())).unwrap_err(),
-        )
-        .at(arg.span)),
-        Some(b) => Ok(b.clone()),
-        None => Err(a.type_error(name, "a body, e.g. body_of(clip, mass: 70)", arg)),
-    }
+    a.free_body_of(name, arg, "a body, e.g. body_of(clip, mass: 70)")
+}
+
+/// The clip `value` (whose motion unit is `mu`) came from: its own
+/// provenance when that names every DOF, else the most recent clip this
+/// interpreter loaded that does.
+fn clip_of(value: &Value, mu: &Mu, ev: &Evaluator) -> Option<Arc<ClipSource>> {
+    provenance(value)
+        .and_then(|p| p.clip.clone())
+        .filter(|c| c.covers(mu))
+        .or_else(|| ev.ctx.session.get::<LoadedClips>().find_for(mu))
 }
 
 /// The optional `unit:` argument (metres per file unit).
@@ -74,25 +77,42 @@ fn no_skeleton(span: Span) -> MxError {
     .help("load the .bvh the motion came from first, or pass `body: body_of(clip)`")
 }
 
+/// The motion-capture built-ins, by topic.
 pub fn register(reg: &mut Registry) {
+    clips(reg);
+    bodies(reg);
+    pictures(reg);
+}
+
+/// BVH clips: the `.bvh` format and `bvh_info`.
+fn clips(reg: &mut Registry) {
+    reg.topic(Topic::Files);
     reg.loader(
         "bvh",
         "BVH motion capture: an Mu with DOFs `Joint.channel` (radians, metres; cubic between frames). Option `unit:` metres per file unit (default: detected; see bvh_info).",
-        |path, a, _| {
+        |path, a, ev| {
             let units = units_arg(a)?;
             let clip = to_motion::load(path, units).map_err(|e| mocap_error(e, a.call_span()))?;
             // One line per kind of looseness, on stderr: stdout carries only `print` output.
             for w in &clip.warnings {
                 eprintln!("warning: {}: {w}", path.display());
             }
-            registry::remember(&clip.skeleton, clip.units.metres_per_unit, clip.frame_time);
-            Ok(Value::object(Motion::Mu(clip.mu)))
+            let source = Arc::new(ClipSource {
+                skeleton: Arc::new(clip.skeleton),
+                metres_per_unit: clip.units.metres_per_unit,
+                frame_time: clip.frame_time,
+            });
+            ev.ctx.session.get::<LoadedClips>().remember(source.clone());
+            Ok(Motion::Mu(clip.mu).with_provenance(Provenance {
+                clip: Some(source),
+                sp_report: None,
+            }))
         },
     );
     reg.saver(
         "bvh",
         "BVH: skeleton and motion, sampled at the clip's frame rate (or `rate:`); `body:` chooses the skeleton.",
-        |v, path, a, _| {
+        |v, path, a, ev| {
             let span = a.call_span();
             let Some(Motion::Mu(m)) = v.as_object::<Motion>() else {
                 return Err(a.error(ErrorKind::Type, format!("BVH holds a motion unit (Mu), not {}", describe(v))));
@@ -111,8 +131,8 @@ pub fn register(reg: &mut Registry) {
             let (skeleton, scale, dt) = match body.and_then(|b| b.skeleton) {
                 Some((s, scale)) => (s, scale, None),
                 None => {
-                    let k = registry::find_for(m).ok_or_else(|| no_skeleton(span))?;
-                    (k.skeleton, k.metres_per_unit, Some(k.frame_time))
+                    let k = clip_of(v, m, ev).ok_or_else(|| no_skeleton(span))?;
+                    (k.skeleton.clone(), k.metres_per_unit, Some(k.frame_time))
                 }
             };
             let dt = rate.map(|r| 1.0 / r).or(dt).or_else(|| to_motion::sample_period(m)).unwrap_or(1.0 / 30.0);
@@ -144,18 +164,23 @@ pub fn register(reg: &mut Registry) {
             Ok(Value::record(r))
         },
     );
+}
+
+/// Bodies from clips: `body_of`, `human`, `fit`, `positions`.
+fn bodies(reg: &mut Registry) {
+    reg.topic(Topic::Dynamics);
     reg.add(
         "body_of(clip, mass: 70)",
         "A body whose coordinates are exactly the clip's DOFs (revolute per rotation channel, prismatic per position channel), de Leva (1996) segments scaled by bone lengths and `mass` (kg).",
-        |a, _| {
+        |a, ev| {
             let arg = a.arg("clip")?;
             let m = mu_of(a, "clip", &arg)?;
             let mass = a.number_or("mass", 70.0)?;
-            let k = registry::find_for(&m).ok_or_else(|| no_skeleton(arg.span))?;
+            let k = clip_of(&arg.value, &m, ev).ok_or_else(|| no_skeleton(arg.span))?;
             let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| mocap_error(e, a.call_span()))?;
             Ok(Value::object(Body {
                 model: Arc::new(model),
-                skeleton: Some((k.skeleton, k.metres_per_unit)),
+                skeleton: Some((k.skeleton.clone(), k.metres_per_unit)),
                 human: None,
                 coupling: None,
                 osim: None,
@@ -165,15 +190,15 @@ pub fn register(reg: &mut Registry) {
     reg.add(
         "human(clip, mass: 70)",
         "The 44-DOF anatomical model (6 root + 38 joint DOFs: hinge knees/elbows, 2-DOF ankles/wrists, 3-DOF hips/shoulders/spine/neck) with limb lengths from the clip's skeleton.",
-        |a, _| {
+        |a, ev| {
             let arg = a.arg("clip")?;
             let m = mu_of(a, "clip", &arg)?;
             let mass = a.number_or("mass", 70.0)?;
-            let k = registry::find_for(&m).ok_or_else(|| no_skeleton(arg.span))?;
+            let k = clip_of(&arg.value, &m, ev).ok_or_else(|| no_skeleton(arg.span))?;
             let h = mocap::human::human(&k.skeleton, k.metres_per_unit, mass).map_err(|e| mocap_error(e, a.call_span()))?;
             Ok(Value::object(Body {
                 model: Arc::new(h.model.clone()),
-                skeleton: Some((k.skeleton, k.metres_per_unit)),
+                skeleton: Some((k.skeleton.clone(), k.metres_per_unit)),
                 human: Some(Arc::new(h)),
                 coupling: None,
                 osim: None,
@@ -192,7 +217,7 @@ pub fn register(reg: &mut Registry) {
             let Some(h) = body.human.clone() else {
                 return Err(MxError::new(ErrorKind::Type, "fit needs the model made by human(clip)").at(barg.span));
             };
-            let k = registry::find_for(&m).ok_or_else(|| no_skeleton(carg.span))?;
+            let k = clip_of(&carg.value, &m, ev).ok_or_else(|| no_skeleton(carg.span))?;
             let dt = to_motion::sample_period(&m).unwrap_or(k.frame_time);
             let (file, _) = to_motion::to_bvh(&m, &k.skeleton, k.metres_per_unit, dt).map_err(|e| mocap_error(e, span))?;
             let options = mocap::human::FitOptions { angle_weight: a.number_or("angle_weight", mocap::human::FitOptions::default().angle_weight)? };
@@ -215,6 +240,11 @@ pub fn register(reg: &mut Registry) {
             positions_mu(&p).map_err(|e| mocap_error(e, span)).map(|mu| Value::object(Motion::Mu(mu)))
         },
     );
+}
+
+/// Pictures of motions: `plot`, `view`.
+fn pictures(reg: &mut Registry) {
+    reg.topic(Topic::Files);
     reg.add(
         "plot(m, path)",
         "Draw every DOF of m over time to an SVG file (use m.only(…) or only(m, …) to choose), gaps grey, conflicts red.",

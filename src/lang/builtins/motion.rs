@@ -8,188 +8,26 @@ use std::sync::Arc;
 
 use indexmap::IndexMap;
 
-use super::{ArgValue, Args, Registry, describe};
-use crate::lang::ast::BinOp;
+use crate::lang::args::{ArgValue, Args, describe};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::registry::Registry;
 use crate::lang::timefn::{MxTimeFn, compile};
-use crate::lang::value::{HostObject, Value, format_number};
+use crate::lang::topic::Topic;
+use crate::lang::value::{Value, format_number};
 use crate::motion::{self, Curve, Dof, Interval, MotionError, Mu};
 
-/// A motion value: an interval, a DOF or a motion unit.
-#[derive(Clone, Debug)]
-pub enum Motion {
-    Interval(Interval),
-    Dof(Dof),
-    Mu(Mu),
-}
+// The motion value lives in `lang::host`; these keep the paths embedders use.
+pub use crate::lang::host::errors::{file_error, motion_error};
+pub use crate::lang::host::motion::{Motion, as_mu};
 
-impl Motion {
-    /// Intervals and DOFs both act as DOFs in the algebra.
-    pub fn as_dof(&self) -> Option<Dof> {
-        match self {
-            Motion::Interval(i) => Some(Dof::from(i.clone())),
-            Motion::Dof(d) => Some(d.clone()),
-            Motion::Mu(_) => None,
-        }
-    }
-    pub fn span(&self) -> Option<(f64, f64)> {
-        match self {
-            Motion::Interval(i) => Some((i.start, i.stop)),
-            Motion::Dof(d) => d.span(),
-            Motion::Mu(m) => m.span(),
-        }
-    }
-}
+/// A DOF where a motion unit is expected: how to make it one.
+const WRAP_A_DOF: &str = "a motion unit (Mu); wrap a DOF with `mu({name: d})`";
 
-fn fmt_span(s: Option<(f64, f64)>) -> String {
-    match s {
-        Some((a, b)) => format!("[{}, {}]", format_number(a), format_number(b)),
-        None => "nothing defined".into(),
-    }
-}
-
-fn plural(n: usize, word: &str) -> String {
-    format!("{n} {word}{}", if n == 1 { "" } else { "s" })
-}
-
-impl HostObject for Motion {
-    fn type_name(&self) -> &'static str {
-        match self {
-            Motion::Interval(_) => "Interval",
-            Motion::Dof(_) => "Dof",
-            Motion::Mu(_) => "Mu",
-        }
-    }
-
-    fn summary(&self) -> String {
-        match self {
-            Motion::Interval(i) => {
-                let conflict = if i.is_conflict() { ", a conflict" } else { "" };
-                format!(
-                    "Interval {} ({}{conflict})",
-                    fmt_span(Some((i.start, i.stop))),
-                    plural(i.funcs.len(), "function")
-                )
-            }
-            Motion::Dof(d) => format!(
-                "Dof {} ({}, {}, {})",
-                fmt_span(d.span()),
-                plural(d.intervals.len(), "interval"),
-                plural(d.gaps().len(), "gap"),
-                plural(d.conflicts().len(), "conflict")
-            ),
-            Motion::Mu(m) => {
-                let mut names: Vec<&str> = m.names().take(4).collect();
-                if m.len() > 4 {
-                    names.push("…");
-                }
-                format!(
-                    "Mu {} ({}: {}; {}, {}, {})",
-                    fmt_span(m.span()),
-                    plural(m.len(), "DOF"),
-                    names.join(", "),
-                    plural(m.interval_count(), "interval"),
-                    plural(motion::gaps(m).len(), "gap"),
-                    plural(motion::conflicts(m).len(), "conflict")
-                )
-            }
-        }
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn binary(&self, op: BinOp, other: &Value, self_left: bool) -> Option<Result<Value, String>> {
-        if !matches!(op, BinOp::Add | BinOp::Sub | BinOp::Meet) {
-            return None;
-        }
-        let other = other.as_object::<Motion>()?;
-        let (a, b) = if self_left {
-            (self, other)
-        } else {
-            (other, self)
-        };
-        let r = match (a, b) {
-            (Motion::Mu(x), Motion::Mu(y)) => Motion::Mu(match op {
-                BinOp::Add => motion::plus(x, y),
-                BinOp::Sub => motion::minus(x, y),
-                _ => motion::and(x, y),
-            }),
-            (Motion::Mu(_), _) | (_, Motion::Mu(_)) => {
-                return Some(Err(format!(
-                    "cannot combine {} with {}: a DOF has no name; wrap it with `mu({{name: d}})` first",
-                    article(a.type_name()),
-                    article(b.type_name())
-                )));
-            }
-            _ => {
-                let (x, y) = (a.as_dof()?, b.as_dof()?);
-                Motion::Dof(match op {
-                    BinOp::Add => x.plus(&y),
-                    BinOp::Sub => x.minus(&y),
-                    _ => x.and(&y),
-                })
-            }
-        };
-        Some(Ok(Value::object(r)))
-    }
-
-    fn equals(&self, other: &dyn HostObject) -> bool {
-        match (self, other.as_any().downcast_ref::<Motion>()) {
-            (Motion::Interval(a), Some(Motion::Interval(b))) => a == b,
-            (Motion::Dof(a), Some(Motion::Dof(b))) => a == b,
-            (Motion::Mu(a), Some(Motion::Mu(b))) => a == b,
-            _ => false,
-        }
-    }
-}
-
-/// A motion error as a diagnostic at `span`, with advice by kind.
-pub fn motion_error(e: MotionError, span: crate::lang::ast::Span) -> MxError {
-    let help = match &e {
-        MotionError::ClipOutside { .. } => "clip a window inside the span; `span(m)` gives it",
-        MotionError::Conflict { .. } => {
-            "a DOF defined twice there must be resolved first, e.g. `a + (b - a)` or `clip`"
-        }
-        MotionError::Undefined { .. } => {
-            "sample only where the motion is defined; `gaps(m)` lists the holes"
-        }
-        MotionError::UnknownDof { .. } | MotionError::NoMatch { .. } => {
-            "`dofs(m)` lists the DOF names"
-        }
-        MotionError::Cancelled => "cancelled by the user",
-        _ => "see `:help` for the motion functions",
-    };
-    let kind = if matches!(e, MotionError::Cancelled) {
-        ErrorKind::Cancelled
-    } else {
-        ErrorKind::Motion
-    };
-    MxError::new(kind, e.to_string())
-        .at(span)
-        .label("in this call")
-        .help(help)
-}
-
-/// Take a motion argument (Interval, Dof or Mu).
-fn motion_arg(a: &mut Args, name: &str) -> MxResult<(Motion, ArgValue)> {
-    let arg = a.arg(name)?;
-    match arg.value.as_object::<Motion>() {
-        Some(m) => Ok((m.clone(), arg)),
-        None => Err(a.type_error(name, "a motion (Interval, Dof or Mu)", &arg)),
-    }
-}
-
+/// A motion unit: a non-motion is asked to be a motion, a DOF to be wrapped.
 fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
-    let (m, arg) = motion_arg(a, name)?;
-    match m {
-        Motion::Mu(m) => Ok((m, arg)),
-        _ => Err(a.type_error(
-            name,
-            "a motion unit (Mu); wrap a DOF with `mu({name: d})`",
-            &arg,
-        )),
+    match a.motion(name)? {
+        (Motion::Mu(m), arg) => Ok((m, arg)),
+        (_, arg) => Err(a.type_error(name, WRAP_A_DOF, &arg)),
     }
 }
 
@@ -252,7 +90,17 @@ fn to_dof(a: &Args, v: &ArgValue, what: &str) -> MxResult<Dof> {
     }
 }
 
+/// The motion built-ins, by topic.
 pub fn register(reg: &mut Registry) {
+    making(reg);
+    timing(reg);
+    queries(reg);
+    formats(reg);
+}
+
+/// Making motions: `interval`, `samples`, `dof`, `mu`.
+fn making(reg: &mut Registry) {
+    reg.topic(Topic::Motion);
     reg.add(
         "interval(f, ts, tf)",
         "An interval over [ts, tf]: f is a number (constant) or a function of time `fn(t) = …` (evaluated at global time).",
@@ -326,13 +174,18 @@ pub fn register(reg: &mut Registry) {
             obj(Motion::Mu(m))
         },
     );
+}
+
+/// Moving and cutting motions in time: `affine`, `clip`, `clip_in_place`, `concatenate`, `only`.
+fn timing(reg: &mut Registry) {
+    reg.topic(Topic::Motion);
     reg.add(
         "affine(ts, d, m)",
         "Time t ↦ ts + d·t (shift by ts, stretch by d > 0); values are those at the pre-image time.",
         |a, _| {
             let ts = a.number("ts")?;
             let d = a.number("d")?;
-            let (m, _) = motion_arg(a, "m")?;
+            let (m, _) = a.motion("m")?;
             map_motion(&m, a.call_span(), None, |x| x.affine(ts, d), |x| motion::affine(ts, d, x))
         },
     );
@@ -342,7 +195,7 @@ pub fn register(reg: &mut Registry) {
         |a, _| {
             let ts = a.number("ts")?;
             let tf = a.number("tf")?;
-            let (m, arg) = motion_arg(a, "m")?;
+            let (m, arg) = a.motion("m")?;
             map_motion(&m, a.call_span(), arg.name.as_deref(), |x| motion::ops::clip_dof(ts, tf, x), |x| motion::clip(ts, tf, x))
         },
     );
@@ -352,7 +205,7 @@ pub fn register(reg: &mut Registry) {
         |a, _| {
             let ts = a.number("ts")?;
             let tf = a.number("tf")?;
-            let (m, arg) = motion_arg(a, "m")?;
+            let (m, arg) = a.motion("m")?;
             map_motion(
                 &m,
                 a.call_span(),
@@ -366,8 +219,8 @@ pub fn register(reg: &mut Registry) {
         "concatenate(a, b)",
         "a followed by b, shifted to start where a ends.",
         |a, _| {
-            let (x, xa) = motion_arg(a, "a")?;
-            let (y, ya) = motion_arg(a, "b")?;
+            let (x, xa) = a.motion("a")?;
+            let (y, ya) = a.motion("b")?;
             match (&x, &y) {
                 (Motion::Mu(p), Motion::Mu(q)) => obj(Motion::Mu(motion::concatenate(p, q))),
                 (Motion::Mu(_), _) => Err(a.type_error("b", "a Mu (like a)", &ya)),
@@ -408,6 +261,11 @@ pub fn register(reg: &mut Registry) {
             obj(Motion::Mu(motion::only(&m, &refs).map_err(|e| motion_error(e, a.call_span()))?))
         },
     );
+}
+
+/// What a motion is: `dofs`, `span`, `gaps`, `conflicts`, `sample`, `get`.
+fn queries(reg: &mut Registry) {
+    reg.topic(Topic::Motion);
     reg.add(
         "dofs(m)",
         "The DOF names of a motion unit, in first-definition order.",
@@ -420,7 +278,7 @@ pub fn register(reg: &mut Registry) {
         "span(m)",
         "[start, stop] of everything defined in m, or nil if nothing is.",
         |a, _| {
-            let (m, _) = motion_arg(a, "m")?;
+            let (m, _) = a.motion("m")?;
             Ok(span_value(m.span()))
         },
     );
@@ -428,7 +286,7 @@ pub fn register(reg: &mut Registry) {
         "gaps(m)",
         "Interior gaps (undefined with motion on both sides) as records {dof, start, stop}.",
         |a, _| {
-            let (m, _) = motion_arg(a, "m")?;
+            let (m, _) = a.motion("m")?;
             Ok(match m {
                 Motion::Mu(x) => spans_value(motion::gaps(&x)),
                 other => spans_value(dof_spans(&other, Dof::gaps)),
@@ -439,7 +297,7 @@ pub fn register(reg: &mut Registry) {
         "conflicts(m)",
         "Multiply defined stretches as records {dof, start, stop}.",
         |a, _| {
-            let (m, _) = motion_arg(a, "m")?;
+            let (m, _) = a.motion("m")?;
             Ok(match m {
                 Motion::Mu(x) => spans_value(motion::conflicts(&x)),
                 other => spans_value(dof_spans(&other, Dof::conflicts)),
@@ -450,7 +308,7 @@ pub fn register(reg: &mut Registry) {
         "sample(m, t, deriv: 0)",
         "Value of m at time t (deriv 1: velocity, 2: acceleration). An Interval/Dof gives a number; a Mu a record {dof: value}, nil where undefined. Conflicts are errors.",
         |a, _| {
-            let (m, _) = motion_arg(a, "m")?;
+            let (m, _) = a.motion("m")?;
             let t = a.finite("t")?;
             let k = a.count_or("deriv", 0)?;
             let span = a.call_span();
@@ -486,7 +344,10 @@ pub fn register(reg: &mut Registry) {
             obj(Motion::Dof(d.clone()))
         },
     );
+}
 
+/// The `.csv` and `.json` motion formats.
+fn formats(reg: &mut Registry) {
     reg.saver(
         "csv",
         "Motion CSV: `save(m, \"x.csv\", rate: R)` samples at whole multiples of 1/R.",
@@ -559,14 +420,6 @@ pub fn register(reg: &mut Registry) {
     );
 }
 
-fn article(name: &str) -> String {
-    if name.starts_with(['A', 'E', 'I', 'O', 'U']) {
-        format!("an {name}")
-    } else {
-        format!("a {name}")
-    }
-}
-
 fn dof_spans(m: &Motion, f: fn(&Dof) -> Vec<(f64, f64)>) -> Vec<motion::DofSpan> {
     f(&m.as_dof().unwrap_or_default())
         .into_iter()
@@ -576,21 +429,4 @@ fn dof_spans(m: &Motion, f: fn(&Dof) -> Vec<(f64, f64)>) -> Vec<motion::DofSpan>
             stop,
         })
         .collect()
-}
-
-pub(crate) fn file_error(e: crate::io::FileError, span: crate::lang::ast::Span) -> MxError {
-    match e {
-        crate::io::FileError::Motion(m) => motion_error(m, span),
-        other => MxError::new(ErrorKind::Io, other.to_string())
-            .at(span)
-            .help("check the path, the folder's permissions and the file's content"),
-    }
-}
-
-/// Used by `Evaluator` users that want a motion out of a value.
-pub fn as_mu(v: &Value) -> Option<&Mu> {
-    match v.as_object::<Motion>() {
-        Some(Motion::Mu(m)) => Some(m),
-        _ => None,
-    }
 }

@@ -4,12 +4,14 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::body::Body;
-use super::motion::{Motion, file_error};
-use super::{Args, Registry, describe};
 use crate::io::storage::{self, Columns};
+use crate::lang::args::{Args, describe};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
+use crate::lang::host::errors::file_error;
+use crate::lang::host::{Body, Motion};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::model::Model;
 use crate::motion::{Curve, Mu};
@@ -140,6 +142,7 @@ fn save_motion(v: &Value, path: &Path, a: &mut Args, _ev: &mut Evaluator) -> MxR
 }
 
 pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Dynamics);
     reg.loader(
         "osim",
         "An OpenSim model (4.x, or 3.x format 30000+) as a body: bodies, joints (CustomJoint, Pin, Slider, Weld, Ball, Free, Universal, Gimbal, Planar), coordinates named as in the model, its gravity; `body.report` lists what was ignored (muscles, forces, geometry).",

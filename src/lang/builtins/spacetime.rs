@@ -7,15 +7,16 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::body::Body;
-use super::busy::Busy;
-use super::dynamics::vec3;
-use super::motion::Motion;
-use super::sp_report::{SpReportValue, remember, report_of};
-use super::{ArgValue, Args, Registry};
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::ast::Span;
+use crate::lang::busy::Busy;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult, did_you_mean};
 use crate::lang::eval::Evaluator;
+use crate::lang::host::motion::{Provenance, provenance};
+use crate::lang::host::sp_report::report_of;
+use crate::lang::host::{Motion, SpReportValue};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
 use crate::lang::value::{Value, format_number};
 use crate::model::Model;
 use crate::motion::Mu;
@@ -50,25 +51,21 @@ fn sp_error(e: SpError, a: &Args, span: Span) -> MxError {
 }
 
 fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
-    let arg = a.arg(name)?;
-    match arg.value.as_object::<Motion>() {
-        Some(Motion::Mu(m)) => Ok((m.clone(), arg)),
-        _ => Err(a.type_error(name, "a motion unit (Mu), e.g. load(\"walk.bvh\")", &arg)),
-    }
+    a.mu(name)
 }
 
 fn body_arg(a: &mut Args) -> MxResult<Arc<Model>> {
     let arg = a.arg("body")?;
-    match arg.value.as_object::<Body>() {
-        Some(b) => b
-            .free_model(&format!("`{}`", a.name()))
-            .map_err(|m| MxError::value(m).at(arg.span)),
-        None => Err(a.type_error(
-            "body",
-            "a body whose coordinates are the motion's DOFs, e.g. body_of(clip)",
-            &arg,
-        )),
-    }
+    let body = a.free_body_of(
+        "body",
+        &arg,
+        "a body whose coordinates are the motion's DOFs, e.g. body_of(clip)",
+    )?;
+    Ok(body.model)
+}
+
+fn vec3(a: &Args, arg: &ArgValue, name: &str) -> MxResult<nalgebra::Vector3<f64>> {
+    a.vector3(arg, name)
 }
 
 fn bad_option(a: &Args, arg: &ArgValue, msg: String, help: &str) -> MxError {
@@ -352,9 +349,11 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
             g.grad_norm
         );
     }
-    let v = Value::object(Motion::Mu(filled));
-    remember(&v, report);
-    Ok(v)
+    // The result keeps the input's clip (to save it as BVH) and carries the report.
+    Ok(Motion::Mu(filled).with_provenance(Provenance {
+        clip: provenance(&marg.value).and_then(|p| p.clip.clone()),
+        sp_report: Some(Arc::new(report)),
+    }))
 }
 
 fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
@@ -409,6 +408,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 }
 
 pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Spacetime);
     reg.add(
         "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", root: \"shift\")",
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \

@@ -6,23 +6,17 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::joints::{JointValue, matrix_value, transform_of};
-use super::{ArgValue, Args, Registry};
+use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::host::joint::{JointValue, matrix_value};
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::lie::Se3;
 use crate::model::joints::{EulerOrder, FrameGrid, SplineLoopJoint, SplineSurfaceJoint};
 
 fn vec3_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Vector3<f64>> {
-    let v = arg.value.as_list().and_then(|l| {
-        l.iter()
-            .map(|x| x.as_number().filter(|x| x.is_finite()))
-            .collect::<Option<Vec<f64>>>()
-    });
-    match v {
-        Some(v) if v.len() == 3 => Ok(Vector3::new(v[0], v[1], v[2])),
-        _ => Err(a.type_error(name, "a list of 3 finite numbers", arg)),
-    }
+    a.vec3_of(name, arg, "a list of 3 finite numbers")
 }
 
 /// A pose from an origin, a z axis and an x axis (made orthogonal to z).
@@ -80,7 +74,7 @@ fn grid_of(
             span: arg.span,
             name: None,
         };
-        out.push(transform_of(a, name, &av)?);
+        out.push(a.transform_of(name, &av)?);
         return Ok(());
     }
     let Some(l) = v.as_list() else {
@@ -248,6 +242,7 @@ fn make_loop(a: &mut Args) -> MxResult<Value> {
 }
 
 pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Joints);
     reg.add(
         "frame(origin, x: [1, 0, 0], z: [0, 0, 1])",
         "A control frame (4×4 pose) at `origin` whose z axis points along `z` and whose x axis is `x` made orthogonal to z (y = z × x).",

@@ -1,45 +1,20 @@
-//! The report SP attaches to the motion it returns, and `sp_report(m)`.
-//!
-//! A motion value is a plain `Mu` (every motion built-in takes it), so the
-//! report travels beside it: a table keyed by the identity of the returned
-//! value's allocation. `let m = SP(…)` shares that allocation, so
-//! `sp_report(m)` finds it; any operation on `m` makes a new motion, which
-//! SP did not produce. Entries hold a `Weak`, so a dropped motion's report
-//! goes with the next insertion, and the allocation (hence the key) cannot be
-//! reused while its entry exists.
+//! The report SP attaches to the motion it returns, and the `sp_report(m)`
+//! value. The report is part of that motion value's [`Provenance`], so
+//! `let m = SP(…)` keeps it and `sp_report(m)` finds it; any operation on
+//! `m` makes a new motion, which SP did not produce.
 
-use std::sync::{Arc, Mutex, Weak};
+use std::sync::Arc;
 
 use indexmap::IndexMap;
 
+use super::motion::{Provenance, provenance};
 use crate::lang::value::{HostObject, Value};
 use crate::spacetime::SpReport;
 use crate::spacetime::sp::Undefined;
 
-type Entry = (Weak<dyn HostObject>, Arc<SpReport>);
-
-static REPORTS: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
-
-fn same(a: &Weak<dyn HostObject>, b: &Arc<dyn HostObject>) -> bool {
-    std::ptr::addr_eq(a.as_ptr(), Arc::as_ptr(b))
-}
-
-/// Attach `report` to `motion` (a value SP is about to return).
-pub fn remember(motion: &Value, report: SpReport) {
-    let Value::Object(o) = motion else { return };
-    let mut table = REPORTS.lock().unwrap_or_else(|p| p.into_inner());
-    table.retain(|(w, _)| w.strong_count() > 0);
-    table.push((Arc::downgrade(o), Arc::new(report)));
-}
-
 /// The report of a motion SP returned, if `v` is one.
 pub fn report_of(v: &Value) -> Option<Arc<SpReport>> {
-    let Value::Object(o) = v else { return None };
-    let table = REPORTS.lock().unwrap_or_else(|p| p.into_inner());
-    table
-        .iter()
-        .find(|(w, _)| w.strong_count() > 0 && same(w, o))
-        .map(|(_, r)| r.clone())
+    provenance(v).and_then(|p: &Provenance| p.sp_report.clone())
 }
 
 /// `sp_report(m)`: reads like a record (`r.groups[0].energy`), prints as text.
@@ -153,24 +128,20 @@ impl HostObject for SpReportValue {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lang::builtins::motion::Motion;
+    use crate::lang::host::motion::Motion;
     use crate::motion::Mu;
 
     #[test]
-    fn a_report_follows_its_value_not_an_equal_one_and_goes_with_it() {
-        let m = Value::object(Motion::Mu(Mu::new()));
+    fn a_report_follows_its_value_not_an_equal_one() {
+        let report = Provenance {
+            sp_report: Some(Arc::new(SpReport::default())),
+            ..Provenance::default()
+        };
+        let m = Motion::Mu(Mu::new()).with_provenance(report);
         let other = Value::object(Motion::Mu(Mu::new()));
-        remember(&m, SpReport::default());
         assert!(report_of(&m.clone()).is_some());
         assert!(report_of(&other).is_none());
-        let weak = match &m {
-            Value::Object(o) => Arc::downgrade(o),
-            _ => unreachable!(),
-        };
-        drop(m);
-        assert_eq!(weak.strong_count(), 0);
-        remember(&other, SpReport::default());
-        let table = REPORTS.lock().unwrap();
-        assert!(!table.iter().any(|(w, _)| Weak::ptr_eq(w, &weak)));
+        assert!(m.equals(&other), "provenance does not change equality");
+        assert_eq!(m.repr(), other.repr(), "nor printing");
     }
 }
