@@ -2,13 +2,14 @@
 //! engine with spline joints.
 //!
 //! Layers, each using only the ones listed before it (see ARCHITECTURE.md):
-//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `spacetime` → `io` → `report` → `lang`.
+//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `spacetime` → `io` → `graph` → `report` → `lang`.
 //! Everything up to `io` is a library that knows nothing of the language.
 
 pub mod atomic_file;
 pub mod cancel;
 pub mod dynamics;
 pub mod fmt_num;
+pub mod graph;
 pub mod io;
 pub mod lang;
 pub mod lie;
