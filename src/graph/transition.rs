@@ -125,7 +125,16 @@ pub fn fill(
     clip_b.mu = affine(t1, 1.0, &clip_b.mu).map_err(|e| e.to_string())?;
     let before = clip_in_place(t0 - ca as f64 * dt, t0, &a.clip.mu).map_err(|e| e.to_string())?;
     let cut = plus(&before, &clip_b.mu);
-    let (filled, report) = sp(&cut, &lib.body, &sp_options(s)).map_err(|e| format!("SP: {e}"))?;
+    // SP splits its quadrature into as many chunks as its pool has threads, and the sums'
+    // order moves the last bits; on a pool of its own with one thread the transition is
+    // the same bytes whatever --threads, shard or caller (pairs give the parallelism).
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map_err(|e| format!("cannot start SP's thread: {e}"))?;
+    let (filled, report) = pool
+        .install(|| sp(&cut, &lib.body, &sp_options(s)))
+        .map_err(|e| format!("SP: {e}"))?;
     let piece = clip_in_place(t0, t1, &filled).map_err(|e| e.to_string())?;
     let energy =
         torque_energy(&piece, &lib.body, None).map_err(|e| format!("torque energy: {e}"))?;

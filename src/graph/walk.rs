@@ -74,7 +74,8 @@ pub fn walk(
         ));
     }
     let dt = g.library.frame_time;
-    let want = (seconds / dt).ceil() as usize + 1;
+    // (a BVH frame time is rounded, 0.0333333: a whole number of frames must not gain one)
+    let want = (seconds / dt - 1e-3).ceil() as usize + 1;
     let nch = lib.skeleton.channel_count();
     let clip_of = |name: &str| -> Result<&library::LibClip, GraphError> {
         let k = lib.names.iter().position(|n| n == name);
