@@ -4,8 +4,8 @@
 //!
 //! The motion SP sees holds `context` frames of a before the gap (a's own
 //! curves, so the end velocity is the clip's) and `context` frames of b after
-//! it (b's rows turned and moved, each rotation channel shifted by whole
-//! turns to lie nearest a's value at the join, so no joint spins round).
+//! it (b's rows turned and moved, and each joint's rotations re-expressed
+//! nearest a's at the join, so no joint spins round).
 //! With SP's default `root: "shift"` the part after the gap is moved on to
 //! continue the root's path; the alignment recorded is the one realised, fitted
 //! between b's frame j and the transition's last frame.
@@ -71,6 +71,56 @@ fn rows(c: &LibClip, from: usize, to: usize) -> Vec<f64> {
     c.file.values[from * n..to * n].to_vec()
 }
 
+fn is_rotation(channel: &str) -> bool {
+    channel.ends_with("rotation")
+}
+
+/// Re-expresses b's rotations (rows of `values`) nearest a's at the join
+/// (`near`, a's row at frame i), continuously along the rows: of the two
+/// Euler triples of a rotation and their whole turns, the nearest. Otherwise
+/// SP would swing a joint the long way between two spellings of one pose
+/// (a foot at Z ≈ 180° written as −180°, or as (α + π, π − β, γ + π)).
+fn nearest_euler(sk: &crate::mocap::bvh::Skeleton, values: &mut [f64], near: &[f64]) {
+    use crate::motion::rotation::{from_euler, to_euler_near};
+    let nch = sk.channel_count();
+    let starts = sk.channel_starts();
+    for (jt, joint) in sk.joints.iter().enumerate() {
+        let rot: Vec<(usize, usize)> = joint
+            .channels
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.is_rotation())
+            .map(|(k, c)| (starts[jt] + k, c.axis()))
+            .collect();
+        if rot.len() == 3 {
+            let axes = [rot[0].1, rot[1].1, rot[2].1];
+            let mut prev: Option<([f64; 3], [f64; 3])> = None;
+            for row in values.chunks_mut(nch) {
+                let e: [f64; 3] = std::array::from_fn(|k| row[rot[k].0].to_radians());
+                let target = match prev {
+                    None => std::array::from_fn(|k| near[rot[k].0].to_radians()),
+                    Some((orig, written)) => std::array::from_fn(|k| written[k] + e[k] - orig[k]),
+                };
+                let x = to_euler_near(axes, &from_euler(axes, e), target);
+                for k in 0..3 {
+                    row[rot[k].0] = x[k].to_degrees();
+                }
+                prev = Some((e, x));
+            }
+        } else {
+            // one or two rotation channels: whole turns only
+            for &(c, _) in &rot {
+                let turns = ((near[c] - values[c]) / 360.0).round() * 360.0;
+                if turns != 0.0 {
+                    for row in values.chunks_mut(nch) {
+                        row[c] += turns;
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// Fills the transition from a at `i` to b at `j`, b first moved by `align`.
 pub fn fill(
     lib: &Library,
@@ -96,22 +146,19 @@ pub fn fill(
     // b's frames j ..= j + cb, moved onto a's floor position and heading
     let mut vb = rows(b, j, j + cb + 1);
     lib.root.transform_rows(&mut vb, nch, align);
-    // whole turns: each rotation channel of b nearest a's value at frame i
-    let ai = a.file.frame(i);
-    let mut c = 0;
-    for joint in &lib.skeleton.joints {
-        for ch in &joint.channels {
-            if ch.is_rotation() {
-                let k = ((ai[c] - vb[c]) / 360.0).round() * 360.0;
-                if k != 0.0 {
-                    for row in vb.chunks_mut(nch) {
-                        row[c] += k;
-                    }
-                }
-            }
-            c += 1;
-        }
-    }
+    // a's side is a's motion, unwrapped from its first frame: its values at i, in degrees
+    let t_i = i as f64 * dt;
+    let near: Vec<f64> = lib
+        .skeleton
+        .channel_names()
+        .iter()
+        .zip(a.file.frame(i))
+        .map(|(n, raw)| match a.clip.mu.sample_value(n, t_i) {
+            Ok(Some(v)) if is_rotation(n) => v.to_degrees(),
+            _ => *raw,
+        })
+        .collect();
+    nearest_euler(&lib.skeleton, &mut vb, &near);
     let fb = BvhFile {
         skeleton: lib.skeleton.clone(),
         frame_time: dt,
