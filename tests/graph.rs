@@ -196,7 +196,7 @@ fn every_transition_joins_its_clips_continuously() {
             .find(|p| p.i == i && p.j == j)
             .unwrap();
         let gap = transition::gap_frames(&s, p.distance);
-        let tr = transition::fill(&lib, a, b, i, j, &p.align, gap, &s).unwrap();
+        let tr = transition::fill(&lib, a, b, &p, gap, &s).unwrap();
         let (jq, jv) = jumps(&tr.filled);
         println!("{file}: position jump {jq:.1e}, velocity jump {jv:.1e}");
         assert!(jq <= 1e-9 && jv <= 1e-6, "{file}: {jq} {jv}");

@@ -97,7 +97,7 @@ fn run_pair(lib: &Library, a: usize, b: usize, s: &Settings) -> PairResult {
     let mut errors = vec![];
     for (k, p) in found.points.iter().enumerate() {
         let gap = gap_frames(s, p.distance);
-        match transition::fill(lib, ca, cb, p.i, p.j, &p.align, gap, s) {
+        match transition::fill(lib, ca, cb, p, gap, s) {
             Ok(t) => {
                 let name = store::transition_file(na, nb, k);
                 match crate::mocap::bvh::to_string(&t.file) {

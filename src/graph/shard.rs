@@ -105,9 +105,9 @@ mod tests {
         let mut seen = vec![0; all.len()];
         for i in 0..4 {
             let s = Shard { index: i, count: 4 };
-            for p in 0..all.len() {
+            for (p, n) in seen.iter_mut().enumerate() {
                 if s.owns(p) {
-                    seen[p] += 1;
+                    *n += 1;
                 }
             }
         }

@@ -76,10 +76,7 @@ pub fn remove_stale_temporaries(dir: &Path, all: bool) {
         if !(name.starts_with('.') && name.ends_with(".tmp")) {
             continue;
         }
-        let pid = name
-            .rsplitn(4, '.')
-            .nth(2)
-            .and_then(|s| s.parse::<u32>().ok());
+        let pid = name.rsplit('.').nth(2).and_then(|s| s.parse::<u32>().ok());
         let gone = pid.is_some_and(|pid| !Path::new(&format!("/proc/{pid}")).exists());
         if all || gone {
             let _ = std::fs::remove_file(&p);

@@ -12,6 +12,7 @@
 
 use super::library::{LibClip, Library};
 use super::planar::{Planar, fit};
+use super::search::Point;
 use super::settings::Settings;
 use crate::mocap::bvh::{self, BvhFile};
 use crate::mocap::{self, bvh::Units};
@@ -121,17 +122,17 @@ fn nearest_euler(sk: &crate::mocap::bvh::Skeleton, values: &mut [f64], near: &[f
     }
 }
 
-/// Fills the transition from a at `i` to b at `j`, b first moved by `align`.
+/// Fills the transition from a at `point.i` to b at `point.j`, b first moved by
+/// `point.align`, with a gap of `gap` frames.
 pub fn fill(
     lib: &Library,
     a: &LibClip,
     b: &LibClip,
-    i: usize,
-    j: usize,
-    align: &Planar,
+    point: &Point,
     gap: usize,
     s: &Settings,
 ) -> Result<Transition, String> {
+    let (i, j, align) = (point.i, point.j, &point.align);
     let dt = lib.frame_time;
     let nch = lib.skeleton.channel_count();
     let ca = s.context.min(i).max(1);
