@@ -152,6 +152,7 @@ fn library_info(lib: &Library, clips_dir: &Path, s: &Settings) -> LibraryInfo {
             })
             .collect(),
         settings: s.clone(),
+        clip_failures: lib.failures.clone(),
     }
 }
 

@@ -62,7 +62,7 @@ pub fn summary(g: &Graph) -> String {
     let _ = writeln!(
         out,
         "clips: {n} ({loaded} loaded, {} failed) from {}",
-        g.clip_failures.len(),
+        g.library.clip_failures.len(),
         g.library.clips_dir
     );
     let _ = writeln!(
@@ -119,7 +119,7 @@ pub fn summary(g: &Graph) -> String {
     out.push_str(&histogram(&energy, 8, ""));
     let _ = writeln!(out, "transition duration");
     out.push_str(&histogram(&dur, 4, "s"));
-    for f in g.clip_failures.iter().take(5) {
+    for f in g.library.clip_failures.iter().take(5) {
         let _ = writeln!(out, "failed clip {}: {}", f.clip, f.error);
     }
     for f in g.pair_failures.iter().take(5) {

@@ -29,6 +29,8 @@ pub struct LibraryInfo {
     pub frame_time: f64,
     pub clips: Vec<ClipEntry>,
     pub settings: Settings,
+    /// Clips that failed to load, and why (their pairs are failed pairs).
+    pub clip_failures: Vec<ClipFailure>,
 }
 
 /// One transition found for a pair.
@@ -120,17 +122,12 @@ pub struct Graph {
     pub library: LibraryInfo,
     pub nodes: Vec<Node>,
     pub edges: Vec<Edge>,
-    pub clip_failures: Vec<ClipFailure>,
     pub pair_failures: Vec<PairFailure>,
 }
 
 impl Graph {
     /// The graph of `records` (sorted by pair, one per pair).
-    pub fn from_records(
-        library: LibraryInfo,
-        clip_failures: Vec<ClipFailure>,
-        records: &[PairRecord],
-    ) -> Graph {
+    pub fn from_records(library: LibraryInfo, records: &[PairRecord]) -> Graph {
         let index = |name: &str| library.clips.iter().position(|c| c.name == name);
         // cut points of each clip: its ends, every exit frame i and every entry frame j
         let mut cuts: Vec<Vec<usize>> = library
@@ -207,7 +204,6 @@ impl Graph {
             library,
             nodes,
             edges,
-            clip_failures,
             pair_failures,
         }
     }
@@ -303,6 +299,7 @@ mod tests {
                 })
                 .collect(),
             settings: Settings::default(),
+            clip_failures: vec![],
         }
     }
 
@@ -339,7 +336,7 @@ mod tests {
                 error: None,
             },
         ];
-        let g = Graph::from_records(info(&[("a", 40), ("b", 50)]), vec![], &recs);
+        let g = Graph::from_records(info(&[("a", 40), ("b", 50)]), &recs);
         // a cut at 0, 10, 20, 39; b at 0, 5, 30, 49
         assert_eq!(g.nodes.len(), 6);
         assert_eq!(

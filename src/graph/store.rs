@@ -211,7 +211,6 @@ pub fn merge(out: &Path) -> Result<Merged, GraphError> {
         )));
     }
     let mut records: BTreeMap<(String, String), (PairRecord, PathBuf)> = BTreeMap::new();
-    let mut clip_failures: Option<Vec<ClipFailure>> = None;
     for d in &dirs {
         let other: LibraryInfo = read_json(&d.join("library.json"))?;
         if other != info {
@@ -223,11 +222,6 @@ pub fn merge(out: &Path) -> Result<Merged, GraphError> {
             )));
         }
         remove_stale_temporaries(d, true);
-        if clip_failures.is_none()
-            && let Ok(r) = read_json::<ShardReport>(&d.join("report.json"))
-        {
-            clip_failures = Some(r.clip_failures);
-        }
         for (k, r) in finished(d) {
             if let Some((old, from)) = records.get(&k) {
                 if old != &r {
@@ -282,8 +276,7 @@ pub fn merge(out: &Path) -> Result<Merged, GraphError> {
         }
     }
     let records: Vec<PairRecord> = sorted.into_iter().map(|(r, _)| r).collect();
-    let clip_failures = clip_failures.unwrap_or_default();
-    let graph = Graph::from_records(info, clip_failures, &records);
+    let graph = Graph::from_records(info, &records);
     write(&out.join("graph.json"), &to_json(&graph))?;
     #[derive(Serialize)]
     struct Report<'a> {
@@ -296,7 +289,7 @@ pub fn merge(out: &Path) -> Result<Merged, GraphError> {
             .iter()
             .filter_map(|d| d.file_name().map(|n| n.to_string_lossy().into_owned()))
             .collect(),
-        clip_failures: &graph.clip_failures,
+        clip_failures: &graph.library.clip_failures,
         pair_failures: &graph.pair_failures,
     };
     write(&out.join("report.json"), &to_json(&report))?;
