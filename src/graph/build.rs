@@ -1,5 +1,5 @@
 //! `mx graph build`: one shard of a transition library. Its pairs run in
-//! parallel on a rayon pool of `threads`; each finished pair writes its
+//! parallel on a rayon pool of `threads`, one pair per thread at a time; each finished pair writes its
 //! transitions, then its record, then a line to the log; a progress bar
 //! shows pairs done, transitions per second and the time left (on a
 //! terminal only). With one shard the graph is merged at the end.
@@ -13,7 +13,6 @@ use super::shard::{Shard, pairs};
 use super::store;
 use super::transition::{self, gap_frames};
 use indicatif::{ProgressBar, ProgressStyle};
-use rayon::prelude::*;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -229,57 +228,72 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
         b.build()
             .map_err(|e| GraphError::new(format!("cannot start {:?} threads: {e}", o.threads)))?
     };
-    let results: Vec<Result<PairRecord, GraphError>> = pool.install(|| {
-        todo.par_iter()
-            .map(|&(a, b)| {
-                let r = run_pair(&lib, a, b, &o.settings);
-                for (name, text) in &r.files {
-                    store::write(&dir.join("transitions").join(name), text.as_bytes())?;
-                }
-                let file = dir.join("pairs").join(store::pair_file(&r.record.a, &r.record.b));
-                store::write(&file, &store::to_json(&r.record))?;
-                let n = transitions_now.fetch_add(r.record.transitions.len(), Ordering::Relaxed)
-                    + r.record.transitions.len();
-                let k = finished_now.fetch_add(1, Ordering::Relaxed) + 1;
-                {
-                    let mut t = timings.lock().expect("timings lock");
-                    t.0 += r.search_seconds;
-                    t.1 += r.sp_seconds;
-                }
-                let rate = n as f64 / started.elapsed().as_secs_f64().max(1e-9);
-                bar.inc(1);
-                bar.set_message(format!("{n} transitions, {rate:.2}/s"));
-                if let Some(log) = &log {
-                    let line = format!(
-                        "{{\"shard\":\"{}\",\"a\":{},\"b\":{},\"status\":\"{}\",\"transitions\":{},\"search_seconds\":{},\"sp_seconds\":{},\"finished\":{},\"of\":{}{}}}\n",
-                        o.shard,
-                        json_escape(&r.record.a),
-                        json_escape(&r.record.b),
-                        match r.record.status {
-                            PairStatus::Done => "done",
-                            PairStatus::Far => "far",
-                            PairStatus::Failed => "failed",
-                        },
-                        r.record.transitions.len(),
-                        crate::fmt_num::format_number(r.search_seconds),
-                        crate::fmt_num::format_number(r.sp_seconds),
-                        done.len() + k,
-                        mine.len(),
-                        r.record
-                            .error
-                            .as_ref()
-                            .map(|e| format!(",\"error\":{}", json_escape(e)))
-                            .unwrap_or_default()
-                    );
-                    // one write per line: appends from several shards do not interleave within it
-                    let mut f = log.lock().expect("log lock");
-                    f.write_all(line.as_bytes())
-                        .map_err(|e| GraphError::new(format!("cannot write the log: {e}")))?;
-                }
-                Ok(r.record)
-            })
-            .collect()
+    // One worker loop per pool thread (`broadcast` pins each to its thread), each taking the
+    // next pair: at most --threads pairs at once. (A parallel iterator would not bound them:
+    // a worker blocked in SP's own one-thread pool steals further pairs meanwhile.)
+    let next = AtomicUsize::new(0);
+    let collected: Mutex<Vec<(usize, Result<PairRecord, GraphError>)>> = Mutex::new(vec![]);
+    let one_pair = |&(a, b): &(usize, usize)| -> Result<PairRecord, GraphError> {
+        let r = run_pair(&lib, a, b, &o.settings);
+        for (name, text) in &r.files {
+            store::write(&dir.join("transitions").join(name), text.as_bytes())?;
+        }
+        let file = dir
+            .join("pairs")
+            .join(store::pair_file(&r.record.a, &r.record.b));
+        store::write(&file, &store::to_json(&r.record))?;
+        let n = transitions_now.fetch_add(r.record.transitions.len(), Ordering::Relaxed)
+            + r.record.transitions.len();
+        let k = finished_now.fetch_add(1, Ordering::Relaxed) + 1;
+        {
+            let mut t = timings.lock().expect("timings lock");
+            t.0 += r.search_seconds;
+            t.1 += r.sp_seconds;
+        }
+        let rate = n as f64 / started.elapsed().as_secs_f64().max(1e-9);
+        bar.inc(1);
+        bar.set_message(format!("{n} transitions, {rate:.2}/s"));
+        if let Some(log) = &log {
+            let line = format!(
+                "{{\"shard\":\"{}\",\"a\":{},\"b\":{},\"status\":\"{}\",\"transitions\":{},\"search_seconds\":{},\"sp_seconds\":{},\"finished\":{},\"of\":{}{}}}\n",
+                o.shard,
+                json_escape(&r.record.a),
+                json_escape(&r.record.b),
+                match r.record.status {
+                    PairStatus::Done => "done",
+                    PairStatus::Far => "far",
+                    PairStatus::Failed => "failed",
+                },
+                r.record.transitions.len(),
+                crate::fmt_num::format_number(r.search_seconds),
+                crate::fmt_num::format_number(r.sp_seconds),
+                done.len() + k,
+                mine.len(),
+                r.record
+                    .error
+                    .as_ref()
+                    .map(|e| format!(",\"error\":{}", json_escape(e)))
+                    .unwrap_or_default()
+            );
+            // one write per line: appends from several shards do not interleave within it
+            let mut f = log.lock().expect("log lock");
+            f.write_all(line.as_bytes())
+                .map_err(|e| GraphError::new(format!("cannot write the log: {e}")))?;
+        }
+        Ok(r.record)
+    };
+    pool.broadcast(|_| {
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some(pair) = todo.get(k) else { break };
+            let r = one_pair(pair);
+            collected.lock().expect("results lock").push((k, r));
+        }
     });
+    let mut results = collected.into_inner().expect("results lock");
+    results.sort_by_key(|(k, _)| *k);
+    let results: Vec<Result<PairRecord, GraphError>> =
+        results.into_iter().map(|(_, r)| r).collect();
     bar.finish_and_clear();
     let mut now = vec![];
     for r in results {

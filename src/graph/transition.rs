@@ -183,6 +183,7 @@ pub fn fill(
     let (filled, report) = pool
         .install(|| sp(&cut, &lib.body, &sp_options(s)))
         .map_err(|e| format!("SP: {e}"))?;
+    drop(pool);
     let piece = clip_in_place(t0, t1, &filled).map_err(|e| e.to_string())?;
     let energy =
         torque_energy(&piece, &lib.body, None).map_err(|e| format!("torque energy: {e}"))?;
