@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod graph_cli;
 mod repl;
 
 #[derive(Parser)]
@@ -57,10 +58,19 @@ enum Command {
         #[arg(long, default_value = "docs")]
         out: PathBuf,
     },
+    /// Transition libraries (motion graphs): build, merge, info, walk.
+    #[command(subcommand)]
+    Graph(graph_cli::GraphCommand),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let command = cli.command.unwrap_or(Command::Repl);
+    // the graph commands need no interpreter
+    let command = match command {
+        Command::Graph(g) => return graph_cli::run(g),
+        c => c,
+    };
     let mut mx = mx::Interpreter::new();
     mx.set_step_budget(cli.steps);
     mx.set_file_root(cli.root.clone());
@@ -69,7 +79,7 @@ fn main() -> ExitCode {
         eprint!("{}", d.render(color));
         ExitCode::from(1)
     };
-    match cli.command.unwrap_or(Command::Repl) {
+    match command {
         Command::Run { file } => match mx.eval_file(&file) {
             Ok(_) => ExitCode::SUCCESS,
             Err(d) => report(d),
@@ -112,6 +122,7 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Command::Graph(g) => graph_cli::run(g),
         #[cfg(feature = "report")]
         Command::Report { smoke, out } => {
             match mx::report::generate(&mx::report::Options::new(out, smoke)) {

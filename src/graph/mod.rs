@@ -1,0 +1,50 @@
+//! Transition libraries at scale: a motion graph (Kovar, Gleicher & Pighin
+//! 2002) over a folder of clips of one skeleton, its transitions filled by
+//! SP (Rose et al. 1996). `mx graph build/merge/info/walk`.
+//!
+//! - `library.rs`: the clips, checked to share one skeleton; each frame's joint point cloud
+//! - `planar.rs`: ground-plane rigid motions: Kovar's point-cloud fit, applied to root channels
+//! - `search.rs`: transition points, local minima of the window distance
+//! - `transition.rs`: one gap cut, b aligned, filled by `spacetime::sp`, written as BVH frames
+//! - `shard.rs`: the deterministic share of the pairs (`--shard i/n` or Slurm's array variables)
+//! - `store.rs`: the output folder, atomic writes, resume, merge
+//! - `model.rs`: `graph.json` (nodes are clip segments, edges transitions and continuations)
+//! - `build.rs`: a shard's run (rayon, progress bar, log); `info.rs`; `walk.rs`
+//!
+//! Layering: uses `mocap`, `motion`, `spacetime`, `io`; knows nothing of the language.
+
+pub mod build;
+pub mod info;
+pub mod library;
+pub mod model;
+pub mod planar;
+pub mod search;
+pub mod settings;
+pub mod shard;
+pub mod store;
+pub mod transition;
+pub mod walk;
+
+pub use build::{BuildOptions, BuildSummary, build};
+pub use model::Graph;
+pub use settings::Settings;
+pub use shard::Shard;
+pub use store::{merge, read_graph};
+
+/// An error of a library build, merge or walk: a sentence for the user.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GraphError(pub String);
+
+impl GraphError {
+    pub fn new(msg: impl Into<String>) -> GraphError {
+        GraphError(msg.into())
+    }
+}
+
+impl std::fmt::Display for GraphError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for GraphError {}
