@@ -60,7 +60,7 @@ enum Command {
     },
     /// Transition libraries (motion graphs): build, merge, info, walk.
     #[command(subcommand)]
-    Graph(graph_cli::GraphCommand),
+    Graph(Box<graph_cli::GraphCommand>),
 }
 
 fn main() -> ExitCode {
@@ -68,7 +68,7 @@ fn main() -> ExitCode {
     let command = cli.command.unwrap_or(Command::Repl);
     // the graph commands need no interpreter
     let command = match command {
-        Command::Graph(g) => return graph_cli::run(g),
+        Command::Graph(g) => return graph_cli::run(*g),
         c => c,
     };
     let mut mx = mx::Interpreter::new();
@@ -122,7 +122,8 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Command::Graph(g) => graph_cli::run(g),
+        // answered above, before the interpreter is made
+        Command::Graph(g) => graph_cli::run(*g),
         #[cfg(feature = "report")]
         Command::Report { smoke, out } => {
             match mx::report::generate(&mx::report::Options::new(out, smoke)) {
