@@ -36,22 +36,46 @@ pub struct PriorTerm<'a> {
     pub baseline: &'a (dyn Fn(f64, f64) -> Result<f64, SpError> + Sync),
 }
 
+/// What every group of one motion shares: the body, the transition's
+/// settings, the per-coordinate torque weights, the prior, the motion outside
+/// the gaps and the solver's options.
+pub struct Problem<'a, M: TorqueModel> {
+    pub model: &'a M,
+    pub settings: &'a TransitionSettings,
+    pub weights: &'a [f64],
+    pub prior: Option<&'a PriorTerm<'a>>,
+    pub inputs: &'a Inputs<'a>,
+    pub opts: &'a SolveOptions,
+}
+
+impl<M: TorqueModel> Problem<'_, M> {
+    fn objective(
+        &self,
+        dofs: Vec<GapDof>,
+        settings: &TransitionSettings,
+    ) -> Result<Objective<'_, M>, SpError> {
+        Objective::new(
+            self.model,
+            dofs,
+            settings,
+            self.weights.to_vec(),
+            self.inputs,
+        )
+    }
+}
+
 pub fn solve_all<M: TorqueModel>(
-    model: &M,
+    problem: &Problem<'_, M>,
     gaps: Vec<GapDof>,
-    settings: &TransitionSettings,
-    weights: &[f64],
-    prior: Option<&PriorTerm<'_>>,
-    inputs: &Inputs<'_>,
-    opts: &SolveOptions,
 ) -> Result<Vec<GroupSolution>, SpError> {
     let groups = group_overlapping(gaps);
-    opts.progress.report(ProgressEvent::Groups(groups.len()));
+    let progress = &problem.opts.progress;
+    progress.report(ProgressEvent::Groups(groups.len()));
     groups
         .into_par_iter()
         .map(|dofs| {
-            let solution = solve_with_prior(model, dofs, settings, weights, prior, inputs, opts);
-            opts.progress.report(ProgressEvent::GroupDone);
+            let solution = solve_with_prior(problem, dofs);
+            progress.report(ProgressEvent::GroupDone);
             solution
         })
         .collect()
@@ -108,23 +132,21 @@ const BISECTION_STEPS: usize = 8;
 /// motion along this continuation that costs less effort than
 /// interpolation, or the last step's. The report's energies are ∫Στ² alone.
 fn solve_with_prior<M: TorqueModel>(
-    model: &M,
+    problem: &Problem<'_, M>,
     dofs: Vec<GapDof>,
-    settings: &TransitionSettings,
-    weights: &[f64],
-    prior: Option<&PriorTerm<'_>>,
-    inputs: &Inputs<'_>,
-    opts: &SolveOptions,
 ) -> Result<GroupSolution, SpError> {
-    let Some(prior) = prior.filter(|p| p.weights.iter().flatten().any(|w| *w > 0.0)) else {
-        let obj = Objective::new(model, dofs, settings, weights.to_vec(), inputs)?;
-        return solve_group(&obj, opts);
+    let (settings, opts) = (problem.settings, problem.opts);
+    let prior = problem
+        .prior
+        .filter(|p| p.weights.iter().flatten().any(|w| *w > 0.0));
+    let Some(prior) = prior else {
+        return solve_group(&problem.objective(dofs, settings)?, opts);
     };
     let fine = TransitionSettings {
         samples: settings.samples * CHECK_SAMPLES,
         ..settings.clone()
     };
-    let torque_only = Objective::new(model, dofs.clone(), &fine, weights.to_vec(), inputs)?;
+    let torque_only = problem.objective(dofs.clone(), &fine)?;
     let mut scratch = torque_only.scratch();
     let hermite = torque_only.hermite_start();
     let t0 = dofs.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
@@ -140,7 +162,8 @@ fn solve_with_prior<M: TorqueModel>(
             .iter()
             .map(|[v, a]| [v * scale, a * scale])
             .collect();
-        let obj = Objective::new(model, dofs.clone(), settings, weights.to_vec(), inputs)?
+        let obj = problem
+            .objective(dofs.clone(), settings)?
             .with_prior(&scaled)?;
         let above = x.clone();
         let mut sol = solve_group_from(&obj, x, opts)?;
@@ -263,27 +286,17 @@ mod tests {
         };
         let s = TransitionSettings::default();
         let o = SolveOptions::default();
-        let all = solve_all(
-            &arm,
-            vec![gap(1, 0.0, 0.5), gap(1, 2.0, 2.7)],
-            &s,
-            &[1.0, 1.0],
-            None,
-            &inputs,
-            &o,
-        )
-        .unwrap();
+        let problem = Problem {
+            model: &arm,
+            settings: &s,
+            weights: &[1.0, 1.0],
+            prior: None,
+            inputs: &inputs,
+            opts: &o,
+        };
+        let all = solve_all(&problem, vec![gap(1, 0.0, 0.5), gap(1, 2.0, 2.7)]).unwrap();
         assert_eq!(all.len(), 2);
-        let solo = solve_all(
-            &arm,
-            vec![gap(1, 2.0, 2.7)],
-            &s,
-            &[1.0, 1.0],
-            None,
-            &inputs,
-            &o,
-        )
-        .unwrap();
+        let solo = solve_all(&problem, vec![gap(1, 2.0, 2.7)]).unwrap();
         assert_eq!(all[1].report.energy, solo[0].report.energy);
         assert!(
             all.iter()
@@ -310,15 +323,15 @@ mod tests {
         let inputs = |t: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]| {
             Err(SpError::Evaluation(format!("undefined at {t}")))
         };
-        let r = solve_all(
-            &arm,
-            vec![gap(1, 0.0, 0.5)],
-            &TransitionSettings::default(),
-            &[1.0; 2],
-            None,
-            &inputs,
-            &SolveOptions::default(),
-        );
+        let problem = Problem {
+            model: &arm,
+            settings: &TransitionSettings::default(),
+            weights: &[1.0; 2],
+            prior: None,
+            inputs: &inputs,
+            opts: &SolveOptions::default(),
+        };
+        let r = solve_all(&problem, vec![gap(1, 0.0, 0.5)]);
         assert!(matches!(r, Err(SpError::Evaluation(_))));
     }
 }

@@ -25,7 +25,7 @@ pub use solve::{GapReport, GroupSolution, SolveOptions, solve_group, solve_group
 pub mod root;
 pub use root::{RootCoords, RootTransition};
 pub mod groups;
-pub use groups::{group_overlapping, solve_all};
+pub use groups::{Problem, group_overlapping, solve_all};
 /// The Fig. 8 case shared by the report and `benches/spacetime.rs`.
 #[cfg(feature = "report")]
 pub mod fig8;

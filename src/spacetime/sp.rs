@@ -5,7 +5,7 @@
 //! (`fill(m, "hermite")`) and the torque energy of a motion.
 
 use super::error::{SpError, invalid};
-use super::groups::{PriorTerm, solve_all};
+use super::groups::{PriorTerm, Problem, solve_all};
 use super::objective::{GapDof, Inputs, TransitionSettings};
 use super::quadrature::GaussLegendre;
 use super::root::{RootCoords, RootTransition};
@@ -506,15 +506,15 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     let body = BodyDynamics { model, gravity };
     let inputs_fn = motion_inputs(&out, names);
     let inputs: &Inputs = &inputs_fn;
-    let solutions = solve_all(
-        &body,
-        gaps,
-        &opts.settings,
-        &weights,
-        Some(&prior),
+    let problem = Problem {
+        model: &body,
+        settings: &opts.settings,
+        weights: &weights,
+        prior: Some(&prior),
         inputs,
-        &opts.solve,
-    )?;
+        opts: &opts.solve,
+    };
+    let solutions = solve_all(&problem, gaps)?;
     let mut result = out.clone();
     for sol in solutions {
         let mut r = sol.report.clone();

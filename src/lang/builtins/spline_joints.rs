@@ -55,46 +55,65 @@ fn is_matrix(v: &Value) -> bool {
     })
 }
 
-/// Flattens a nested list of 4×4 matrices of `depth` levels into row-major frames.
-// Recursive: the walk's state (dims found so far, level, output) travels as arguments.
-#[allow(clippy::too_many_arguments)]
-fn grid_of(
-    a: &Args,
-    name: &str,
-    arg: &ArgValue,
-    v: &Value,
-    depth: usize,
-    dims: &mut Vec<usize>,
-    level: usize,
-    out: &mut Vec<Se3>,
-) -> MxResult<()> {
-    if level == depth {
-        let av = ArgValue {
-            value: v.clone(),
-            span: arg.span,
-            name: None,
-        };
-        out.push(a.transform_of(name, &av)?);
-        return Ok(());
-    }
-    let Some(l) = v.as_list() else {
-        return Err(a.type_error(name, "a nested list of 4×4 frames", arg));
+/// Flattens a nested list of 4×4 matrices of `depth` levels into row-major
+/// frames, with the grid's size along each level.
+fn grid_of(a: &Args, name: &str, arg: &ArgValue, depth: usize) -> MxResult<(Vec<usize>, Vec<Se3>)> {
+    let walk = GridWalk {
+        a,
+        name,
+        arg,
+        depth,
     };
-    if dims.len() == level {
-        dims.push(l.len());
-    } else if dims[level] != l.len() {
-        return Err(MxError::value(format!(
-            "`{}`: `{name}` is not a regular grid: along dimension {level} one row has {} frames, another {}",
-            a.name(),
-            dims[level],
-            l.len()
-        ))
-        .at(arg.span));
+    let (mut dims, mut frames) = (vec![], vec![]);
+    walk.visit(&arg.value, 0, &mut dims, &mut frames)?;
+    Ok((dims, frames))
+}
+
+/// What the recursive walk of [`grid_of`] keeps fixed.
+struct GridWalk<'a> {
+    a: &'a Args,
+    name: &'a str,
+    arg: &'a ArgValue,
+    depth: usize,
+}
+
+impl GridWalk<'_> {
+    fn visit(
+        &self,
+        v: &Value,
+        level: usize,
+        dims: &mut Vec<usize>,
+        out: &mut Vec<Se3>,
+    ) -> MxResult<()> {
+        let (a, name, arg) = (self.a, self.name, self.arg);
+        if level == self.depth {
+            let av = ArgValue {
+                value: v.clone(),
+                span: arg.span,
+                name: None,
+            };
+            out.push(a.transform_of(name, &av)?);
+            return Ok(());
+        }
+        let Some(l) = v.as_list() else {
+            return Err(a.type_error(name, "a nested list of 4×4 frames", arg));
+        };
+        if dims.len() == level {
+            dims.push(l.len());
+        } else if dims[level] != l.len() {
+            return Err(MxError::value(format!(
+                "`{}`: `{name}` is not a regular grid: along dimension {level} one row has {} frames, another {}",
+                a.name(),
+                dims[level],
+                l.len()
+            ))
+            .at(arg.span));
+        }
+        for x in l.iter() {
+            self.visit(x, level + 1, dims, out)?;
+        }
+        Ok(())
     }
-    for x in l.iter() {
-        grid_of(a, name, arg, x, depth, dims, level + 1, out)?;
-    }
-    Ok(())
 }
 
 /// How many list levels lie above the 4×4 matrices.
@@ -154,17 +173,7 @@ fn make_surface(a: &mut Args) -> MxResult<Value> {
             &farg,
         ));
     }
-    let (mut dims, mut frames) = (vec![], vec![]);
-    grid_of(
-        a,
-        "frames",
-        &farg,
-        &farg.value,
-        depth,
-        &mut dims,
-        0,
-        &mut frames,
-    )?;
+    let (dims, frames) = grid_of(a, "frames", &farg, depth)?;
     let ranges = (0..depth)
         .map(|d| range_of(a, COORDS[d]))
         .collect::<MxResult<Vec<_>>>()?;
@@ -191,8 +200,7 @@ fn make_deforming(a: &mut Args) -> MxResult<Value> {
             &karg,
         ));
     }
-    let (mut dims, mut frames) = (vec![], vec![]);
-    grid_of(a, "keys", &karg, &karg.value, 3, &mut dims, 0, &mut frames)?;
+    let (dims, frames) = grid_of(a, "keys", &karg, 3)?;
     // keys × rows × columns → rows × columns × keys (time varies fastest).
     let (k, r, c) = (dims[0], dims[1], dims[2]);
     let mut reordered = Vec::with_capacity(frames.len());
@@ -224,17 +232,7 @@ fn make_loop(a: &mut Args) -> MxResult<Value> {
     if depth_of(&farg.value) != 1 {
         return Err(a.type_error("frames", "a list of 4×4 frames", &farg));
     }
-    let (mut dims, mut frames) = (vec![], vec![]);
-    grid_of(
-        a,
-        "frames",
-        &farg,
-        &farg.value,
-        1,
-        &mut dims,
-        0,
-        &mut frames,
-    )?;
+    let (_, frames) = grid_of(a, "frames", &farg, 1)?;
     let period = a.named_number_or("period", std::f64::consts::TAU)?;
     let j = SplineLoopJoint::new(frames, period)
         .map_err(|e| MxError::value(format!("`spline_loop`: {e}")).at(farg.span))?;
