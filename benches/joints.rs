@@ -8,6 +8,7 @@
 use divan::{Bencher, black_box};
 use mx::lie::{Se3, Twist, exp_se3};
 use mx::model::joint::{Derivatives, Joint, JointKinematics};
+use mx::model::joint_fit::{FitOptions, fit_spline_joint};
 use mx::model::joints::*;
 use mx::spline::{BSplineBasis, SimmSpline, TensorSpline};
 use nalgebra::Vector3;

@@ -5,6 +5,7 @@ mod common;
 
 use mx::lie::{Se3, Twist, exp_se3};
 use mx::model::Joint;
+use mx::model::joint_fit::*;
 use mx::model::joints::*;
 use mx::report::fit;
 use std::time::Instant;

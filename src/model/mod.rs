@@ -1,6 +1,7 @@
 //! Bodies, inertias, joints and kinematic trees.
 
 pub mod joint;
+pub mod joint_fit;
 pub mod joints;
 
 pub use joint::{Derivatives, Joint, JointKinematics, Limit, MAX_JOINT_DOF};

@@ -4,9 +4,8 @@
 
 use super::plot::{Figure, Series};
 use super::timed;
-use crate::model::joints::{
-    FitOptions, JointSamples, fit_spline_joint, hessian_energy, joint_error,
-};
+use crate::model::joint_fit::{FitOptions, fit_spline_joint, hessian_energy};
+use crate::model::joints::{JointSamples, joint_error};
 use std::path::Path;
 
 pub struct FrameRow {

@@ -11,9 +11,8 @@ use crate::dynamics::{
     simulate,
 };
 use crate::lie::{Se3, Twist, exp_se3, exp_so3, log_se3, rotation_angle};
-use crate::model::joints::{
-    EulerOrder, FitOptions, JointSamples, Revolute, Spherical, fit_spline_joint,
-};
+use crate::model::joint_fit::{FitOptions, fit_spline_joint};
+use crate::model::joints::{EulerOrder, JointSamples, Revolute, Spherical};
 use crate::model::{Inertia, Model};
 use crate::motion::{Dof, Interval, Mu};
 use crate::spacetime::planar2::TwoLinkArm;

@@ -18,6 +18,7 @@ use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::lie::Se3;
 use crate::model::joint::{Derivatives, Joint, JointKinematics};
+use crate::model::joint_fit::{FitOptions, KnotPlacement, fit_spline_joint, fit_spline_joint_auto};
 use crate::model::joints::*;
 
 fn value_error(a: &Args, at: &ArgValue, msg: impl Into<String>) -> MxError {

@@ -5,7 +5,6 @@
 
 pub mod axis;
 pub mod curve;
-pub mod curve_fit;
 pub mod cylindrical;
 pub mod elliptic;
 pub mod error;
@@ -25,10 +24,6 @@ pub mod universal;
 
 pub use axis::{AxisJoint, Prismatic, Revolute};
 pub use curve::SplineCurveJoint;
-pub use curve_fit::{
-    AUTO_WEIGHTS, AutoFit, FitOptions, FitReport, KnotPlacement, fit_spline_joint,
-    fit_spline_joint_auto, gcv_score, hessian_energy,
-};
 pub use cylindrical::Cylindrical;
 pub use elliptic::Elliptic;
 pub use error::JointSpecError;

@@ -20,9 +20,9 @@
 //! Σ‖log(G_k⁻¹G_{k+1})‖ of the samples (§6.1 with the erratum: no square),
 //! mapped back to q, so busy parts of the motion get more knots.
 
-use super::curve::SplineCurveJoint;
-use super::error::{JointSpecError, jerr};
-use super::samples::JointSamples;
+use super::joints::JointSamples;
+use super::joints::SplineCurveJoint;
+use super::joints::error::{JointSpecError, jerr};
 use crate::lie::{Se3, Twist, exp_se3, log_se3, rotation_angle};
 use crate::model::joint::{Derivatives, Joint, JointKinematics};
 use crate::spline::BSplineBasis;
