@@ -159,22 +159,103 @@ fn json_escape(s: &str) -> String {
     serde_json::to_string(s).expect("a string serialises")
 }
 
+/// The clip folder, canonical, or why it cannot be one.
+fn clip_folder(clips: &Path) -> Result<PathBuf, GraphError> {
+    let dir = std::fs::canonicalize(clips).map_err(|e| {
+        GraphError::new(format!(
+            "cannot open the clip folder {}: {e}",
+            clips.display()
+        ))
+    })?;
+    if !dir.is_dir() {
+        return Err(GraphError::new(format!(
+            "{} is not a folder of clips",
+            clips.display()
+        )));
+    }
+    Ok(dir)
+}
+
+/// The `--log` file, opened for appending (several shards may share it).
+fn open_log(path: &Path) -> Result<std::fs::File, GraphError> {
+    std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| GraphError::new(format!("cannot open the log {}: {e}", path.display())))
+}
+
+/// The shard's bar over its pairs still to do (hidden without `--progress`).
+fn progress_bar(o: &BuildOptions, pairs: usize) -> ProgressBar {
+    let bar = if o.progress {
+        ProgressBar::new(pairs as u64)
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} pairs [{elapsed} < {eta}] {msg}")
+            .expect("a valid template"),
+    );
+    bar.set_message(format!("shard {}", o.shard));
+    bar
+}
+
+/// Rayon's pool with `--threads` threads (its default without).
+fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, GraphError> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        b = b.num_threads(t);
+    }
+    b.build()
+        .map_err(|e| GraphError::new(format!("cannot start {threads:?} threads: {e}")))
+}
+
+/// One JSON line of the `--log` for a finished pair.
+fn log_line(shard: &Shard, r: &PairResult, finished: usize, of: usize) -> String {
+    format!(
+        "{{\"shard\":\"{}\",\"a\":{},\"b\":{},\"status\":\"{}\",\"transitions\":{},\"search_seconds\":{},\"sp_seconds\":{},\"finished\":{},\"of\":{}{}}}\n",
+        shard,
+        json_escape(&r.record.a),
+        json_escape(&r.record.b),
+        match r.record.status {
+            PairStatus::Done => "done",
+            PairStatus::Far => "far",
+            PairStatus::Failed => "failed",
+        },
+        r.record.transitions.len(),
+        crate::fmt_num::format_number(r.search_seconds),
+        crate::fmt_num::format_number(r.sp_seconds),
+        finished,
+        of,
+        r.record
+            .error
+            .as_ref()
+            .map(|e| format!(",\"error\":{}", json_escape(e)))
+            .unwrap_or_default()
+    )
+}
+
+/// Pair records in the library's pair order, each pair once.
+fn in_pair_order<'a>(
+    lib: &Library,
+    records: impl Iterator<Item = &'a PairRecord>,
+) -> Vec<&'a PairRecord> {
+    let mut v: Vec<&PairRecord> = records.collect();
+    let order = |r: &PairRecord| {
+        let a = lib.names.iter().position(|n| n == &r.a);
+        let b = lib.names.iter().position(|n| n == &r.b);
+        (a, b)
+    };
+    v.sort_by_key(|r| order(r));
+    v.dedup_by(|x, y| x.a == y.a && x.b == y.b);
+    v
+}
+
 /// Runs one shard.
 pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
     let wall = Instant::now();
     o.settings.check().map_err(GraphError::new)?;
-    let clips_dir = std::fs::canonicalize(&o.clips).map_err(|e| {
-        GraphError::new(format!(
-            "cannot open the clip folder {}: {e}",
-            o.clips.display()
-        ))
-    })?;
-    if !clips_dir.is_dir() {
-        return Err(GraphError::new(format!(
-            "{} is not a folder of clips",
-            o.clips.display()
-        )));
-    }
+    let clips_dir = clip_folder(&o.clips)?;
     let lib = library::load(&clips_dir)?;
     let dir = store::shard_dir(&o.out, &o.shard);
     std::fs::create_dir_all(&dir)
@@ -194,40 +275,13 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
         .copied()
         .filter(|&(a, b)| !done.contains_key(&(lib.names[a].clone(), lib.names[b].clone())))
         .collect();
-    let log = match &o.log {
-        Some(p) => Some(Mutex::new(
-            std::fs::OpenOptions::new()
-                .create(true)
-                .append(true)
-                .open(p)
-                .map_err(|e| {
-                    GraphError::new(format!("cannot open the log {}: {e}", p.display()))
-                })?,
-        )),
-        None => None,
-    };
-    let bar = if o.progress {
-        ProgressBar::new(todo.len() as u64)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} pairs [{elapsed} < {eta}] {msg}")
-            .expect("a valid template"),
-    );
-    bar.set_message(format!("shard {}", o.shard));
+    let log = o.log.as_deref().map(open_log).transpose()?.map(Mutex::new);
+    let bar = progress_bar(o, todo.len());
     let transitions_now = AtomicUsize::new(0);
     let finished_now = AtomicUsize::new(0);
     let timings = Mutex::new((0.0f64, 0.0f64));
     let started = Instant::now();
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = o.threads {
-            b = b.num_threads(t);
-        }
-        b.build()
-            .map_err(|e| GraphError::new(format!("cannot start {:?} threads: {e}", o.threads)))?
-    };
+    let pool = thread_pool(o.threads)?;
     // One worker loop per pool thread (`broadcast` pins each to its thread), each taking the
     // next pair: at most --threads pairs at once. (A parallel iterator would not bound them:
     // a worker blocked in SP's own one-thread pool steals further pairs meanwhile.)
@@ -254,27 +308,7 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
         bar.inc(1);
         bar.set_message(format!("{n} transitions, {rate:.2}/s"));
         if let Some(log) = &log {
-            let line = format!(
-                "{{\"shard\":\"{}\",\"a\":{},\"b\":{},\"status\":\"{}\",\"transitions\":{},\"search_seconds\":{},\"sp_seconds\":{},\"finished\":{},\"of\":{}{}}}\n",
-                o.shard,
-                json_escape(&r.record.a),
-                json_escape(&r.record.b),
-                match r.record.status {
-                    PairStatus::Done => "done",
-                    PairStatus::Far => "far",
-                    PairStatus::Failed => "failed",
-                },
-                r.record.transitions.len(),
-                crate::fmt_num::format_number(r.search_seconds),
-                crate::fmt_num::format_number(r.sp_seconds),
-                done.len() + k,
-                mine.len(),
-                r.record
-                    .error
-                    .as_ref()
-                    .map(|e| format!(",\"error\":{}", json_escape(e)))
-                    .unwrap_or_default()
-            );
+            let line = log_line(&o.shard, &r, done.len() + k, mine.len());
             // one write per line: appends from several shards do not interleave within it
             let mut f = log.lock().expect("log lock");
             f.write_all(line.as_bytes())
@@ -299,17 +333,7 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
     for r in results {
         now.push(r?);
     }
-    let all_records: Vec<&PairRecord> = {
-        let mut v: Vec<&PairRecord> = done.values().chain(now.iter()).collect();
-        let order = |r: &PairRecord| {
-            let a = lib.names.iter().position(|n| n == &r.a);
-            let b = lib.names.iter().position(|n| n == &r.b);
-            (a, b)
-        };
-        v.sort_by_key(|r| order(r));
-        v.dedup_by(|x, y| x.a == y.a && x.b == y.b);
-        v
-    };
+    let all_records = in_pair_order(&lib, done.values().chain(now.iter()));
     let report = store::shard_report(&o.shard, mine.len(), &all_records, &lib.failures);
     store::write(&dir.join("report.json"), &store::to_json(&report))?;
     let (search_seconds, sp_seconds) = *timings.lock().expect("timings lock");
