@@ -40,7 +40,7 @@ fn model() -> &'static Model {
 }
 
 fn value(c: usize, t: f64) -> [f64; 3] {
-    // [q, q̇, q̈] of the synthetic walk (same as tests/spacetime_motion.rs)
+    // [q, q̇, q̈] of the synthetic walk (same as tests/it/spacetime_motion.rs)
     let s = |amp: f64, w: f64, ph: f64, base: f64| {
         [
             base + amp * (w * t + ph).sin(),

@@ -411,7 +411,7 @@ def mot_reference():
 def check_mx_mot(path):
     """Reads a .mot written by mx with OpenSim's STOFileAdapter. When it is mx's
     copy of mot/opensim_written.mot (load it with the gait2392 body, save it:
-    tests/opensim_files.rs does), its values must be OpenSim's to 1e-12."""
+    tests/it/opensim_files.rs does), its values must be OpenSim's to 1e-12."""
     t = osim.TimeSeriesTable(path)
     labels = list(t.getColumnLabels())
     times = list(t.getIndependentColumn())

@@ -139,7 +139,7 @@ pub fn markdown(entries: &[Entry], reg: &Registry) -> String {
     s.push_str("# mx reference\n\n");
     s.push_str("Every built-in function and constant, and every function of the prelude (`stdlib/prelude.mx`), by topic. ");
     s.push_str("Generated from their doc strings by `mx help --markdown > docs/reference.md`: edit the doc strings, not this page ");
-    s.push_str("(`tests/reference.rs` fails when the two differ). The REPL shows the same text: `:help`, `:help TOPIC`, `:help NAME`.\n\n");
+    s.push_str("(`tests/it/reference.rs` fails when the two differ). The REPL shows the same text: `:help`, `:help TOPIC`, `:help NAME`.\n\n");
     for topic in Topic::ALL {
         if in_topic(entries, topic).next().is_some() {
             let _ = writeln!(s, "- [{}](#{})", topic.title(), anchor(topic.title()));

@@ -1,6 +1,6 @@
 //! The registry of numerically delicate cases. Each case runs real library
 //! code and reports what the engine returned, the worst error measured, the
-//! bound it must stay under and whether it passed. `tests/hard_cases.rs`
+//! bound it must stay under and whether it passed. `tests/it/hard_cases.rs`
 //! asserts every case passes and the report prints the same table, so the two
 //! cannot drift apart. A case that expects a clear error measures 0 when the
 //! error arrives with the expected words, 1 otherwise (bound 0.5).
@@ -194,7 +194,7 @@ pub fn vanishing_jacobian() -> HardCase {
 }
 
 /// Revolute chain, alternating axes, link masses cycling through `masses`
-/// (the chain of `tests/dynamics.rs`).
+/// (the chain of `tests/it/dynamics.rs`).
 pub fn chain(n: usize, masses: &[f64]) -> Result<Model, String> {
     if masses.is_empty() {
         return Err("chain needs at least one link mass".into());

@@ -1,6 +1,6 @@
 //! `mx report`: regenerates `docs/accuracy.md` and its SVG figures from runs
 //! of the current code — work–precision of every accuracy knob, the
-//! hard-case table (from the same registry `tests/hard_cases.rs` asserts) and
+//! hard-case table (from the same registry `tests/it/hard_cases.rs` asserts) and
 //! performance side by side with Pinocchio. Nothing in the output is typed
 //! in by hand: every number comes from the run that writes it.
 //!

@@ -353,7 +353,7 @@ fn hard_cases_section(d: &mut Doc, run: &mut Run<'_>) {
     let _ = writeln!(
         d.md,
         "Every numerically delicate case of the suite, from `mx::report::hard_cases::all()` — the registry \
-         `tests/hard_cases.rs` asserts, so this table and the tests cannot disagree. A case expecting a clear \
+         `tests/it/hard_cases.rs` asserts, so this table and the tests cannot disagree. A case expecting a clear \
          error scores 0 when the error arrives with the expected words.\n"
     );
     d.header(&[

@@ -59,7 +59,7 @@ pub const AUTO_TIME_SCALE: f64 = 0.32;
 /// Hermite in 199 of 200 windows against 157 here, and is as close to the
 /// capture at 5–15 frames, but 5 % farther at 30 and 45, and it folds a
 /// dash's chest and neck 0.58 rad away from any pose the clip has (Hermite:
-/// 0.18), which `tests/inbetween.rs` refuses.
+/// 0.18), which `tests/it/inbetween.rs` refuses.
 pub const DEFAULT_SMOOTHNESS: f64 = 1e6;
 
 impl Default for Prior {

@@ -1,0 +1,62 @@
+//! The integration tests, one binary (one link of the library instead of one per
+//! file: #16). Each module is one former `tests/NAME.rs`; run one with
+//! `cargo test --test it NAME::`. Modules that need the `report` feature are
+//! compiled with it only.
+
+mod common;
+mod support;
+
+mod bvh_malformed;
+mod bvh_shared;
+mod cli;
+#[cfg(feature = "report")]
+mod dynamics;
+mod dynamics_lang;
+mod dynamics_sim;
+mod graph;
+#[cfg(feature = "report")]
+mod hard_cases;
+#[cfg(feature = "report")]
+mod inbetween;
+mod joints;
+mod joints_lang;
+mod knee_pendulum;
+mod lang_diagnostics;
+mod lang_fuzz;
+mod lang_isolation;
+mod lang_motion;
+mod layers;
+mod lie;
+mod mechanisms;
+mod mocap_body;
+#[cfg(feature = "report")]
+mod mocap_examples_data;
+mod mocap_human;
+mod mocap_lang;
+mod mocap_motion;
+mod mocap_plot;
+mod motion_algebra;
+mod motion_compose;
+mod motion_io;
+mod motion_mocap;
+mod motion_props;
+mod opensim_files;
+mod opensim_knee;
+#[cfg(feature = "report")]
+mod opensim_knee_fit;
+mod opensim_leg_pendulum;
+mod opensim_model;
+mod pinocchio;
+mod public_surface;
+mod reference;
+mod repl_pty;
+#[cfg(feature = "report")]
+mod report_smoke;
+mod spacetime_cyclify;
+mod spacetime_human44;
+mod spacetime_lang;
+mod spacetime_motion;
+mod spacetime_support;
+mod spline;
+mod urdf_mimic;
+mod viewer_chromium;

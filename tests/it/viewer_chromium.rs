@@ -1,0 +1,370 @@
+//! Opens the HTML viewer in headless Chromium: the page must report that it
+//! drew the figure (non-background stage pixels, counted in the page) and no
+//! script error may reach the console; a screenshot must be written. Also: a
+//! clip that starts at 2.5 s opened at a time in its middle, a motion with a
+//! gap, an overlay of three motions, and Bandai's still `joint_Root` left out.
+
+use crate::common;
+
+use mx::io::viewer::{Track, ViewerData, html};
+use mx::mocap::bvh;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn chromium() -> PathBuf {
+    for c in [
+        "/usr/bin/chromium",
+        "/usr/bin/chromium-browser",
+        "/usr/bin/google-chrome",
+    ] {
+        if Path::new(c).exists() {
+            return PathBuf::from(c);
+        }
+    }
+    panic!(
+        "headless Chromium is required for the viewer test: apt-get install -y chromium (.ci/run does this)"
+    );
+}
+
+/// Runs Chromium on `page` (with a URL fragment such as `#t=3.5`, or "");
+/// returns (dumped DOM, stderr) and checks the screenshot.
+fn open_at(page: &Path, fragment: &str) -> (String, String) {
+    let dir = page.parent().unwrap();
+    let profile = dir.join("profile");
+    let shot = dir.join("shot.png");
+    let base = [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--enable-logging=stderr",
+        "--window-size=1000,800",
+        "--virtual-time-budget=2000",
+    ];
+    let url = format!("file://{}{fragment}", page.display());
+    let dom = Command::new(chromium())
+        .args(base)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg("--dump-dom")
+        .arg(&url)
+        .output()
+        .expect("run chromium");
+    let shot_run = Command::new(chromium())
+        .args(base)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(&url)
+        .output()
+        .expect("run chromium");
+    let png = std::fs::read(&shot).expect("screenshot written");
+    assert!(
+        png.starts_with(b"\x89PNG") && png.len() > 5000,
+        "screenshot is a real image"
+    );
+    let stderr = String::from_utf8_lossy(&dom.stderr).to_string()
+        + &String::from_utf8_lossy(&shot_run.stderr);
+    (String::from_utf8_lossy(&dom.stdout).to_string(), stderr)
+}
+
+fn check(page_text: &str, min_pixels: usize) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("view.html");
+    std::fs::write(&page, page_text).unwrap();
+    check_page(&page, "", min_pixels)
+}
+
+/// Opens a written page (at `fragment`), checks it drew at least
+/// `min_pixels` without a script error, and returns its self-check title.
+fn check_page(page: &Path, fragment: &str, min_pixels: usize) -> String {
+    let (dom, stderr) = open_at(page, fragment);
+    let title = dom
+        .split("<title>")
+        .nth(1)
+        .and_then(|t| t.split("</title>").next())
+        .unwrap_or_else(|| panic!("no title in DOM:\n{dom}\nstderr:\n{stderr}"));
+    assert!(
+        title.starts_with("mx-viewer-ok"),
+        "page reported: {title}\nstderr:\n{stderr}"
+    );
+    let drawn: usize = title
+        .rsplit("drawn=")
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    assert!(drawn >= min_pixels, "only {drawn} figure pixels drawn");
+    for l in stderr.lines() {
+        let console_error =
+            l.contains("CONSOLE") && (l.contains("Uncaught") || l.contains("Error"));
+        assert!(!console_error, "console error: {l}");
+    }
+    eprintln!("{title}");
+    title.to_string()
+}
+
+/// The value of `key=` in the page's self-check title.
+fn field<'a>(title: &'a str, key: &str) -> &'a str {
+    title
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix(&format!("{key}=")))
+        .unwrap_or_else(|| panic!("no {key}= in {title}"))
+}
+
+#[test]
+fn synthetic_figure_is_drawn() {
+    // A 3-bone arm swinging; needs no shared data.
+    let frames = 30;
+    let positions = (0..frames)
+        .map(|f| {
+            let a = f as f64 * 0.1;
+            vec![
+                [0.0, 1.0, 0.0],
+                [0.0, 1.5, 0.0],
+                [0.5 * a.cos(), 1.5 + 0.5 * a.sin(), 0.0],
+                [0.0, 0.0, 0.0],
+            ]
+        })
+        .collect();
+    let data = ViewerData {
+        title: "synthetic".into(),
+        joint_names: vec![
+            "Hips".into(),
+            "Chest".into(),
+            "RightHand".into(),
+            "LeftFoot".into(),
+        ],
+        parents: vec![None, Some(0), Some(1), Some(0)],
+        frame_time: 1.0 / 30.0,
+        times: (0..frames).map(|f| f as f64 / 30.0).collect(),
+        tracks: vec![Track {
+            label: "synthetic".into(),
+            positions,
+            undefined: vec![],
+        }],
+        up: 1,
+        curves: vec![],
+    };
+    check(&html(&data).unwrap(), 300);
+}
+
+#[test]
+fn shared_clip_is_drawn() {
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
+    let f = bvh::read_file(&dir.join("data/mocap/bandai2_wave-right-hand_normal_001.bvh")).unwrap();
+    let s = bvh::detect_units(&f.skeleton).metres_per_unit;
+    let positions = (0..f.frame_count())
+        .map(|i| {
+            bvh::fk::world_positions(&f, i, s)
+                .iter()
+                .map(|p| [p.x, p.y, p.z])
+                .collect()
+        })
+        .collect();
+    let data = ViewerData {
+        title: "wave".into(),
+        joint_names: f.skeleton.joints.iter().map(|j| j.name.clone()).collect(),
+        parents: f.skeleton.joints.iter().map(|j| j.parent).collect(),
+        frame_time: f.frame_time,
+        times: (0..f.frame_count())
+            .map(|i| i as f64 * f.frame_time)
+            .collect(),
+        tracks: vec![Track {
+            label: "wave".into(),
+            positions,
+            undefined: vec![],
+        }],
+        up: 1,
+        curves: vec![],
+    };
+    let page = html(&data).unwrap();
+    if let Ok(out) = std::env::var("MX_VIEWER_OUT") {
+        std::fs::write(out, &page).unwrap();
+    }
+    check(&page, 1000);
+}
+
+#[test]
+fn example_walk_on_its_body_is_drawn() {
+    use mx::mocap::{body_of::body_of, to_motion};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/walk.bvh");
+    let clip = to_motion::load(&path, bvh::Units::Auto).unwrap();
+    let (body, _) = body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+    let data = mx::io::viewer::from_motion(&clip.mu, &body, "walk", &[]).unwrap();
+    assert_eq!(data.curves.len(), 6);
+    assert_eq!(data.up, 1, "y-up body");
+    check(&html(&data).unwrap(), 500);
+}
+
+fn walk_path() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/data/walk.bvh")
+        .display()
+        .to_string()
+}
+
+/// Runs `script` with `w` bound to the example walk and `PAGE` replaced by
+/// the quoted path of `page` (the script writes it with `view`).
+fn view_walk(script: &str, page: &Path) {
+    let mut mx = mx::Interpreter::new();
+    let script = script.replace("PAGE", &format!("{:?}", page.display().to_string()));
+    mx.eval_str(&format!("{{ let w = load({:?}); {script} }}", walk_path()))
+        .unwrap();
+}
+
+#[test]
+fn clip_starting_at_2_5_s_is_shown_in_the_middle_at_its_own_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("clip.html");
+    view_walk(
+        "let s = concatenate(w, concatenate(w, w)); view(clip_in_place(2.5, 4.5, s), body_of(w), PAGE)",
+        &page,
+    );
+    let title = check_page(&page, "#t=3.5", 500);
+    assert_eq!(field(&title, "t0"), "2.500", "{title}");
+    assert_eq!(field(&title, "t1"), "4.500", "{title}");
+    assert_eq!(field(&title, "time"), "3.500", "{title}");
+    assert_eq!(field(&title, "frame"), "30", "{title}");
+    assert_eq!(field(&title, "undefined"), "[]", "{title}");
+    // Past the 60 frames of the clip the page still draws (it used to vanish).
+    let end = check_page(&page, "#t=4.5", 500);
+    assert_eq!(field(&end, "time"), "4.500", "{end}");
+    // The pose of a frame is the one sampled at the time it shows.
+    use mx::mocap::{Missing, body_of::body_of, positions_at, to_motion};
+    let clip = to_motion::load(Path::new(&walk_path()), bvh::Units::Auto).unwrap();
+    let (body, _) = body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+    let shifted = mx::motion::ops::affine(2.5, 1.0, &clip.mu).unwrap();
+    let data = mx::io::viewer::from_motion(&shifted, &body, "shifted", &[]).unwrap();
+    let k = data
+        .times
+        .iter()
+        .position(|t| (t - 3.5).abs() < 1e-9)
+        .unwrap();
+    let want = positions_at(&clip.mu, &body, vec![1.0], Missing::Error).unwrap();
+    for (a, b) in data.tracks[0].positions[k].iter().zip(&want.points[0]) {
+        assert!((a[0] - b.x).abs() + (a[1] - b.y).abs() + (a[2] - b.z).abs() < 1e-9);
+    }
+    assert_eq!(data.times[0], 2.5);
+}
+
+#[test]
+fn gaps_hold_the_last_pose_marked_undefined() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("gap.html");
+    view_walk(
+        "let cut = clip(0.8s, 1.2s, w); view(w - shift(cut, 0.8s), body_of(w), PAGE, labels: [\"walk with a gap\"])",
+        &page,
+    );
+    let inside = check_page(&page, "#t=1.0", 0);
+    assert_eq!(field(&inside, "undefined"), "[walk", "{inside}");
+    let outside = check_page(&page, "#t=0.5", 500);
+    assert_eq!(field(&outside, "undefined"), "[]", "{outside}");
+    let text = std::fs::read_to_string(&page).unwrap();
+    let json = text
+        .split("const DATA = ")
+        .nth(1)
+        .unwrap()
+        .split(";\n")
+        .next()
+        .unwrap();
+    let data: serde_json::Value = serde_json::from_str(json).unwrap();
+    let undefined: Vec<bool> = data["tracks"][0]["undefined"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b.as_bool().unwrap())
+        .collect();
+    let held = undefined.iter().filter(|u| **u).count();
+    assert!((10..=13).contains(&held), "{held} frames held");
+    // The held frames repeat the last defined pose.
+    let k = undefined.iter().position(|u| *u).unwrap();
+    assert_eq!(
+        data["tracks"][0]["positions"][k],
+        data["tracks"][0]["positions"][k - 1]
+    );
+    // Curves have a gap there: each curve is two pieces.
+    for c in data["curves"].as_array().unwrap() {
+        assert_eq!(c["pieces"].as_array().unwrap().len(), 2, "{}", c["name"]);
+    }
+}
+
+#[test]
+fn three_motions_overlay_in_distinct_colours_with_a_legend_and_one_clock() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("compare.html");
+    view_walk(
+        "let gap = w - shift(clip(0.7s, 1.3s, w), 0.7s); \
+         view([w, shift(w, 0.4s), fill(gap, \"hermite\")], body_of(w), PAGE, \
+              labels: [\"capture\", \"later\", \"hermite\"])",
+        &page,
+    );
+    let title = check_page(&page, "#t=1.0", 800);
+    assert_eq!(field(&title, "tracks"), "3", "{title}");
+    // One clock over the union of the spans: 0 s to 2.4 s.
+    assert_eq!(field(&title, "t0"), "0.000", "{title}");
+    assert_eq!(field(&title, "t1"), "2.400", "{title}");
+    let colours: Vec<usize> = field(&title, "colours")
+        .split(',')
+        .map(|c| c.parse().unwrap())
+        .collect();
+    assert_eq!(colours.len(), 3);
+    assert!(
+        colours.iter().all(|&c| c > 50),
+        "each motion visible in its colour: {title}"
+    );
+    let text = std::fs::read_to_string(&page).unwrap();
+    for label in ["capture", "later", "hermite"] {
+        assert!(text.contains(&format!("\"label\":\"{label}\"")), "{label}");
+    }
+    // Before 0.4 s `later` is undefined: it shows its first pose, marked.
+    let early = check_page(&page, "#t=0.2", 500);
+    assert_eq!(field(&early, "undefined"), "[later]", "{early}");
+    // The Rust entry point the in-betweening benchmark uses writes the same kind of page.
+    use mx::mocap::{body_of::body_of, to_motion};
+    let clip = to_motion::load(Path::new(&walk_path()), bvh::Units::Auto).unwrap();
+    let (body, _) = body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+    let later = mx::motion::ops::affine(0.4, 1.0, &clip.mu).unwrap();
+    let p2 = dir.path().join("bench.html");
+    mx::io::viewer::write_overlay(
+        &p2,
+        &body,
+        &[("capture", &clip.mu), ("later", &later)],
+        "bench",
+    )
+    .unwrap();
+    let t2 = check_page(&p2, "#t=1.0", 500);
+    assert_eq!(field(&t2, "tracks"), "2", "{t2}");
+}
+
+#[test]
+fn bandai_still_massless_root_is_not_drawn_as_a_bone() {
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
+    use mx::mocap::{body_of::body_of, to_motion};
+    let path = dir.join("data/mocap/bandai2_wave-right-hand_normal_001.bvh");
+    let clip = to_motion::load(&path, bvh::Units::Auto).unwrap();
+    assert!(clip.skeleton.find("joint_Root").is_some());
+    let (body, _) = body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+    let data = mx::io::viewer::from_motion(&clip.mu, &body, "wave", &[]).unwrap();
+    assert!(
+        !data.joint_names.iter().any(|n| n == "joint_Root"),
+        "{:?}",
+        data.joint_names
+    );
+    let hips = data.joint_names.iter().position(|n| n == "Hips").unwrap();
+    assert_eq!(data.parents[hips], None, "Hips is the root drawn");
+    assert!(
+        data.parents
+            .iter()
+            .flatten()
+            .all(|&p| p < data.joint_names.len())
+    );
+    check(&html(&data).unwrap(), 1000);
+}
