@@ -5,7 +5,7 @@
 //! One uninterrupted build is shared by the tests (`baseline`), also by the
 //! real scheduler: a single-node Slurm started here runs a 3-task job array.
 
-use crate::common;
+use crate::common::{self, jumps};
 use crate::support::graph as graph_support;
 
 use graph_support::*;
@@ -108,23 +108,6 @@ fn the_graph_has_the_expected_nodes_and_edges() {
         "{text}"
     );
     assert!(text.contains("largest strongly connected part"), "{text}");
-}
-
-/// Largest position and velocity jumps where one interval ends and the next
-/// starts, over all DOFs (as `tests/spacetime_motion.rs` measures SP).
-fn jumps(m: &mx::motion::Mu) -> (f64, f64) {
-    let (mut jq, mut jv) = (0.0f64, 0.0f64);
-    for d in m.dofs.values() {
-        for w in d.intervals.windows(2) {
-            if (w[1].start - w[0].stop).abs() < 1e-12 {
-                let a = w[0].funcs[0].eval(w[0].stop).unwrap();
-                let b = w[1].funcs[0].eval(w[1].start).unwrap();
-                jq = jq.max((a[0] - b[0]).abs());
-                jv = jv.max((a[1] - b[1]).abs());
-            }
-        }
-    }
-    (jq, jv)
 }
 
 #[test]

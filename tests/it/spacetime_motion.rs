@@ -2,7 +2,7 @@
 //! human (`data/reference/human44.urdf`, z up): continuity at every transition
 //! end, SP below Hermite, the root shift, and the hard cases.
 
-use crate::common;
+use crate::common::{self, jumps};
 
 use mx::model::Model;
 use mx::motion::{Curve, Dof, Interval, Mu};
@@ -52,22 +52,6 @@ fn motion(model: &Model, gapped: &[usize], g0: f64, g1: f64, x_offset: f64) -> M
         m.insert(name.clone(), dof);
     }
     m
-}
-
-/// Largest position and velocity jumps where one interval ends and the next starts, over all DOFs.
-fn jumps(m: &Mu) -> (f64, f64) {
-    let (mut jq, mut jv) = (0.0f64, 0.0f64);
-    for d in m.dofs.values() {
-        for w in d.intervals.windows(2) {
-            if (w[1].start - w[0].stop).abs() < 1e-12 {
-                let a = w[0].funcs[0].eval(w[0].stop).unwrap();
-                let b = w[1].funcs[0].eval(w[1].start).unwrap();
-                jq = jq.max((a[0] - b[0]).abs());
-                jv = jv.max((a[1] - b[1]).abs());
-            }
-        }
-    }
-    (jq, jv)
 }
 
 fn fast() -> SpOptions {

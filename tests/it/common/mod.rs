@@ -72,3 +72,20 @@ pub fn json_f64s(v: &serde_json::Value) -> Vec<f64> {
         .map(|x| x.as_f64().expect("number"))
         .collect()
 }
+
+/// Largest position and velocity jumps where one interval of a DOF ends and
+/// the next starts, over all DOFs: how continuously a fill joins the motion.
+pub fn jumps(m: &mx::motion::Mu) -> (f64, f64) {
+    let (mut jq, mut jv) = (0.0f64, 0.0f64);
+    for d in m.dofs.values() {
+        for w in d.intervals.windows(2) {
+            if (w[1].start - w[0].stop).abs() < 1e-12 {
+                let a = w[0].funcs[0].eval(w[0].stop).unwrap();
+                let b = w[1].funcs[0].eval(w[1].start).unwrap();
+                jq = jq.max((a[0] - b[0]).abs());
+                jv = jv.max((a[1] - b[1]).abs());
+            }
+        }
+    }
+    (jq, jv)
+}
