@@ -4,6 +4,7 @@
 //! panic, ever; every failure names its line).
 
 use crate::common;
+use crate::support::Rng;
 
 use mx::mocap::bvh::{self, Channel};
 
@@ -134,20 +135,6 @@ fn missing_file_is_an_io_error() {
     assert!(e.to_string().contains("/no/such/file.bvh"));
 }
 
-/// A small deterministic generator (xorshift64*), so failures reproduce.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545F4914F6CDD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
 fn mutate(text: &str, rng: &mut Rng) -> String {
     let mut s: Vec<u8> = text.as_bytes().to_vec();
     for _ in 0..1 + rng.below(4) {
@@ -212,7 +199,7 @@ fn mutate(text: &str, rng: &mut Rng) -> String {
 
 #[test]
 fn fuzz_mutated_real_clips_never_panic() {
-    let mut rng = Rng(0x9E3779B97F4A7C15);
+    let mut rng = Rng::from_state(0x9E3779B97F4A7C15);
     let mut errors = 0;
     let mut total = 0;
     for path in common::shared_files("mocap", ".bvh") {
@@ -517,7 +504,7 @@ fn mutate_like_a_tool(text: &str, rng: &mut Rng) -> (String, &'static str) {
 
 #[test]
 fn mutation_run_over_the_shared_clips_never_panics_and_every_failure_names_its_line() {
-    let mut rng = Rng(0xD1B54A32D192ED03);
+    let mut rng = Rng::from_state(0xD1B54A32D192ED03);
     let clips = common::shared_files("mocap", ".bvh");
     let start = std::time::Instant::now();
     let (mut total, mut refused, mut warned) = (0usize, 0usize, 0usize);

@@ -6,22 +6,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use mx::Interpreter;
 
-/// xorshift64*: a small deterministic generator (reproducible failures).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-    fn pick<'a>(&mut self, xs: &[&'a str]) -> &'a str {
-        xs[self.below(xs.len())]
-    }
-}
+use crate::support::Rng;
 
 const TOKENS: &[&str] = &[
     "let ",
@@ -175,7 +160,7 @@ fn ten_thousand_scripts_never_panic_or_hang() {
     base.set_step_budget(Some(20_000));
     base.set_max_depth(150);
 
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = Rng::from_state(0x9E37_79B9_7F4A_7C15);
     let n = 10_500;
     let (mut ok, mut errors) = (0, 0);
     let mut panics = Vec::new();

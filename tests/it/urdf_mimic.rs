@@ -4,7 +4,6 @@
 //! default (mimic joints free, as plain `buildModel`), and the broken URDFs
 //! that must be clear errors.
 
-
 use mx::dynamics::{
     Forces, JointState, Workspace, coupled_forward_dynamics, coupled_inverse_dynamics,
     coupled_mass_matrix, inverse_dynamics,

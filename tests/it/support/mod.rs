@@ -17,11 +17,26 @@ impl Rng {
     pub fn new(seed: u64) -> Self {
         Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
     }
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+    /// The generator started from this exact state (no seed mixing), for
+    /// tests whose recorded cases depend on the sequence.
+    pub fn from_state(state: u64) -> Self {
+        Rng(state)
+    }
+    pub fn next_u64(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
-        let x = (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    /// Uniform in 0..n (0 when n is 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n.max(1) as u64) as usize
+    }
+    pub fn pick<'a>(&mut self, xs: &[&'a str]) -> &'a str {
+        xs[self.below(xs.len())]
+    }
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        let x = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         lo + (hi - lo) * x
     }
     pub fn vec(&mut self, n: usize, lo: f64, hi: f64) -> Vec<f64> {
