@@ -12,6 +12,8 @@ Writes
   tests/data/opensim/<stem>.json          for every .osim in $MX_SHARED/data/opensim
   tests/data/opensim/joints/<type>.osim   a small model per joint type, built with OpenSim's API
   tests/data/opensim/joints/<type>.json   its references
+  tests/data/opensim/couplers/<name>.osim  models with CoordinateCouplerConstraints
+  tests/data/opensim/couplers/<name>.json  their references in the independent coordinates
   tests/data/opensim/mot/opensim_written.mot  a Storage file written by OpenSim, with the values
   tests/data/opensim/mot/opensim_written.json
 
@@ -373,6 +375,140 @@ V3_MODEL = """<?xml version="1.0" encoding="UTF-8" ?>
 """
 
 
+# ---- CoordinateCouplerConstraints ----
+
+def coupler_model():
+    """hip pin `a` and a side pin `e` independent; knee pin `b` = 0.7 a + 0.1
+    (LinearFunction), slider `c` = SimmSpline(a), pin `d` on the knee's body
+    = Polynomial(e): the nonlinear couplings give q-dependent G and the
+    f'' q̇² terms."""
+    m = osim.Model()
+    m.setName("coupler_model")
+    bodies = {
+        "a": inertia_body("a", 2.3, (0.05, -0.21, 0.03), (0.041, 0.012, 0.037, 0.002, -0.003, 0.001)),
+        "b": inertia_body("b", 1.1, (0.01, -0.15, -0.02), (0.011, 0.004, 0.013, -0.001, 0.0005, 0.0007)),
+        "c": inertia_body("c", 0.6, (0.02, 0.01, -0.03), (0.004, 0.003, 0.005, 0.0002, -0.0001, 0.0003)),
+        "s": inertia_body("s", 0.9, (-0.03, 0.05, 0.01), (0.006, 0.007, 0.004, 0.0003, 0.0002, -0.0004)),
+        "t": inertia_body("t", 0.4, (0.0, -0.08, 0.02), (0.002, 0.001, 0.002, 0.0, 0.0001, 0.0)),
+    }
+    for b in bodies.values():
+        m.addBody(b)
+    V = osim.Vec3
+    joints = [
+        osim.PinJoint("hip", m.getGround(), V(0.1, 0.9, -0.05), V(0.2, -0.3, 0.1), bodies["a"], V(0.02, 0.15, 0.01), V(-0.1, 0.25, 0.05)),
+        osim.PinJoint("knee", bodies["a"], V(0.0, -0.4, 0.02), V(0.1, 0.0, 0.3), bodies["b"], V(0.0, 0.05, 0.0), V(0.0, 0.2, 0.0)),
+        osim.SliderJoint("slide", bodies["b"], V(0.01, -0.3, 0.0), V(0.0, 0.4, -0.2), bodies["c"], V(0.0, 0.0, 0.02), V(0.1, 0.0, 0.0)),
+        osim.PinJoint("side", bodies["a"], V(0.05, -0.1, 0.08), V(1.2, 0.1, 0.0), bodies["s"], V(0.0, 0.03, 0.0), V(0.0, 0.0, 0.1)),
+        osim.PinJoint("toe", bodies["b"], V(0.0, -0.35, 0.04), V(0.0, 0.6, 0.2), bodies["t"], V(0.01, 0.0, 0.0), V(0.3, 0.0, 0.0)),
+    ]
+    for j, name in zip(joints, ["a", "b", "c", "e", "d"]):
+        m.addJoint(j)
+        c = j.upd_coordinates(0)
+        c.setName(name)
+        c.setRangeMin(-1.0)
+        c.setRangeMax(1.0)
+    spline = osim.SimmSpline()
+    for x, y in zip([-1.5, -0.7, 0.0, 0.6, 1.5], [-0.05, 0.02, 0.04, 0.01, 0.06]):
+        spline.addPoint(x, y)
+    poly = osim.PolynomialFunction(osim.Vector([0.4, -0.3, 0.8, 0.05]))
+    for name, dep, ind, f in [("b_follows_a", "b", "a", osim.LinearFunction(0.7, 0.1)),
+                              ("c_follows_a", "c", "a", spline),
+                              ("d_follows_e", "d", "e", poly)]:
+        k = osim.CoordinateCouplerConstraint()
+        k.setName(name)
+        k.setIndependentCoordinateNames(osim.ArrayStr(ind, 1))
+        k.setDependentCoordinateName(dep)
+        k.setFunction(f)
+        m.addConstraint(k)
+    m.finalizeConnections()
+    return m
+
+
+def coupler_references(model, nstates, seed):
+    """Per state, in the independent coordinates (the CoordinateSet order with
+    the dependent ones left out): q, u, the full q (each dependent one
+    OpenSim's function of its independent one), M = Gᵀ calcM G, τ = Gᵀ τ_full
+    (InverseDynamicsSolver at the full u̇ = G u̇ + c, c = f'' u²), and
+    udot_fd: Simbody's forward dynamics with the constraints enforced (every
+    force disabled, gravity acts), the check that does not go through G."""
+    disable_forces(model)
+    state = model.initSystem()
+    cs = model.getCoordinateSet()
+    n = cs.getSize()
+    names = [cs.get(k).getName() for k in range(n)]
+    qi, ui = index_maps(model, state)
+    cons = model.getConstraintSet()
+    follows = {}
+    for i in range(cons.getSize()):
+        k = osim.CoordinateCouplerConstraint.safeDownCast(cons.get(i))
+        ind = k.getIndependentCoordinateNames()
+        assert ind.getSize() == 1
+        follows[k.getDependentCoordinateName()] = (ind.get(0), k.getFunction())
+    indep = [x for x in names if x not in follows]
+    matter = model.getMatterSubsystem()
+    idsolver = osim.InverseDynamicsSolver(model)
+    rng = np.random.default_rng(seed)
+    states = []
+    for _ in range(nstates):
+        qind = {x: float(rng.uniform(-1.0, 1.0)) for x in indep}
+        uind = {x: float(rng.uniform(-2.0, 2.0)) for x in indep}
+        udind = {x: float(rng.uniform(-3.0, 3.0)) for x in indep}
+        q, u, ud = np.zeros(n), np.zeros(n), np.zeros(n)
+        G = np.zeros((n, len(indep)))
+        for k, x in enumerate(names):
+            if x in follows:
+                src, f = follows[x]
+                arg = osim.Vector(1, qind[src])
+                d1 = f.calcDerivative(osim.StdVectorInt([0]), arg)
+                d2 = f.calcDerivative(osim.StdVectorInt([0, 0]), arg)
+                q[k] = f.calcValue(arg)
+                u[k] = d1 * uind[src]
+                ud[k] = d1 * udind[src] + d2 * uind[src] ** 2
+                G[k, indep.index(src)] = d1
+            else:
+                q[k], u[k], ud[k] = qind[x], uind[x], udind[x]
+                G[k, indep.index(x)] = 1.0
+        Q = osim.Vector(state.getNQ(), 0.0)
+        U = osim.Vector(state.getNU(), 0.0)
+        UD = osim.Vector(state.getNU(), 0.0)
+        for k in range(n):
+            Q.set(qi[k], float(q[k]))
+            U.set(ui[k], float(u[k]))
+            UD.set(ui[k], float(ud[k]))
+        state.setQ(Q)
+        state.setU(U)
+        model.realizeAcceleration(state)
+        qerr = max([abs(state.getQErr().get(i)) for i in range(state.getNQErr())] + [0.0])
+        uerr = max([abs(state.getUErr().get(i)) for i in range(state.getNUErr())] + [0.0])
+        assert qerr < 1e-12 and uerr < 1e-12, (qerr, uerr)
+        udot = vec(state.getUDot())
+        udot_fd = [udot[ui[names.index(x)]] for x in indep]
+        Mm = osim.Matrix()
+        matter.calcM(state, Mm)
+        Mf = np.array(mat(Mm))[np.ix_(ui, ui)]
+        tau = idsolver.solve(state, UD)
+        tf = np.array([tau.get(ui[k]) for k in range(n)])
+        states.append({
+            "q": [qind[x] for x in indep],
+            "u": [uind[x] for x in indep],
+            "udot": [udind[x] for x in indep],
+            "q_full": q.tolist(),
+            "M": (G.T @ Mf @ G).tolist(),
+            "tau": (G.T @ tf).tolist(),
+            "udot_fd": udot_fd,
+        })
+    g = model.getGravity()
+    return {
+        "generator": "scripts/opensim_refs.py",
+        "opensim_version": osim.__version__,
+        "coordinates": indep,
+        "all_coordinates": names,
+        "gravity": [g.get(0), g.get(1), g.get(2)],
+        "forces_disabled": True,
+        "states": states,
+    }
+
+
 def write_json(path, obj):
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
@@ -479,12 +615,22 @@ def main():
     ap.add_argument("--states", type=int, default=4)
     ap.add_argument("--check-mot", help="read an mx-written .mot with OpenSim and print it")
     ap.add_argument("--timing", action="store_true", help="time load and inverse dynamics, OpenSim beside mx")
+    ap.add_argument("--only", choices=["couplers"], help="write only these references")
     args = ap.parse_args()
     if args.timing:
         timing(args.shared)
         return
     if args.check_mot:
         check_mx_mot(args.check_mot)
+        return
+    if args.only == "couplers":
+        d = os.path.join(OUT, "couplers")
+        os.makedirs(d, exist_ok=True)
+        p = os.path.join(d, "Couplers.osim")
+        coupler_model().printToXML(p)
+        ref = coupler_references(osim.Model(p), args.states, seed=11)
+        ref["model"] = "Couplers.osim"
+        write_json(os.path.join(d, "Couplers.json"), ref)
         return
     os.makedirs(os.path.join(OUT, "joints"), exist_ok=True)
     src = os.path.join(args.shared, "data", "opensim")
@@ -516,6 +662,13 @@ def main():
     ref = references(osim.Model(p), args.states, seed=3)
     ref["model"] = "OpenSim3Format.osim (format 30000, written by hand, updated by OpenSim when loaded)"
     write_json(os.path.join(OUT, "joints", "OpenSim3Format.json"), ref)
+    d = os.path.join(OUT, "couplers")
+    os.makedirs(d, exist_ok=True)
+    p = os.path.join(d, "Couplers.osim")
+    coupler_model().printToXML(p)
+    ref = coupler_references(osim.Model(p), args.states, seed=11)
+    ref["model"] = "Couplers.osim"
+    write_json(os.path.join(d, "Couplers.json"), ref)
     mot_reference()
 
 

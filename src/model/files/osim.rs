@@ -36,6 +36,7 @@ use roxmltree::{Document, Node};
 
 use crate::lie::Se3;
 use crate::model::body::Inertia;
+use crate::model::coupling::{Coupling, Follower};
 use crate::model::files::osim_joint::function_from_xml;
 use crate::model::joint::{Joint, Limit};
 use crate::model::joints::function_based::body_fixed_xyz;
@@ -83,6 +84,9 @@ pub struct OsimReport {
     /// In model coordinate order.
     pub coordinates: Vec<OsimCoordinate>,
     pub couplers: Vec<Coupler>,
+    /// Whether the body the model became follows the couplers (set by whoever
+    /// builds it from [`OsimModel::coupling`]; the report's text says which).
+    pub couplers_enforced: bool,
     /// What mx does not simulate, counted: ("muscles", "Thelen2003Muscle", 92), …
     pub ignored: Vec<(String, String, usize)>,
     pub warnings: Vec<String>,
@@ -120,10 +124,17 @@ impl OsimReport {
             );
         }
         for c in &self.couplers {
-            s += &format!(
-                "coupled coordinate: {} = f({}) ({}); the dynamics keep {} as its own coordinate, as OpenSim's calcM does\n",
-                c.dependent, c.independent, c.name, c.dependent
-            );
+            s += &if self.couplers_enforced {
+                format!(
+                    "coupled coordinate: {} = f({}) ({}), enforced: {} is no coordinate of the body\n",
+                    c.dependent, c.independent, c.name, c.dependent
+                )
+            } else {
+                format!(
+                    "coupled coordinate: {} = f({}) ({}), not enforced: {} stays a free coordinate, as in OpenSim's calcM\n",
+                    c.dependent, c.independent, c.name, c.dependent
+                )
+            };
         }
         let mut by_what: Vec<(String, Vec<String>, usize)> = Vec::new();
         for (what, kind, n) in &self.ignored {
@@ -150,6 +161,47 @@ impl OsimReport {
 pub struct OsimModel {
     pub model: Model,
     pub report: OsimReport,
+}
+
+impl OsimModel {
+    /// The CoordinateCouplerConstraints as coupled coordinates
+    /// (dependent = f(independent)); `None` when the model has none. A
+    /// dependent coordinate that another coupler reads, or one coupled twice,
+    /// is an error naming the couplers.
+    pub fn coupling(&self) -> Result<Option<Coupling>, ModelError> {
+        if self.report.couplers.is_empty() {
+            return Ok(None);
+        }
+        let index = |n: &str| {
+            self.model
+                .coordinate_index(n)
+                .expect("couplers name model coordinates (checked on reading)")
+        };
+        let followers: Vec<Follower> = self
+            .report
+            .couplers
+            .iter()
+            .map(|c| Follower {
+                coordinate: index(&c.dependent),
+                source: index(&c.independent),
+                function: c.function.clone(),
+            })
+            .collect();
+        let names: Vec<&str> = self
+            .report
+            .couplers
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect();
+        Coupling::new(&self.model, &followers)
+            .map(Some)
+            .map_err(|e| {
+                ModelError::Invalid(format!(
+                    "the CoordinateCouplerConstraints ({}) cannot be enforced: {e}",
+                    names.join(", ")
+                ))
+            })
+    }
 }
 
 fn err<T>(msg: impl Into<String>) -> Result<T, ModelError> {
