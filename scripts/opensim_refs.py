@@ -14,6 +14,7 @@ Writes
   tests/data/opensim/joints/<type>.json   its references
   tests/data/opensim/couplers/<name>.osim  models with CoordinateCouplerConstraints
   tests/data/opensim/couplers/<name>.json  their references in the independent coordinates
+  tests/data/opensim/functions/gcvspline.json  GCVSpline values and derivatives
   tests/data/opensim/mot/opensim_written.mot  a Storage file written by OpenSim, with the values
   tests/data/opensim/mot/opensim_written.json
 
@@ -509,6 +510,92 @@ def coupler_references(model, nstates, seed):
     }
 
 
+# ---- GCVSpline ----
+
+GCV_CASES = [  # (half order, number of points, seed); seed 0: a jittered grid, as models' splines are
+    (1, 6, 1), (2, 7, 2), (2, 12, 3), (3, 6, 4), (3, 9, 5), (3, 15, 6), (3, 11, 0), (2, 11, 0),
+]
+
+
+def natural_spline_exact(x, y, m, ts):
+    """The interpolating natural spline of order 2m at ts, with 50 digits
+    (mpmath): s(t) = Σ a_i |t − x_i|^(2m−1) + p(t), deg p < m, Σ a_i x_i^j = 0
+    (j < m). OpenSim's GCVSPL and mx are both compared with it, since with
+    close points GCVSPL's own rounding reaches ~1e-11."""
+    import mpmath as mp
+    mp.mp.dps = 50
+    x = [mp.mpf(float(v)) for v in x]
+    y = [mp.mpf(float(v)) for v in y]
+    n, k = len(x), 2 * m - 1
+    A = mp.matrix(n + m, n + m)
+    b = mp.matrix(n + m, 1)
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = abs(x[i] - x[j]) ** k
+        for j in range(m):
+            A[i, n + j] = x[i] ** j
+        b[i] = y[i]
+    for j in range(m):
+        for i in range(n):
+            A[n + j, i] = x[i] ** j
+    c = mp.lu_solve(A, b)
+
+    def d(t, order):
+        t = mp.mpf(t)
+        s = mp.mpf(0)
+        for i in range(n):
+            if order > k:
+                continue
+            r = t - x[i]
+            # d^o/dt^o |r|^k = k!/(k−o)! |r|^(k−o) sign(r)^o (right derivative at r = 0)
+            sign = 1 if r >= 0 else -1
+            s += c[i] * mp.ff(k, order) * abs(r) ** (k - order) * sign ** order
+        for j in range(order, m):
+            s += c[n + j] * mp.ff(j, order) * t ** (j - order)
+        return float(s)
+    return [[d(t, o) for t in ts] for o in range(3)]
+
+
+def gcvspline_reference():
+    """OpenSim's GCVSpline (error_variance 0: the interpolating natural spline
+    of order 2·half_order) read from XML, evaluated with its first and second
+    derivatives at points inside and outside the knots."""
+    cases = []
+    for m, n, seed in GCV_CASES:
+        rng = np.random.default_rng(seed)
+        if seed == 0:
+            x = np.linspace(-1.8, 1.6, n) + rng.uniform(-0.05, 0.05, n)
+        else:
+            x = np.sort(rng.uniform(-1.8, 1.6, n))
+        y = np.sin(1.3 * x) + 0.1 * x * x + 0.05 * rng.standard_normal(n)
+        num = lambda v: " ".join(repr(float(a)) for a in v)
+        xml = (f"<GCVSpline name=\"f\"><half_order>{m}</half_order><error_variance>0</error_variance>"
+               f"<x>{num(x)}</x><y>{num(y)}</y><weights>{' '.join('1' for _ in x)}</weights></GCVSpline>")
+        tmp = os.path.join(OUT, "gcv_tmp.xml")
+        with open(tmp, "w") as f:
+            f.write(f'<?xml version="1.0" encoding="UTF-8" ?>\n<OpenSimDocument Version="40600">{xml}</OpenSimDocument>\n')
+        g = osim.GCVSpline.safeDownCast(osim.OpenSimObject.makeObjectFromFile(tmp))
+        os.remove(tmp)
+        ts = sorted(set(np.linspace(x[0] - 0.6, x[-1] + 0.6, 57).tolist() + x.tolist()))
+        at = lambda t: osim.Vector(1, float(t))
+        exact = natural_spline_exact(x, y, m, ts)
+        cases.append({
+            "xml": xml,
+            "half_order": m,
+            "t": ts,
+            "value": [g.calcValue(at(t)) for t in ts],
+            "d1": [g.calcDerivative(osim.StdVectorInt([0]), at(t)) for t in ts],
+            "d2": [g.calcDerivative(osim.StdVectorInt([0, 0]), at(t)) for t in ts],
+            "value_exact": exact[0],
+            "d1_exact": exact[1],
+            "d2_exact": exact[2],
+        })
+    d = os.path.join(OUT, "functions")
+    os.makedirs(d, exist_ok=True)
+    write_json(os.path.join(d, "gcvspline.json"), {"generator": "scripts/opensim_refs.py",
+                                                   "opensim_version": osim.__version__, "cases": cases})
+
+
 def write_json(path, obj):
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
@@ -615,13 +702,16 @@ def main():
     ap.add_argument("--states", type=int, default=4)
     ap.add_argument("--check-mot", help="read an mx-written .mot with OpenSim and print it")
     ap.add_argument("--timing", action="store_true", help="time load and inverse dynamics, OpenSim beside mx")
-    ap.add_argument("--only", choices=["couplers"], help="write only these references")
+    ap.add_argument("--only", choices=["couplers", "gcvspline"], help="write only these references")
     args = ap.parse_args()
     if args.timing:
         timing(args.shared)
         return
     if args.check_mot:
         check_mx_mot(args.check_mot)
+        return
+    if args.only == "gcvspline":
+        gcvspline_reference()
         return
     if args.only == "couplers":
         d = os.path.join(OUT, "couplers")
@@ -669,6 +759,7 @@ def main():
     ref = coupler_references(osim.Model(p), args.states, seed=11)
     ref["model"] = "Couplers.osim"
     write_json(os.path.join(d, "Couplers.json"), ref)
+    gcvspline_reference()
     mot_reference()
 
 
