@@ -596,6 +596,21 @@ def gcvspline_reference():
                                                    "opensim_version": osim.__version__, "cases": cases})
 
 
+def reversed_reference(nstates):
+    """The OpenSim 3.x model with both joints reversed (<reverse>true</reverse>),
+    as OpenSim 4's updater reads it: parent and child frames swapped, so the
+    joint's transform runs from the child body to the parent."""
+    text = V3_MODEL.replace("<reverse>false</reverse>", "<reverse>true</reverse>")
+    assert text.count("<reverse>true</reverse>") == 2
+    text = text.replace('name="v3_model"', 'name="v3_reversed"')
+    p = os.path.join(OUT, "joints", "OpenSim3Reversed.osim")
+    with open(p, "w") as f:
+        f.write(text)
+    ref = references(osim.Model(p), nstates, seed=5)
+    ref["model"] = "OpenSim3Reversed.osim (format 30000, both joints reversed, updated by OpenSim when loaded)"
+    write_json(os.path.join(OUT, "joints", "OpenSim3Reversed.json"), ref)
+
+
 def write_json(path, obj):
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
@@ -702,13 +717,16 @@ def main():
     ap.add_argument("--states", type=int, default=4)
     ap.add_argument("--check-mot", help="read an mx-written .mot with OpenSim and print it")
     ap.add_argument("--timing", action="store_true", help="time load and inverse dynamics, OpenSim beside mx")
-    ap.add_argument("--only", choices=["couplers", "gcvspline"], help="write only these references")
+    ap.add_argument("--only", choices=["couplers", "gcvspline", "reversed"], help="write only these references")
     args = ap.parse_args()
     if args.timing:
         timing(args.shared)
         return
     if args.check_mot:
         check_mx_mot(args.check_mot)
+        return
+    if args.only == "reversed":
+        reversed_reference(args.states)
         return
     if args.only == "gcvspline":
         gcvspline_reference()
@@ -752,6 +770,7 @@ def main():
     ref = references(osim.Model(p), args.states, seed=3)
     ref["model"] = "OpenSim3Format.osim (format 30000, written by hand, updated by OpenSim when loaded)"
     write_json(os.path.join(OUT, "joints", "OpenSim3Format.json"), ref)
+    reversed_reference(args.states)
     d = os.path.join(OUT, "couplers")
     os.makedirs(d, exist_ok=True)
     p = os.path.join(d, "Couplers.osim")

@@ -22,6 +22,10 @@
 //! | PlanarJoint | Rz(q1), t = (q2, q3, 0) in F |
 //! | WeldJoint | identity |
 //!
+//! A reversed OpenSim 3.x joint (`<reverse>true</reverse>`) is what OpenSim
+//! 4's updater makes of it: parent and child frames swapped, so between the
+//! same two frames the joint carries T_F_M(q)⁻¹ (`FunctionJoint::reversed`).
+//!
 //! Links follow the JointSet's order (a joint whose parent body has no joint
 //! yet waits until it has), coordinates each joint's own order: OpenSim's
 //! CoordinateSet order whenever the JointSet lists parents first.
@@ -616,6 +620,8 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
         parent: Placed,
         child_body: String,
         child_frame: Se3,
+        /// A 3.x `<reverse>true</reverse>`: T_F_M(q)⁻¹ between the same frames.
+        reversed: bool,
     }
     let mut joints: Vec<J> = Vec::new();
     let mut child_of: HashMap<String, String> = HashMap::new();
@@ -627,11 +633,6 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
                 let o = vec3(&cx, *j, o)?;
                 Ok(Se3::new(body_fixed_xyz([o.x, o.y, o.z]), vec3(&cx, *j, t)?))
             };
-            if flag(*j, "reverse") {
-                return err(format!(
-                    "{what} is reversed (<reverse>true</reverse>); mx reads joints from parent to child"
-                ));
-            }
             let Some(pb) = text(*j, "parent_body") else {
                 return err(format!("{what} has no <parent_body>"));
             };
@@ -687,6 +688,7 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
             parent,
             child_body,
             child_frame,
+            reversed: v3 && flag(*j, "reverse"),
         });
     }
     for b in &body_order {
@@ -899,12 +901,12 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
         let child_identity = j.child_frame == Se3::identity();
         let joint: Arc<dyn Joint> = match kind {
             "WeldJoint" => Arc::new(Fixed::new(j.child_frame.inverse())),
-            "PinJoint" if child_identity => Arc::new(
+            "PinJoint" if child_identity && !j.reversed => Arc::new(
                 Revolute::new(Vector3::z())
                     .expect("z is a unit axis")
                     .with_limit(limits[0]),
             ),
-            "SliderJoint" if child_identity => Arc::new(
+            "SliderJoint" if child_identity && !j.reversed => Arc::new(
                 Prismatic::new(Vector3::x())
                     .expect("x is a unit axis")
                     .with_limit(limits[0]),
@@ -918,7 +920,8 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
                     Se3::identity(),
                     j.child_frame,
                 )
-                .map_err(|e| ModelError::Invalid(format!("{what}: {}", e.0)))?
+                .map_err(|e| ModelError::Invalid(format!("{what}: {}", e.0)))
+                .map(|fj| if j.reversed { fj.reversed() } else { fj })?
                 .with_limits(limits.clone()),
             ),
         };
