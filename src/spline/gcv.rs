@@ -153,9 +153,9 @@ impl GcvSpline {
         let mut out = [0.0; 4];
         for (d, o) in out.iter_mut().enumerate() {
             let mut term = 1.0;
-            for j in d..self.half_order {
-                *o += s[j] * term;
-                term *= h / (j - d + 1) as f64;
+            for (k, sj) in s.iter().enumerate().take(self.half_order).skip(d) {
+                *o += sj * term;
+                term *= h / (k - d + 1) as f64;
             }
         }
         out
