@@ -812,7 +812,7 @@ fn read_coordinates(
                     cx.at(c)
                 ));
             }
-            let r = nums(&cx, c, "range", "")?;
+            let r = nums(cx, c, "range", "")?;
             let range = match r.as_slice() {
                 [] => Limit::NONE,
                 [lo, hi] if lo <= hi => Limit {
@@ -831,8 +831,8 @@ fn read_coordinates(
                 joint: joint.to_string(),
                 motion: MotionType::Rotational,
                 range,
-                default_value: num(&cx, c, "default_value", 0.0)?,
-                default_speed: num(&cx, c, "default_speed_value", 0.0)?,
+                default_value: num(cx, c, "default_value", 0.0)?,
+                default_speed: num(cx, c, "default_speed_value", 0.0)?,
                 clamped: flag(c, "clamped"),
                 locked: flag(c, "locked"),
             });
@@ -917,7 +917,7 @@ fn spatial_transform(
             };
             decided[i] = true;
         }
-        let axis = vec3(&cx, ta, "axis")?;
+        let axis = vec3(cx, ta, "axis")?;
         let ax = TransformAxis {
             axis,
             coordinate,
