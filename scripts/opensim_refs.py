@@ -3,7 +3,7 @@
 
 Run by hand (cargo test only reads what this writes):
 
-    python3 -m venv /tmp/osim-venv && /tmp/osim-venv/bin/pip install opensim   # 4.6, CPython 3.11
+    python3 -m venv /tmp/osim-venv && /tmp/osim-venv/bin/pip install opensim mpmath   # 4.6, CPython 3.11
     /tmp/osim-venv/bin/python scripts/opensim_refs.py [--shared /work/shared]
     /tmp/osim-venv/bin/python scripts/opensim_refs.py --timing      # load + ID per state, OpenSim beside mx
     /tmp/osim-venv/bin/python scripts/opensim_refs.py --check-mot X.mot   # OpenSim reads a .mot mx wrote
