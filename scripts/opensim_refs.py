@@ -3,7 +3,7 @@
 
 Run by hand (cargo test only reads what this writes):
 
-    python3 -m venv /tmp/osim-venv && /tmp/osim-venv/bin/pip install opensim   # 4.6, CPython 3.11
+    python3 -m venv /tmp/osim-venv && /tmp/osim-venv/bin/pip install opensim mpmath   # 4.6, CPython 3.11
     /tmp/osim-venv/bin/python scripts/opensim_refs.py [--shared /work/shared]
     /tmp/osim-venv/bin/python scripts/opensim_refs.py --timing      # load + ID per state, OpenSim beside mx
     /tmp/osim-venv/bin/python scripts/opensim_refs.py --check-mot X.mot   # OpenSim reads a .mot mx wrote
@@ -12,6 +12,9 @@ Writes
   tests/data/opensim/<stem>.json          for every .osim in $MX_SHARED/data/opensim
   tests/data/opensim/joints/<type>.osim   a small model per joint type, built with OpenSim's API
   tests/data/opensim/joints/<type>.json   its references
+  tests/data/opensim/couplers/<name>.osim  models with CoordinateCouplerConstraints
+  tests/data/opensim/couplers/<name>.json  their references in the independent coordinates
+  tests/data/opensim/functions/gcvspline.json  GCVSpline values and derivatives
   tests/data/opensim/mot/opensim_written.mot  a Storage file written by OpenSim, with the values
   tests/data/opensim/mot/opensim_written.json
 
@@ -373,6 +376,241 @@ V3_MODEL = """<?xml version="1.0" encoding="UTF-8" ?>
 """
 
 
+# ---- CoordinateCouplerConstraints ----
+
+def coupler_model():
+    """hip pin `a` and a side pin `e` independent; knee pin `b` = 0.7 a + 0.1
+    (LinearFunction), slider `c` = SimmSpline(a), pin `d` on the knee's body
+    = Polynomial(e): the nonlinear couplings give q-dependent G and the
+    f'' q̇² terms."""
+    m = osim.Model()
+    m.setName("coupler_model")
+    bodies = {
+        "a": inertia_body("a", 2.3, (0.05, -0.21, 0.03), (0.041, 0.012, 0.037, 0.002, -0.003, 0.001)),
+        "b": inertia_body("b", 1.1, (0.01, -0.15, -0.02), (0.011, 0.004, 0.013, -0.001, 0.0005, 0.0007)),
+        "c": inertia_body("c", 0.6, (0.02, 0.01, -0.03), (0.004, 0.003, 0.005, 0.0002, -0.0001, 0.0003)),
+        "s": inertia_body("s", 0.9, (-0.03, 0.05, 0.01), (0.006, 0.007, 0.004, 0.0003, 0.0002, -0.0004)),
+        "t": inertia_body("t", 0.4, (0.0, -0.08, 0.02), (0.002, 0.001, 0.002, 0.0, 0.0001, 0.0)),
+    }
+    for b in bodies.values():
+        m.addBody(b)
+    V = osim.Vec3
+    joints = [
+        osim.PinJoint("hip", m.getGround(), V(0.1, 0.9, -0.05), V(0.2, -0.3, 0.1), bodies["a"], V(0.02, 0.15, 0.01), V(-0.1, 0.25, 0.05)),
+        osim.PinJoint("knee", bodies["a"], V(0.0, -0.4, 0.02), V(0.1, 0.0, 0.3), bodies["b"], V(0.0, 0.05, 0.0), V(0.0, 0.2, 0.0)),
+        osim.SliderJoint("slide", bodies["b"], V(0.01, -0.3, 0.0), V(0.0, 0.4, -0.2), bodies["c"], V(0.0, 0.0, 0.02), V(0.1, 0.0, 0.0)),
+        osim.PinJoint("side", bodies["a"], V(0.05, -0.1, 0.08), V(1.2, 0.1, 0.0), bodies["s"], V(0.0, 0.03, 0.0), V(0.0, 0.0, 0.1)),
+        osim.PinJoint("toe", bodies["b"], V(0.0, -0.35, 0.04), V(0.0, 0.6, 0.2), bodies["t"], V(0.01, 0.0, 0.0), V(0.3, 0.0, 0.0)),
+    ]
+    for j, name in zip(joints, ["a", "b", "c", "e", "d"]):
+        m.addJoint(j)
+        c = j.upd_coordinates(0)
+        c.setName(name)
+        c.setRangeMin(-1.0)
+        c.setRangeMax(1.0)
+    spline = osim.SimmSpline()
+    for x, y in zip([-1.5, -0.7, 0.0, 0.6, 1.5], [-0.05, 0.02, 0.04, 0.01, 0.06]):
+        spline.addPoint(x, y)
+    poly = osim.PolynomialFunction(osim.Vector([0.4, -0.3, 0.8, 0.05]))
+    for name, dep, ind, f in [("b_follows_a", "b", "a", osim.LinearFunction(0.7, 0.1)),
+                              ("c_follows_a", "c", "a", spline),
+                              ("d_follows_e", "d", "e", poly)]:
+        k = osim.CoordinateCouplerConstraint()
+        k.setName(name)
+        k.setIndependentCoordinateNames(osim.ArrayStr(ind, 1))
+        k.setDependentCoordinateName(dep)
+        k.setFunction(f)
+        m.addConstraint(k)
+    m.finalizeConnections()
+    return m
+
+
+def coupler_references(model, nstates, seed):
+    """Per state, in the independent coordinates (the CoordinateSet order with
+    the dependent ones left out): q, u, the full q (each dependent one
+    OpenSim's function of its independent one), M = Gᵀ calcM G, τ = Gᵀ τ_full
+    (InverseDynamicsSolver at the full u̇ = G u̇ + c, c = f'' u²), and
+    udot_fd: Simbody's forward dynamics with the constraints enforced (every
+    force disabled, gravity acts), the check that does not go through G."""
+    disable_forces(model)
+    state = model.initSystem()
+    cs = model.getCoordinateSet()
+    n = cs.getSize()
+    names = [cs.get(k).getName() for k in range(n)]
+    qi, ui = index_maps(model, state)
+    cons = model.getConstraintSet()
+    follows = {}
+    for i in range(cons.getSize()):
+        k = osim.CoordinateCouplerConstraint.safeDownCast(cons.get(i))
+        ind = k.getIndependentCoordinateNames()
+        assert ind.getSize() == 1
+        follows[k.getDependentCoordinateName()] = (ind.get(0), k.getFunction())
+    indep = [x for x in names if x not in follows]
+    matter = model.getMatterSubsystem()
+    idsolver = osim.InverseDynamicsSolver(model)
+    rng = np.random.default_rng(seed)
+    states = []
+    for _ in range(nstates):
+        qind = {x: float(rng.uniform(-1.0, 1.0)) for x in indep}
+        uind = {x: float(rng.uniform(-2.0, 2.0)) for x in indep}
+        udind = {x: float(rng.uniform(-3.0, 3.0)) for x in indep}
+        q, u, ud = np.zeros(n), np.zeros(n), np.zeros(n)
+        G = np.zeros((n, len(indep)))
+        for k, x in enumerate(names):
+            if x in follows:
+                src, f = follows[x]
+                arg = osim.Vector(1, qind[src])
+                d1 = f.calcDerivative(osim.StdVectorInt([0]), arg)
+                d2 = f.calcDerivative(osim.StdVectorInt([0, 0]), arg)
+                q[k] = f.calcValue(arg)
+                u[k] = d1 * uind[src]
+                ud[k] = d1 * udind[src] + d2 * uind[src] ** 2
+                G[k, indep.index(src)] = d1
+            else:
+                q[k], u[k], ud[k] = qind[x], uind[x], udind[x]
+                G[k, indep.index(x)] = 1.0
+        Q = osim.Vector(state.getNQ(), 0.0)
+        U = osim.Vector(state.getNU(), 0.0)
+        UD = osim.Vector(state.getNU(), 0.0)
+        for k in range(n):
+            Q.set(qi[k], float(q[k]))
+            U.set(ui[k], float(u[k]))
+            UD.set(ui[k], float(ud[k]))
+        state.setQ(Q)
+        state.setU(U)
+        model.realizeAcceleration(state)
+        qerr = max([abs(state.getQErr().get(i)) for i in range(state.getNQErr())] + [0.0])
+        uerr = max([abs(state.getUErr().get(i)) for i in range(state.getNUErr())] + [0.0])
+        assert qerr < 1e-12 and uerr < 1e-12, (qerr, uerr)
+        udot = vec(state.getUDot())
+        udot_fd = [udot[ui[names.index(x)]] for x in indep]
+        Mm = osim.Matrix()
+        matter.calcM(state, Mm)
+        Mf = np.array(mat(Mm))[np.ix_(ui, ui)]
+        tau = idsolver.solve(state, UD)
+        tf = np.array([tau.get(ui[k]) for k in range(n)])
+        states.append({
+            "q": [qind[x] for x in indep],
+            "u": [uind[x] for x in indep],
+            "udot": [udind[x] for x in indep],
+            "q_full": q.tolist(),
+            "M": (G.T @ Mf @ G).tolist(),
+            "tau": (G.T @ tf).tolist(),
+            "udot_fd": udot_fd,
+        })
+    g = model.getGravity()
+    return {
+        "generator": "scripts/opensim_refs.py",
+        "opensim_version": osim.__version__,
+        "coordinates": indep,
+        "all_coordinates": names,
+        "gravity": [g.get(0), g.get(1), g.get(2)],
+        "forces_disabled": True,
+        "states": states,
+    }
+
+
+# ---- GCVSpline ----
+
+GCV_CASES = [  # (half order, number of points, seed); seed 0: a jittered grid, as models' splines are
+    (1, 6, 1), (2, 7, 2), (2, 12, 3), (3, 6, 4), (3, 9, 5), (3, 15, 6), (3, 11, 0), (2, 11, 0),
+]
+
+
+def natural_spline_exact(x, y, m, ts):
+    """The interpolating natural spline of order 2m at ts, with 50 digits
+    (mpmath): s(t) = Σ a_i |t − x_i|^(2m−1) + p(t), deg p < m, Σ a_i x_i^j = 0
+    (j < m). OpenSim's GCVSPL and mx are both compared with it, since with
+    close points GCVSPL's own rounding reaches ~1e-11."""
+    import mpmath as mp
+    mp.mp.dps = 50
+    x = [mp.mpf(float(v)) for v in x]
+    y = [mp.mpf(float(v)) for v in y]
+    n, k = len(x), 2 * m - 1
+    A = mp.matrix(n + m, n + m)
+    b = mp.matrix(n + m, 1)
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = abs(x[i] - x[j]) ** k
+        for j in range(m):
+            A[i, n + j] = x[i] ** j
+        b[i] = y[i]
+    for j in range(m):
+        for i in range(n):
+            A[n + j, i] = x[i] ** j
+    c = mp.lu_solve(A, b)
+
+    def d(t, order):
+        t = mp.mpf(t)
+        s = mp.mpf(0)
+        for i in range(n):
+            if order > k:
+                continue
+            r = t - x[i]
+            # d^o/dt^o |r|^k = k!/(k−o)! |r|^(k−o) sign(r)^o (right derivative at r = 0)
+            sign = 1 if r >= 0 else -1
+            s += c[i] * mp.ff(k, order) * abs(r) ** (k - order) * sign ** order
+        for j in range(order, m):
+            s += c[n + j] * mp.ff(j, order) * t ** (j - order)
+        return float(s)
+    return [[d(t, o) for t in ts] for o in range(3)]
+
+
+def gcvspline_reference():
+    """OpenSim's GCVSpline (error_variance 0: the interpolating natural spline
+    of order 2·half_order) read from XML, evaluated with its first and second
+    derivatives at points inside and outside the knots."""
+    cases = []
+    for m, n, seed in GCV_CASES:
+        rng = np.random.default_rng(seed)
+        if seed == 0:
+            x = np.linspace(-1.8, 1.6, n) + rng.uniform(-0.05, 0.05, n)
+        else:
+            x = np.sort(rng.uniform(-1.8, 1.6, n))
+        y = np.sin(1.3 * x) + 0.1 * x * x + 0.05 * rng.standard_normal(n)
+        num = lambda v: " ".join(repr(float(a)) for a in v)
+        xml = (f"<GCVSpline name=\"f\"><half_order>{m}</half_order><error_variance>0</error_variance>"
+               f"<x>{num(x)}</x><y>{num(y)}</y><weights>{' '.join('1' for _ in x)}</weights></GCVSpline>")
+        tmp = os.path.join(OUT, "gcv_tmp.xml")
+        with open(tmp, "w") as f:
+            f.write(f'<?xml version="1.0" encoding="UTF-8" ?>\n<OpenSimDocument Version="40600">{xml}</OpenSimDocument>\n')
+        g = osim.GCVSpline.safeDownCast(osim.OpenSimObject.makeObjectFromFile(tmp))
+        os.remove(tmp)
+        ts = sorted(set(np.linspace(x[0] - 0.6, x[-1] + 0.6, 57).tolist() + x.tolist()))
+        at = lambda t: osim.Vector(1, float(t))
+        exact = natural_spline_exact(x, y, m, ts)
+        cases.append({
+            "xml": xml,
+            "half_order": m,
+            "t": ts,
+            "value": [g.calcValue(at(t)) for t in ts],
+            "d1": [g.calcDerivative(osim.StdVectorInt([0]), at(t)) for t in ts],
+            "d2": [g.calcDerivative(osim.StdVectorInt([0, 0]), at(t)) for t in ts],
+            "value_exact": exact[0],
+            "d1_exact": exact[1],
+            "d2_exact": exact[2],
+        })
+    d = os.path.join(OUT, "functions")
+    os.makedirs(d, exist_ok=True)
+    write_json(os.path.join(d, "gcvspline.json"), {"generator": "scripts/opensim_refs.py",
+                                                   "opensim_version": osim.__version__, "cases": cases})
+
+
+def reversed_reference(nstates):
+    """The OpenSim 3.x model with both joints reversed (<reverse>true</reverse>),
+    as OpenSim 4's updater reads it: parent and child frames swapped, so the
+    joint's transform runs from the child body to the parent."""
+    text = V3_MODEL.replace("<reverse>false</reverse>", "<reverse>true</reverse>")
+    assert text.count("<reverse>true</reverse>") == 2
+    text = text.replace('name="v3_model"', 'name="v3_reversed"')
+    p = os.path.join(OUT, "joints", "OpenSim3Reversed.osim")
+    with open(p, "w") as f:
+        f.write(text)
+    ref = references(osim.Model(p), nstates, seed=5)
+    ref["model"] = "OpenSim3Reversed.osim (format 30000, both joints reversed, updated by OpenSim when loaded)"
+    write_json(os.path.join(OUT, "joints", "OpenSim3Reversed.json"), ref)
+
+
 def write_json(path, obj):
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
@@ -479,12 +717,28 @@ def main():
     ap.add_argument("--states", type=int, default=4)
     ap.add_argument("--check-mot", help="read an mx-written .mot with OpenSim and print it")
     ap.add_argument("--timing", action="store_true", help="time load and inverse dynamics, OpenSim beside mx")
+    ap.add_argument("--only", choices=["couplers", "gcvspline", "reversed"], help="write only these references")
     args = ap.parse_args()
     if args.timing:
         timing(args.shared)
         return
     if args.check_mot:
         check_mx_mot(args.check_mot)
+        return
+    if args.only == "reversed":
+        reversed_reference(args.states)
+        return
+    if args.only == "gcvspline":
+        gcvspline_reference()
+        return
+    if args.only == "couplers":
+        d = os.path.join(OUT, "couplers")
+        os.makedirs(d, exist_ok=True)
+        p = os.path.join(d, "Couplers.osim")
+        coupler_model().printToXML(p)
+        ref = coupler_references(osim.Model(p), args.states, seed=11)
+        ref["model"] = "Couplers.osim"
+        write_json(os.path.join(d, "Couplers.json"), ref)
         return
     os.makedirs(os.path.join(OUT, "joints"), exist_ok=True)
     src = os.path.join(args.shared, "data", "opensim")
@@ -516,6 +770,15 @@ def main():
     ref = references(osim.Model(p), args.states, seed=3)
     ref["model"] = "OpenSim3Format.osim (format 30000, written by hand, updated by OpenSim when loaded)"
     write_json(os.path.join(OUT, "joints", "OpenSim3Format.json"), ref)
+    reversed_reference(args.states)
+    d = os.path.join(OUT, "couplers")
+    os.makedirs(d, exist_ok=True)
+    p = os.path.join(d, "Couplers.osim")
+    coupler_model().printToXML(p)
+    ref = coupler_references(osim.Model(p), args.states, seed=11)
+    ref["model"] = "Couplers.osim"
+    write_json(os.path.join(d, "Couplers.json"), ref)
+    gcvspline_reference()
     mot_reference()
 
 

@@ -40,12 +40,15 @@ mod motion_compose;
 mod motion_io;
 mod motion_mocap;
 mod motion_props;
+mod opensim_couplers;
 mod opensim_files;
+mod opensim_gcvspline;
 mod opensim_knee;
 #[cfg(feature = "report")]
 mod opensim_knee_fit;
 mod opensim_leg_pendulum;
 mod opensim_model;
+mod opensim_sp;
 mod pinocchio;
 mod public_surface;
 mod reference;

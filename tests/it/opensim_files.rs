@@ -196,7 +196,7 @@ fn load_err(dir: &Path, name: &str, text: &str) -> String {
 }
 
 #[test]
-fn a_small_model_loads_and_couplers_are_listed() {
+fn a_small_model_loads_and_couplers_are_enforced_and_listed() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("mini.osim");
     let coupler = r#"<ConstraintSet name="constraintset"><objects><CoordinateCouplerConstraint name="cc">
@@ -225,8 +225,16 @@ fn a_small_model_loads_and_couplers_are_listed() {
         r.contains("1 muscles ignored") && r.contains("1 forces ignored (1 CoordinateLimitForce)"),
         "{r}"
     );
+    // enforced by default: hip_flexion follows knee_angle; `couplers: false` keeps it
+    assert!(r.contains("(cc), enforced"), "{r}");
     assert_eq!(
         mx.eval_str("coordinates(b)").unwrap().repr(),
+        r#"["knee_angle"]"#
+    );
+    mx.eval_str(&format!("let f = load({}, couplers: false)", q(&p)))
+        .unwrap();
+    assert_eq!(
+        mx.eval_str("coordinates(f)").unwrap().repr(),
         r#"["hip_flexion", "knee_angle"]"#
     );
 }

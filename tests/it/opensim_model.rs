@@ -238,6 +238,7 @@ fn every_joint_type_agrees_with_opensim() {
         "GimbalJoint",
         "PlanarJoint",
         "OpenSim3Format",
+        "OpenSim3Reversed",
     ] {
         assert!(kinds.iter().any(|x| x == k), "no reference model for {k}");
     }

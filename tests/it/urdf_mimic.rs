@@ -149,8 +149,8 @@ fn mimic_is_off_by_default_and_the_followers_are_free() {
     );
     let mut full = [[0.0; 7]; 3];
     c.expand_q(&q, &mut full[0]);
-    c.expand_v(&v, &mut full[1]);
-    c.expand_v(&a, &mut full[2]);
+    c.expand_v(&q, &v, &mut full[1]);
+    c.expand_v(&q, &a, &mut full[2]);
     assert_eq!(full[0][2], -2.0 * -0.2 - 0.3, "knuckle = -2·elbow - 0.3");
     assert_eq!(full[0][4], 0.5 * 0.5 + 0.1, "wrist_b = 0.5·wrist_a + 0.1");
     assert_eq!(full[0][6], -0.01, "finger_right = -finger_left");
@@ -159,7 +159,7 @@ fn mimic_is_off_by_default_and_the_followers_are_free() {
     let mut tf = vec![0.0; 7];
     inverse_dynamics(&model, &mut ws, &full[0], &full[1], &full[2], &g, &mut tf).unwrap();
     let mut want = vec![0.0; 4];
-    c.reduce(&tf, &mut want);
+    c.reduce(&q, &tf, &mut want);
     let mut tau = vec![0.0; 4];
     coupled_inverse_dynamics(
         &model,

@@ -141,24 +141,42 @@ fn save_motion(v: &Value, path: &Path, a: &mut Args, _ev: &mut Evaluator) -> MxR
     storage::save_storage(m, path, rate, &*rotational).map_err(|e| file_error(e, a.call_span()))
 }
 
+fn load_osim(path: &Path, a: &mut Args, _ev: &mut Evaluator) -> MxResult<Value> {
+    let couplers = match a.opt_named("couplers") {
+        None => true,
+        Some(v) => match v.value {
+            Value::Bool(b) => b,
+            _ => return Err(a.type_error("couplers", "true or false", &v)),
+        },
+    };
+    let io_error = |e: crate::model::ModelError, a: &Args| {
+        MxError::new(ErrorKind::Io, e.to_string()).at(a.call_span()).help(
+            "mx reads OpenSim 3.x and 4 model files; the message names the element and its line",
+        )
+    };
+    let mut loaded = Model::from_osim_file(path).map_err(|e| io_error(e, a))?;
+    for w in &loaded.report.warnings {
+        eprintln!("warning: {}: {w}", path.display());
+    }
+    let coupling = match couplers {
+        true => loaded.coupling().map_err(|e| {
+            io_error(e, a).help("load it with `couplers: false` to keep every coordinate free")
+        })?,
+        false => None,
+    };
+    loaded.report.couplers_enforced = coupling.is_some();
+    let mut b = Body::from_model(Arc::new(loaded.model));
+    b.coupling = coupling.map(Arc::new);
+    b.osim = Some(Arc::new(loaded.report));
+    Ok(Value::object(b))
+}
+
 pub fn register(reg: &mut Registry) {
     reg.topic(Topic::Dynamics);
     reg.loader(
         "osim",
-        "An OpenSim model (4.x, or 3.x format 30000+) as a body: bodies, joints (CustomJoint, Pin, Slider, Weld, Ball, Free, Universal, Gimbal, Planar), coordinates named as in the model, its gravity; `body.report` lists what was ignored (muscles, forces, geometry).",
-        |path, a, _| {
-            let loaded = Model::from_osim_file(path).map_err(|e| {
-                MxError::new(ErrorKind::Io, e.to_string()).at(a.call_span()).help(
-                    "mx reads OpenSim 3.x and 4 model files; the message names the element and its line",
-                )
-            })?;
-            for w in &loaded.report.warnings {
-                eprintln!("warning: {}: {w}", path.display());
-            }
-            let mut b = Body::from_model(Arc::new(loaded.model));
-            b.osim = Some(Arc::new(loaded.report));
-            Ok(Value::object(b))
-        },
+        "An OpenSim model (4.x, or 3.x format 30000+) as a body: bodies, joints (CustomJoint, Pin, Slider, Weld, Ball, Free, Universal, Gimbal, Planar), coordinates named as in the model, its gravity; `body.report` lists what was ignored (muscles, forces, geometry). CoordinateCouplerConstraints are enforced (the dependent coordinate follows its function of the independent one, as in OpenSim's forward dynamics); `couplers: false` keeps dependent coordinates free, as OpenSim's calcM does.",
+        load_osim,
     );
     for ext in ["mot", "sto"] {
         reg.loader(

@@ -44,8 +44,8 @@ impl Body {
         match &self.coupling {
             None => Ok(self.model.clone()),
             Some(_) => Err(format!(
-                "{what} does not take a body with mimic (coupled) coordinates yet; \
-                 load the URDF without `mimic: true` to use it"
+                "{what} does not take a body with coupled coordinates yet; \
+                 load the URDF without `mimic: true`, or the OpenSim model with `couplers: false`, to use it"
             )),
         }
     }
@@ -116,9 +116,12 @@ impl HostObject for Body {
             "mass" => Some(Value::Number(self.model.total_mass())),
             "report" => self.osim.as_ref().map(|r| Value::str(r.text(&self.model))),
             "defaults" => self.osim.as_ref().map(|r| {
+                // the body's own coordinates: the independent ones when coupled
+                let names = self.coordinate_names();
                 Value::list(
                     r.coordinates
                         .iter()
+                        .filter(|c| names.contains(&c.name))
                         .map(|c| Value::Number(c.default_value))
                         .collect(),
                 )

@@ -22,6 +22,10 @@
 //! | PlanarJoint | Rz(q1), t = (q2, q3, 0) in F |
 //! | WeldJoint | identity |
 //!
+//! A reversed OpenSim 3.x joint (`<reverse>true</reverse>`) is what OpenSim
+//! 4's updater makes of it: parent and child frames swapped, so between the
+//! same two frames the joint carries T_F_M(q)⁻¹ (`FunctionJoint::reversed`).
+//!
 //! Links follow the JointSet's order (a joint whose parent body has no joint
 //! yet waits until it has), coordinates each joint's own order: OpenSim's
 //! CoordinateSet order whenever the JointSet lists parents first.
@@ -36,6 +40,7 @@ use roxmltree::{Document, Node};
 
 use crate::lie::Se3;
 use crate::model::body::Inertia;
+use crate::model::coupling::{Coupling, Follower};
 use crate::model::files::osim_joint::function_from_xml;
 use crate::model::joint::{Joint, Limit};
 use crate::model::joints::function_based::body_fixed_xyz;
@@ -83,6 +88,9 @@ pub struct OsimReport {
     /// In model coordinate order.
     pub coordinates: Vec<OsimCoordinate>,
     pub couplers: Vec<Coupler>,
+    /// Whether the body the model became follows the couplers (set by whoever
+    /// builds it from [`OsimModel::coupling`]; the report's text says which).
+    pub couplers_enforced: bool,
     /// What mx does not simulate, counted: ("muscles", "Thelen2003Muscle", 92), …
     pub ignored: Vec<(String, String, usize)>,
     pub warnings: Vec<String>,
@@ -120,10 +128,17 @@ impl OsimReport {
             );
         }
         for c in &self.couplers {
-            s += &format!(
-                "coupled coordinate: {} = f({}) ({}); the dynamics keep {} as its own coordinate, as OpenSim's calcM does\n",
-                c.dependent, c.independent, c.name, c.dependent
-            );
+            s += &if self.couplers_enforced {
+                format!(
+                    "coupled coordinate: {} = f({}) ({}), enforced: {} is no coordinate of the body\n",
+                    c.dependent, c.independent, c.name, c.dependent
+                )
+            } else {
+                format!(
+                    "coupled coordinate: {} = f({}) ({}), not enforced: {} stays a free coordinate, as in OpenSim's calcM\n",
+                    c.dependent, c.independent, c.name, c.dependent
+                )
+            };
         }
         let mut by_what: Vec<(String, Vec<String>, usize)> = Vec::new();
         for (what, kind, n) in &self.ignored {
@@ -150,6 +165,47 @@ impl OsimReport {
 pub struct OsimModel {
     pub model: Model,
     pub report: OsimReport,
+}
+
+impl OsimModel {
+    /// The CoordinateCouplerConstraints as coupled coordinates
+    /// (dependent = f(independent)); `None` when the model has none. A
+    /// dependent coordinate that another coupler reads, or one coupled twice,
+    /// is an error naming the couplers.
+    pub fn coupling(&self) -> Result<Option<Coupling>, ModelError> {
+        if self.report.couplers.is_empty() {
+            return Ok(None);
+        }
+        let index = |n: &str| {
+            self.model
+                .coordinate_index(n)
+                .expect("couplers name model coordinates (checked on reading)")
+        };
+        let followers: Vec<Follower> = self
+            .report
+            .couplers
+            .iter()
+            .map(|c| Follower {
+                coordinate: index(&c.dependent),
+                source: index(&c.independent),
+                function: c.function.clone(),
+            })
+            .collect();
+        let names: Vec<&str> = self
+            .report
+            .couplers
+            .iter()
+            .map(|c| c.name.as_str())
+            .collect();
+        Coupling::new(&self.model, &followers)
+            .map(Some)
+            .map_err(|e| {
+                ModelError::Invalid(format!(
+                    "the CoordinateCouplerConstraints ({}) cannot be enforced: {e}",
+                    names.join(", ")
+                ))
+            })
+    }
 }
 
 fn err<T>(msg: impl Into<String>) -> Result<T, ModelError> {
@@ -447,10 +503,9 @@ const MODEL_KNOWN: &[&str] = &[
     "attached_geometry",
 ];
 
-// Long (about 530 lines) on purpose for now: one pass over the document in the
-// file's own phases (`// ---- bodies`, `joints`, `build`, `constraints`, `what mx
-// does not simulate`), all reading and filling the same body map, frame table,
-// coordinate names and report; split per phase once those become one reader state.
+// One pass over the document in the file's phases (`// ---- bodies`, `joints`,
+// `build`); a joint's coordinates and transform axes, the constraints and what
+// mx does not simulate are read by the functions below it.
 fn read(doc: &Document) -> Result<OsimModel, ModelError> {
     let cx = Ctx { doc };
     let root = doc.root_element();
@@ -564,6 +619,8 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
         parent: Placed,
         child_body: String,
         child_frame: Se3,
+        /// A 3.x `<reverse>true</reverse>`: T_F_M(q)⁻¹ between the same frames.
+        reversed: bool,
     }
     let mut joints: Vec<J> = Vec::new();
     let mut child_of: HashMap<String, String> = HashMap::new();
@@ -575,11 +632,6 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
                 let o = vec3(&cx, *j, o)?;
                 Ok(Se3::new(body_fixed_xyz([o.x, o.y, o.z]), vec3(&cx, *j, t)?))
             };
-            if flag(*j, "reverse") {
-                return err(format!(
-                    "{what} is reversed (<reverse>true</reverse>); mx reads joints from parent to child"
-                ));
-            }
             let Some(pb) = text(*j, "parent_body") else {
                 return err(format!("{what} has no <parent_body>"));
             };
@@ -635,6 +687,7 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
             parent,
             child_body,
             child_frame,
+            reversed: v3 && flag(*j, "reverse"),
         });
     }
     for b in &body_order {
@@ -681,178 +734,25 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
         let j = &joints[k];
         let what = format!("joint '{}' ({})", j.name, cx.at(j.node));
         let kind = j.node.tag_name().name();
-        // coordinates
-        let mut coords: Vec<OsimCoordinate> = Vec::new();
-        let cs = if v3 {
-            child(j.node, "CoordinateSet").and_then(|s| child(s, "objects"))
-        } else {
-            child(j.node, "coordinates")
-        };
-        if let Some(cs) = cs {
-            for c in elements(cs).filter(|c| c.has_tag_name("Coordinate")) {
-                let cname = name_of(c);
-                if cname.is_empty() {
-                    return err(format!("{what}: {} has no name", cx.at(c)));
-                }
-                if names.contains(&cname) || coords.iter().any(|o| o.name == cname) {
-                    return err(format!(
-                        "{what}: coordinate '{cname}' ({}) is used twice; coordinate names must be unique in a model",
-                        cx.at(c)
-                    ));
-                }
-                let r = nums(&cx, c, "range", "")?;
-                let range = match r.as_slice() {
-                    [] => Limit::NONE,
-                    [lo, hi] if lo <= hi => Limit {
-                        lower: *lo,
-                        upper: *hi,
-                    },
-                    _ => {
-                        return err(format!(
-                            "{what}: coordinate '{cname}' ({}) has <range> {r:?}; expected min ≤ max",
-                            cx.at(c)
-                        ));
-                    }
-                };
-                coords.push(OsimCoordinate {
-                    name: cname,
-                    joint: j.name.clone(),
-                    motion: MotionType::Rotational,
-                    range,
-                    default_value: num(&cx, c, "default_value", 0.0)?,
-                    default_speed: num(&cx, c, "default_speed_value", 0.0)?,
-                    clamped: flag(c, "clamped"),
-                    locked: flag(c, "locked"),
-                });
-            }
-        }
+        let mut coords = read_coordinates(&cx, j.node, &j.name, &what, v3, &names)?;
         let cnames: Vec<String> = coords.iter().map(|c| c.name.clone()).collect();
         let limits: Vec<Limit> = coords.iter().map(|c| c.range).collect();
-        let (rot, tr): (Vec<TransformAxis>, Vec<TransformAxis>) = if kind == "CustomJoint" {
-            let Some(st) = child(j.node, "SpatialTransform") else {
-                return err(format!("{what} has no <SpatialTransform>"));
-            };
-            let mut rot = Vec::new();
-            let mut tr = Vec::new();
-            let mut decided = vec![false; coords.len()];
-            for ta in elements(st) {
-                if !ta.has_tag_name("TransformAxis") {
-                    return err(format!(
-                        "{what}: {} in the SpatialTransform is not a TransformAxis",
-                        cx.at(ta)
-                    ));
-                }
-                let label = name_of(ta);
-                let tw = format!("{what}, transform axis '{label}' ({})", cx.at(ta));
-                let used: Vec<&str> = text(ta, "coordinates")
-                    .unwrap_or("")
-                    .split_whitespace()
-                    .collect();
-                let coordinate = match used.as_slice() {
-                    [] => None,
-                    [c] => Some(cnames.iter().position(|n| n == c).ok_or_else(|| {
-                        ModelError::Invalid(format!(
-                            "{tw} reads coordinate '{c}', which the joint does not have ({})",
-                            cnames.join(", ")
-                        ))
-                    })?),
-                    many => {
-                        return err(format!(
-                            "{tw} is a function of {} coordinates ({}); mx reads transform axes of one coordinate, as OpenSim's CustomJoint allows",
-                            many.len(),
-                            many.join(", ")
-                        ));
-                    }
-                };
-                let fnode =
-                    elements(ta).find(|c| !matches!(c.tag_name().name(), "coordinates" | "axis"));
-                let function = match fnode {
-                    Some(f) => function_from_xml(f)
-                        .map_err(|m| ModelError::Invalid(format!("{tw}, {}: {}", cx.at(f), m.0)))?,
-                    None if coordinate.is_none() => ScalarFunction::Constant { value: 0.0 },
-                    None => return err(format!("{tw} reads a coordinate but has no function")),
-                };
-                let is_rot = label.starts_with("rotation");
-                if !is_rot && !label.starts_with("translation") {
-                    return err(format!(
-                        "{tw}: the name must be rotation1..3 or translation1..3"
-                    ));
-                }
-                // OpenSim's rule: the first axis that reads the coordinate
-                // through the identity (LinearFunction 1·q + 0) makes it
-                // rotational or translational; without one it is coupled.
-                if let Some(i) = coordinate
-                    && !decided[i]
-                    && function
-                        == (ScalarFunction::Linear {
-                            slope: 1.0,
-                            intercept: 0.0,
-                        })
-                {
-                    coords[i].motion = if is_rot {
-                        MotionType::Rotational
-                    } else {
-                        MotionType::Translational
-                    };
-                    decided[i] = true;
-                }
-                let axis = vec3(&cx, ta, "axis")?;
-                let ax = TransformAxis {
-                    axis,
-                    coordinate,
-                    function,
-                };
-                if is_rot { rot.push(ax) } else { tr.push(ax) }
-            }
-            for (c, d) in coords.iter_mut().zip(&decided) {
-                if !d {
-                    c.motion = MotionType::Coupled;
-                }
-            }
-            if rot.len() != 3 || tr.len() != 3 {
-                return err(format!(
-                    "{what}: the SpatialTransform has {} rotation and {} translation axes; expected 3 and 3",
-                    rot.len(),
-                    tr.len()
-                ));
-            }
-            (rot, tr)
+        let (rot, tr) = if kind == "CustomJoint" {
+            spatial_transform(&cx, j.node, &what, &mut coords)?
         } else {
-            let Some((n, (r, t))) = standard_axes(kind) else {
-                return err(format!(
-                    "{what}: joint type {kind} is not one mx reads (CustomJoint, PinJoint, SliderJoint, WeldJoint, BallJoint, FreeJoint, UniversalJoint, GimbalJoint, PlanarJoint)"
-                ));
-            };
-            if coords.len() != n {
-                return err(format!(
-                    "{what}: a {kind} has {n} coordinate(s), the file gives {}",
-                    coords.len()
-                ));
-            }
-            for (_, i) in &t {
-                coords[*i].motion = MotionType::Translational;
-            }
-            let mk = |(a, i): ([f64; 3], usize)| TransformAxis {
-                axis: unit(a),
-                coordinate: Some(i),
-                function: linear(),
-            };
-            (
-                r.into_iter().map(mk).collect(),
-                t.into_iter().map(mk).collect(),
-            )
+            standard_transform(kind, &what, &mut coords)?
         };
         let parent_link = j.parent.0.as_ref().map(|p| placed[p]);
         let offset = j.parent.1;
         let child_identity = j.child_frame == Se3::identity();
         let joint: Arc<dyn Joint> = match kind {
             "WeldJoint" => Arc::new(Fixed::new(j.child_frame.inverse())),
-            "PinJoint" if child_identity => Arc::new(
+            "PinJoint" if child_identity && !j.reversed => Arc::new(
                 Revolute::new(Vector3::z())
                     .expect("z is a unit axis")
                     .with_limit(limits[0]),
             ),
-            "SliderJoint" if child_identity => Arc::new(
+            "SliderJoint" if child_identity && !j.reversed => Arc::new(
                 Prismatic::new(Vector3::x())
                     .expect("x is a unit axis")
                     .with_limit(limits[0]),
@@ -866,7 +766,8 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
                     Se3::identity(),
                     j.child_frame,
                 )
-                .map_err(|e| ModelError::Invalid(format!("{what}: {}", e.0)))?
+                .map_err(|e| ModelError::Invalid(format!("{what}: {}", e.0)))
+                .map(|fj| if j.reversed { fj.reversed() } else { fj })?
                 .with_limits(limits.clone()),
             ),
         };
@@ -877,7 +778,208 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
     }
     model.set_coordinate_names(names)?;
 
-    // ---- constraints ----
+    // ---- constraints, and what mx does not simulate ----
+    read_constraints(&cx, m, &model, &mut report)?;
+    count_ignored(m, &mut report);
+    Ok(OsimModel { model, report })
+}
+
+/// A joint's coordinates as the file states them (OpenSim 4 `coordinates`,
+/// 3.x `CoordinateSet/objects`); a name already in `names` is an error.
+fn read_coordinates(
+    cx: &Ctx,
+    node: Node,
+    joint: &str,
+    what: &str,
+    v3: bool,
+    names: &[String],
+) -> Result<Vec<OsimCoordinate>, ModelError> {
+    let mut coords: Vec<OsimCoordinate> = Vec::new();
+    let cs = if v3 {
+        child(node, "CoordinateSet").and_then(|s| child(s, "objects"))
+    } else {
+        child(node, "coordinates")
+    };
+    if let Some(cs) = cs {
+        for c in elements(cs).filter(|c| c.has_tag_name("Coordinate")) {
+            let cname = name_of(c);
+            if cname.is_empty() {
+                return err(format!("{what}: {} has no name", cx.at(c)));
+            }
+            if names.contains(&cname) || coords.iter().any(|o| o.name == cname) {
+                return err(format!(
+                    "{what}: coordinate '{cname}' ({}) is used twice; coordinate names must be unique in a model",
+                    cx.at(c)
+                ));
+            }
+            let r = nums(cx, c, "range", "")?;
+            let range = match r.as_slice() {
+                [] => Limit::NONE,
+                [lo, hi] if lo <= hi => Limit {
+                    lower: *lo,
+                    upper: *hi,
+                },
+                _ => {
+                    return err(format!(
+                        "{what}: coordinate '{cname}' ({}) has <range> {r:?}; expected min ≤ max",
+                        cx.at(c)
+                    ));
+                }
+            };
+            coords.push(OsimCoordinate {
+                name: cname,
+                joint: joint.to_string(),
+                motion: MotionType::Rotational,
+                range,
+                default_value: num(cx, c, "default_value", 0.0)?,
+                default_speed: num(cx, c, "default_speed_value", 0.0)?,
+                clamped: flag(c, "clamped"),
+                locked: flag(c, "locked"),
+            });
+        }
+    }
+    Ok(coords)
+}
+
+/// A CustomJoint's SpatialTransform: three rotation and three translation
+/// axes, each a function of at most one of the joint's coordinates, and each
+/// coordinate's motion type by OpenSim's rule.
+fn spatial_transform(
+    cx: &Ctx,
+    node: Node,
+    what: &str,
+    coords: &mut [OsimCoordinate],
+) -> Result<(Vec<TransformAxis>, Vec<TransformAxis>), ModelError> {
+    let cnames: Vec<String> = coords.iter().map(|c| c.name.clone()).collect();
+    let Some(st) = child(node, "SpatialTransform") else {
+        return err(format!("{what} has no <SpatialTransform>"));
+    };
+    let mut rot = Vec::new();
+    let mut tr = Vec::new();
+    let mut decided = vec![false; coords.len()];
+    for ta in elements(st) {
+        if !ta.has_tag_name("TransformAxis") {
+            return err(format!(
+                "{what}: {} in the SpatialTransform is not a TransformAxis",
+                cx.at(ta)
+            ));
+        }
+        let label = name_of(ta);
+        let tw = format!("{what}, transform axis '{label}' ({})", cx.at(ta));
+        let used: Vec<&str> = text(ta, "coordinates")
+            .unwrap_or("")
+            .split_whitespace()
+            .collect();
+        let coordinate = match used.as_slice() {
+            [] => None,
+            [c] => Some(cnames.iter().position(|n| n == c).ok_or_else(|| {
+                ModelError::Invalid(format!(
+                    "{tw} reads coordinate '{c}', which the joint does not have ({})",
+                    cnames.join(", ")
+                ))
+            })?),
+            many => {
+                return err(format!(
+                    "{tw} is a function of {} coordinates ({}); mx reads transform axes of one coordinate, as OpenSim's CustomJoint allows",
+                    many.len(),
+                    many.join(", ")
+                ));
+            }
+        };
+        let fnode = elements(ta).find(|c| !matches!(c.tag_name().name(), "coordinates" | "axis"));
+        let function = match fnode {
+            Some(f) => function_from_xml(f)
+                .map_err(|m| ModelError::Invalid(format!("{tw}, {}: {}", cx.at(f), m.0)))?,
+            None if coordinate.is_none() => ScalarFunction::Constant { value: 0.0 },
+            None => return err(format!("{tw} reads a coordinate but has no function")),
+        };
+        let is_rot = label.starts_with("rotation");
+        if !is_rot && !label.starts_with("translation") {
+            return err(format!(
+                "{tw}: the name must be rotation1..3 or translation1..3"
+            ));
+        }
+        // OpenSim's rule: the first axis that reads the coordinate
+        // through the identity (LinearFunction 1·q + 0) makes it
+        // rotational or translational; without one it is coupled.
+        if let Some(i) = coordinate
+            && !decided[i]
+            && function
+                == (ScalarFunction::Linear {
+                    slope: 1.0,
+                    intercept: 0.0,
+                })
+        {
+            coords[i].motion = if is_rot {
+                MotionType::Rotational
+            } else {
+                MotionType::Translational
+            };
+            decided[i] = true;
+        }
+        let axis = vec3(cx, ta, "axis")?;
+        let ax = TransformAxis {
+            axis,
+            coordinate,
+            function,
+        };
+        if is_rot { rot.push(ax) } else { tr.push(ax) }
+    }
+    for (c, d) in coords.iter_mut().zip(&decided) {
+        if !d {
+            c.motion = MotionType::Coupled;
+        }
+    }
+    if rot.len() != 3 || tr.len() != 3 {
+        return err(format!(
+            "{what}: the SpatialTransform has {} rotation and {} translation axes; expected 3 and 3",
+            rot.len(),
+            tr.len()
+        ));
+    }
+    Ok((rot, tr))
+}
+
+/// The fixed axes of the other joint types, each reading one coordinate
+/// through the identity.
+fn standard_transform(
+    kind: &str,
+    what: &str,
+    coords: &mut [OsimCoordinate],
+) -> Result<(Vec<TransformAxis>, Vec<TransformAxis>), ModelError> {
+    let Some((n, (r, t))) = standard_axes(kind) else {
+        return err(format!(
+            "{what}: joint type {kind} is not one mx reads (CustomJoint, PinJoint, SliderJoint, WeldJoint, BallJoint, FreeJoint, UniversalJoint, GimbalJoint, PlanarJoint)"
+        ));
+    };
+    if coords.len() != n {
+        return err(format!(
+            "{what}: a {kind} has {n} coordinate(s), the file gives {}",
+            coords.len()
+        ));
+    }
+    for (_, i) in &t {
+        coords[*i].motion = MotionType::Translational;
+    }
+    let mk = |(a, i): ([f64; 3], usize)| TransformAxis {
+        axis: unit(a),
+        coordinate: Some(i),
+        function: linear(),
+    };
+    Ok((
+        r.into_iter().map(mk).collect(),
+        t.into_iter().map(mk).collect(),
+    ))
+}
+
+/// The ConstraintSet: CoordinateCouplerConstraints into the report (any other
+/// enforced constraint changes the kinematics and is an error).
+fn read_constraints(
+    cx: &Ctx,
+    m: Node,
+    model: &Model,
+    report: &mut OsimReport,
+) -> Result<(), ModelError> {
     for c in objects(child(m, "ConstraintSet")) {
         let t = c.tag_name().name();
         let cname = name_of(c);
@@ -933,7 +1035,11 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
         });
     }
 
-    // ---- what mx does not simulate ----
+    Ok(())
+}
+
+/// Counts what mx does not simulate (forces, markers, geometry, …) into the report.
+fn count_ignored(m: Node, report: &mut OsimReport) {
     let mut count = |what: &str, kind: &str| match report
         .ignored
         .iter_mut()
@@ -978,5 +1084,4 @@ fn read(doc: &Document) -> Result<OsimModel, ModelError> {
     }) {
         count("wrap objects", w.tag_name().name());
     }
-    Ok(OsimModel { model, report })
 }

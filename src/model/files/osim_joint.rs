@@ -8,7 +8,7 @@ use crate::model::joints::function_based::{
     FunctionJoint, FunctionJointError, TransformAxis, body_fixed_xyz, coordinate_index,
 };
 use crate::model::joints::scalar_function::ScalarFunction;
-use crate::spline::SimmSpline;
+use crate::spline::{GcvSpline, SimmSpline};
 use nalgebra::Vector3;
 use roxmltree::{Document, Node};
 
@@ -155,9 +155,40 @@ pub(crate) fn custom_joint_from_xml(
     Ok(joint)
 }
 
+/// OpenSim's `GCVSpline`: `half_order` (default 3, quintic), `x`, `y` and
+/// `error_variance`. OpenSim recomputes its coefficients from the points when
+/// it loads (a written `coefficients` element is not read); with
+/// `error_variance` 0 the spline interpolates and mx builds the same one.
+fn gcv_spline(n: Node) -> Result<ScalarFunction, FunctionJointError> {
+    let one = |tag: &str, default: &str| -> Result<f64, FunctionJointError> {
+        match nums(text(n, tag).unwrap_or(default))?.as_slice() {
+            [v] => Ok(*v),
+            _ => e(format!("GCVSpline <{tag}> must hold one number")),
+        }
+    };
+    let half = one("half_order", "3")?;
+    if half.fract() != 0.0 || half < 1.0 {
+        return e(format!(
+            "GCVSpline <half_order> is {half}; expected 1, 2 or 3"
+        ));
+    }
+    let variance = one("error_variance", "0")?;
+    if variance != 0.0 {
+        return e(format!(
+            "GCVSpline with <error_variance> {variance} is a smoothing spline, whose smoothing mx does not \
+             reproduce; mx reads interpolating GCVSplines (error_variance 0)"
+        ));
+    }
+    let x = nums(text(n, "x").unwrap_or(""))?;
+    let y = nums(text(n, "y").unwrap_or(""))?;
+    Ok(ScalarFunction::GcvSpline(
+        GcvSpline::new(half as usize, x, y).map_err(|m| FunctionJointError(m.to_string()))?,
+    ))
+}
+
 /// An OpenSim `Function` element (Constant, LinearFunction, SimmSpline,
-/// NaturalCubicSpline, PiecewiseLinearFunction, PolynomialFunction,
-/// MultiplierFunction); GCVSpline and functions of several variables are a clear error.
+/// NaturalCubicSpline, GCVSpline, PiecewiseLinearFunction, PolynomialFunction,
+/// MultiplierFunction); functions of several variables are a clear error.
 pub(crate) fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJointError> {
     match n.tag_name().name() {
         // OpenSim 3.x wraps the function: <function><LinearFunction>…</LinearFunction></function>
@@ -200,10 +231,7 @@ pub(crate) fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJoint
             let y = nums(text(n, "y").unwrap_or(""))?;
             ScalarFunction::piecewise_linear(x, y).map_err(FunctionJointError)
         }
-        "GCVSpline" => e(
-            "GCVSpline (Woltring's generalised cross-validation spline) is not supported yet; \
-             refit it as a SimmSpline or NaturalCubicSpline through the same points",
-        ),
+        "GCVSpline" => gcv_spline(n),
         "MultivariatePolynomialFunction" => e(
             "MultivariatePolynomialFunction is a function of several coordinates; mx reads functions of one",
         ),
@@ -227,7 +255,7 @@ pub(crate) fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJoint
         }
         other => e(format!(
             "function type '{other}' is not supported (Constant, LinearFunction, SimmSpline, NaturalCubicSpline, \
-             PiecewiseLinearFunction, PolynomialFunction, MultiplierFunction are)"
+             GCVSpline, PiecewiseLinearFunction, PolynomialFunction, MultiplierFunction are)"
         )),
     }
 }
@@ -247,5 +275,15 @@ impl FunctionJoint {
     /// From OpenSim XML text, the `CustomJoint` named `joint_name`.
     pub fn from_osim_str(xml: &str, joint_name: &str) -> Result<Self, FunctionJointError> {
         custom_joint_from_xml(xml, joint_name)
+    }
+}
+
+impl ScalarFunction {
+    /// One OpenSim `Function` element as XML text (`<SimmSpline>…</SimmSpline>`,
+    /// `<GCVSpline>…</GCVSpline>`, …), as a CustomJoint's transform axis reads it.
+    pub fn from_osim_xml(xml: &str) -> Result<ScalarFunction, FunctionJointError> {
+        let doc =
+            Document::parse(xml).map_err(|er| FunctionJointError(format!("invalid XML: {er}")))?;
+        function_from_xml(doc.root_element())
     }
 }

@@ -201,12 +201,12 @@ fn mimic_coupling(
                 j.name, m.joint
             )));
         };
-        followers.push(Follower {
-            coordinate: k,
-            source: s,
-            multiplier: m.multiplier.unwrap_or(1.0),
-            offset: m.offset.unwrap_or(0.0),
-        });
+        followers.push(Follower::linear(
+            k,
+            s,
+            m.multiplier.unwrap_or(1.0),
+            m.offset.unwrap_or(0.0),
+        ));
     }
     if !mimic || followers.is_empty() {
         return Ok(None);

@@ -42,6 +42,8 @@ pub struct FunctionJoint {
     parent_offset: Se3,
     /// T_child_M⁻¹ (stored inverted: it is the tail of the product)
     child_offset_inv: Se3,
+    /// T_F_M(q)⁻¹ in place of T_F_M(q) (a reversed OpenSim 3.x joint).
+    reversed: bool,
 }
 
 /// Why a function-based joint could not be built (the joint library's error).
@@ -112,7 +114,17 @@ impl FunctionJoint {
             translations,
             parent_offset,
             child_offset_inv: child_offset.inverse(),
+            reversed: false,
         })
+    }
+
+    /// The joint run backwards: G(q) = T_parent_F · T_F_M(q)⁻¹ · T_child_M⁻¹,
+    /// the inverse being the six exponentials in reverse order with negated
+    /// angles and displacements (how OpenSim 4 reads a 3.x joint marked
+    /// `<reverse>true</reverse>`: the mobilizer from child to parent).
+    pub fn reversed(mut self) -> Self {
+        self.reversed = !self.reversed;
+        self
     }
 
     pub fn with_limits(mut self, limits: Vec<Limit>) -> Self {
@@ -172,6 +184,24 @@ impl FunctionJoint {
         };
         let t = &self.translations;
         let r = &self.rotations;
+        if self.reversed {
+            // (e^{X1 φ1} ⋯ e^{X6 φ6})⁻¹ = e^{−X6 φ6} ⋯ e^{−X1 φ1}
+            let neg = |mut f: PoeFactor| {
+                f.phi = -f.phi;
+                f.dphi.iter_mut().for_each(|x| *x = -*x);
+                f.ddphi.iter_mut().flatten().for_each(|x| *x = -*x);
+                f.dddphi_vv.iter_mut().for_each(|x| *x = -*x);
+                f
+            };
+            return [
+                neg(mk(&r[2], true)),
+                neg(mk(&r[1], true)),
+                neg(mk(&r[0], true)),
+                neg(mk(&t[2], false)),
+                neg(mk(&t[1], false)),
+                neg(mk(&t[0], false)),
+            ];
+        }
         [
             mk(&t[0], false),
             mk(&t[1], false),

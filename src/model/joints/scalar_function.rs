@@ -1,7 +1,7 @@
 //! Scalar functions of one coordinate that drive the exponentials of a
 //! function-based joint: the OpenSim `Function`s used in CustomJoints.
 
-use crate::spline::{BSplineCurve, SimmSpline};
+use crate::spline::{BSplineCurve, GcvSpline, SimmSpline};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -26,6 +26,8 @@ pub enum ScalarFunction {
     },
     /// A B-spline curve (extrapolated by its end polynomials).
     BSpline(BSplineCurve),
+    /// OpenSim `GCVSpline` (interpolating: the natural spline of order 2·half_order).
+    GcvSpline(GcvSpline),
 }
 
 impl ScalarFunction {
@@ -88,6 +90,7 @@ impl ScalarFunction {
             }
             ScalarFunction::Multiplier { scale, function } => function.eval3(x).map(|v| scale * v),
             ScalarFunction::BSpline(c) => c.eval3(x),
+            ScalarFunction::GcvSpline(s) => s.eval3(x),
         }
     }
 
