@@ -387,3 +387,117 @@ fn composing_examples_run() {
         assert!(printed.contains("Mu ["), "{ex} printed {printed}");
     }
 }
+
+/// hold and loop extrapolation (issue 17 item 2): the motion unchanged inside
+/// its span, the first/last pose held or whole periods repeated outside, and
+/// the result an ordinary motion for the algebra.
+#[test]
+fn hold_and_loop_extend_a_motion_and_compose_with_the_algebra() {
+    let m = clip(&[0.3, -0.7, 1.1, 0.4], 0.0, false); // defined on [0, 2]
+    let inside = times(0.0, 2.0, 40);
+    let held = extrapolate(&m, -1.0, 3.5, Extrapolation::Hold).unwrap();
+    assert_eq!(held.span(), Some((-1.0, 3.5)));
+    assert_eq!(max_diff(&held, &m, &inside), 0.0);
+    for n in m.names() {
+        let first = m.sample_value(n, 0.0).unwrap().unwrap();
+        let last = m.sample_value(n, 2.0).unwrap().unwrap();
+        for t in [-1.0, -0.3] {
+            assert_eq!(held.sample_value(n, t).unwrap(), Some(first), "{n} at {t}");
+        }
+        for t in [2.2, 3.5] {
+            assert_eq!(held.sample_value(n, t).unwrap(), Some(last), "{n} at {t}");
+        }
+    }
+    let looped = extrapolate(&m, -3.0, 7.0, Extrapolation::Loop).unwrap();
+    assert_eq!(looped.span(), Some((-3.0, 7.0)));
+    // at a seam (t = 2 here) the next period's first pose is sampled
+    assert_eq!(max_diff(&looped, &m, &inside[..inside.len() - 1]), 0.0);
+    for n in m.names() {
+        for t in [0.1, 0.77, 1.5] {
+            let v = m.sample_value(n, t).unwrap().unwrap();
+            for k in [-1.0, 1.0, 2.0] {
+                let got = looped.sample_value(n, t + 2.0 * k).unwrap().unwrap();
+                assert!(
+                    (got - v).abs() < 1e-12,
+                    "{n} at {t} + {k} periods: {got} vs {v}"
+                );
+            }
+        }
+    }
+    // the algebra: what hold adds is exactly the outside, and a meet with it
+    // is defined where both are
+    let added = minus(&held, &m);
+    assert_eq!(added.span(), Some((-1.0, 3.5)));
+    let d = added.get("Hips.Xposition").unwrap();
+    assert_eq!(d.intervals.len(), 2);
+    assert!(
+        (d.intervals[0].stop - 0.0).abs() < 1e-12 && (d.intervals[1].start - 2.0).abs() < 1e-12
+    );
+    let window = {
+        let mut w = Mu::new();
+        w.insert(
+            "Hips.Xposition",
+            Dof::from(Interval::constant(0.0, 2.5, 3.0).unwrap()),
+        );
+        w
+    };
+    let met = and(&held, &window);
+    assert_eq!(
+        met.get("Hips.Xposition").and_then(|d| d.span()),
+        Some((2.5, 3.0))
+    );
+    // a cyclic motion loops seamlessly: value and velocity continuous at the seam
+    let mut cyc = Mu::new();
+    cyc.insert(
+        "q",
+        Dof::from(Interval::function(Arc::new(Sine), 0.0, 1.0).unwrap()),
+    );
+    let l = extrapolate(&cyc, 0.0, 3.0, Extrapolation::Loop).unwrap();
+    let (a, b) = (
+        l.sample("q", 1.0 - 1e-9).unwrap().unwrap(),
+        l.sample("q", 1.0 + 1e-9).unwrap().unwrap(),
+    );
+    assert!(
+        (a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6,
+        "{a:?} {b:?}"
+    );
+    // errors
+    assert!(extrapolate(&m, 3.0, 1.0, Extrapolation::Hold).is_err());
+    assert!(extrapolate(&Mu::new(), 0.0, 1.0, Extrapolation::Loop).is_err());
+}
+
+/// sin(2πt): one period over [0, 1].
+#[derive(Debug)]
+struct Sine;
+impl TimeFunction for Sine {
+    fn eval(&self, t: f64) -> Result<f64, String> {
+        Ok((2.0 * std::f64::consts::PI * t).sin())
+    }
+}
+
+/// The chain forms in mx: `m.hold(ts, tf)`, `m.loop(ts, tf)`, beside the
+/// older `hold(names, value, ts, tf)` and `loop(m, n)`.
+#[test]
+fn hold_and_loop_read_well_in_a_chain() {
+    let mut mx = Interpreter::new();
+    let v = mx
+        .eval_str(
+            "let a = mu({x: interval(fn(t) = t, 0, 1)})\n\
+             let h = a.hold(-1, 3)\n\
+             let l = a.loop(0, 3.5).only(\"x\")\n\
+             [span(h)[0], span(h)[1], sample(h, -0.5).x, sample(h, 2).x, sample(l, 2.25).x, span(hold([\"p\"], 2, 0, 1))[1], span(loop(cyclify(a, 0, 1), 2))[1]]",
+        )
+        .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let got: Vec<f64> = v
+        .as_list()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_number().unwrap())
+        .collect();
+    assert_eq!(&got[..6], &[-1.0, 3.0, 0.0, 1.0, 0.25, 1.0]);
+    assert!(got[6] > 1.0);
+    let e = error_of("let a = mu({x: interval(0, 0, 1)})\na.hold(2, 1)");
+    assert!(e.contains("ts < tf"), "{e}");
+    let e = error_of("let a = mu({x: interval(0, 0, 1)})\nextrapolate(a, 0, 2, \"bounce\")");
+    assert!(e.contains("\"hold\" or \"loop\""), "{e}");
+}
