@@ -281,6 +281,44 @@ fn resample_and_linear_fill() {
 /// where the two poses' relative rotation turns fast). The issue's stronger bound (within the inputs'
 /// spread + 1 cm at every time) is measured and printed: slerping every
 /// joint of a chain halfway does not meet it on every clip (see the report).
+/// The issue asks that a blend of a walk with itself half a cycle later never
+/// move a joint's world position more than the inputs' spread at that time
+/// plus 1 cm. That bound is geometrically unreachable for any per-joint
+/// interpolation, slerp included: two configurations can put a point in the
+/// same place with different joint angles (a planar two-link arm with unit
+/// links at (0°, +90°) and (90°, −90°) puts the hand at (1, 1) both ways;
+/// the per-joint mean (45°, 0°) puts it at (1.41, 1.41), 0.59 m from both,
+/// with a spread of 0). Measured on the shared clips (printed below), the
+/// blend exceeds the spread by up to 0.68 m (Bandai dance, a hand whose two
+/// inputs pass close together with different arm poses), 0.44 m (kick),
+/// 0.18 m (CMU jump-turn), 5–8 cm on the walks; a still pose (bow, bye, wave)
+/// stays within 1 mm.
+///
+/// What is measured (printed per clip) and asserted:
+/// 1. measured, not yet asserted: each joint's blended rotation should be the
+///    midpoint of an arc of the geodesic through the inputs' rotations
+///    (ψa = ψb, ψa + ψb = φ on the short arc). Each input's quaternion is
+///    sign-aligned along time so the blend is continuous; where two inputs
+///    pass through opposite rotations (φ = π) continuity forces the blend
+///    onto the long arc (ψa + ψb = 2π − φ) until they pass π again (the
+///    alternative is a 180° jump). On the still clips the deviation is
+///    ≤ 1.1e-3 rad (the blend is a C² spline through frame-step samples,
+///    seen here at 4× finer times). On the long arc: 0.21 % of the Bandai
+///    dance's joint samples (up to 2.01 rad past φ/2), 0.36 % of the kick's
+///    (1.14 rad), 0.04 % of CMU 131's (3.10 rad). Around
+///    UpperArm_L at t ≈ 21.1–21.2 s, where the inputs turn fast (a turn of
+///    > 0.05 rad per quarter frame), the blend is up to 0.58 rad off the
+///    midpoint even at slow samples nearby: not yet explained (open; see
+///    the README's issue 17 notes);
+/// 2. asserted, the chain bound from the blend's own joint angles: a
+///    point's distance from input a's is at most the root's move plus Σ over
+///    the bones above it of bone length × min(2, Σ ψa of the joints above
+///    that bone) (a rotation by ψ moves a vector of length L by
+///    ≤ 2L sin(ψ/2)), plus position channels' moves, plus 1 cm; the same
+///    for b. It checks that the Euler channels written back are the
+///    rotations mixed, in the joint's order, and composed down the chain;
+/// 3. asserted, the per-step bound: a joint moves at most 5 cm more per
+///    sample step than the faster input.
 #[test]
 fn blends_of_shared_clips_do_not_spin_limbs() {
     let files = common::shared_files("mocap", ".bvh");
@@ -305,12 +343,114 @@ fn blends_of_shared_clips_do_not_spin_limbs() {
             .unwrap()
         };
         let (pa, pb, pm) = (pos(&a), pos(&b), pos(&m));
-        let (mut spread_excess, mut step_excess) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let joints = euler_joints(a.names());
+        let rot = |x: &Mu, name: &str, t: f64| {
+            joints.iter().find(|j| j.joint == name).map(|j| {
+                let e: [f64; 3] =
+                    std::array::from_fn(|c| x.sample_value(&j.dofs[c], t).unwrap().unwrap());
+                from_euler(j.axes, e)
+            })
+        };
+        // a joint's position channels (root and any others), as a vector
+        let offset = |x: &Mu, name: &str, t: f64| {
+            let mut v = nalgebra::Vector3::zeros();
+            for (k, c) in ["Xposition", "Yposition", "Zposition"].iter().enumerate() {
+                if let Some(Some(val)) = x
+                    .get(&format!("{name}.{c}"))
+                    .map(|d| d.sample_value("p", t).unwrap())
+                {
+                    v[k] = val;
+                }
+            }
+            v
+        };
+        let (mut spread_excess, mut step_excess, mut chain_excess) =
+            (f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let mut worst_spread = (0.0, String::new());
+        let mut worst_half = 0.0f64;
+        let (mut samples, mut long_arc, mut worst_long, mut unresolved) =
+            (0usize, 0usize, 0.0f64, 0usize);
         for k in 0..pm.times.len() {
-            for j in 0..pm.names.len() {
+            let t = pm.times[k];
+            if t >= e - 1e-9 {
+                break; // at a's end the b-only part starts, and touching intervals give it the time
+            }
+            // per point: half-angle sums down the chain, and the bound
+            let n = pm.names.len();
+            let mut psi = vec![[0.0f64; 2]; n]; // rotation of the point's joint: blend vs a, vs b
+            for j in 0..n {
+                let name = &pm.names[j];
+                if let (Some(ra), Some(rb), Some(rm)) =
+                    (rot(&a, name, t), rot(&b, name, t), rot(&m, name, t))
+                {
+                    let phi = ra.angle_to(&rb);
+                    psi[j] = [rm.angle_to(&ra), rm.angle_to(&rb)];
+                    // on the geodesic through a and b, at its midpoint: the
+                    // short arc (ψa + ψb = φ) or, after the inputs passed
+                    // through opposite rotations, the long one (2π − φ)
+                    let sum = psi[j][0] + psi[j][1];
+                    let long = (sum - (2.0 * std::f64::consts::PI - phi)).abs() < (sum - phi).abs();
+                    let off = (sum
+                        - if long {
+                            2.0 * std::f64::consts::PI - phi
+                        } else {
+                            phi
+                        })
+                    .abs();
+                    // only where both inputs turn < 0.05 rad per quarter frame: a
+                    // faster turn (a capture glitch through gimbal lock in the
+                    // dance) is not resolved by the blend's frame-step samples
+                    let dt4 = pm.times.get(1).map_or(0.0, |t1| t1 - pm.times[0]);
+                    let speed = |x: &Mu| match (rot(x, name, t), rot(x, name, t + dt4)) {
+                        (Some(p), Some(q)) => p.angle_to(&q),
+                        _ => 0.0,
+                    };
+                    let resolved = speed(&a) < 0.05 && speed(&b) < 0.05;
+                    let dev = if resolved {
+                        off.max((psi[j][0] - psi[j][1]).abs())
+                    } else {
+                        0.0
+                    };
+                    unresolved += usize::from(!resolved);
+                    worst_half = worst_half.max(dev);
+                    samples += 1;
+                    if long && sum - phi > 1e-3 {
+                        long_arc += 1;
+                        worst_long = worst_long.max(psi[j][0].max(psi[j][1]) - phi / 2.0);
+                    }
+                }
+            }
+            let mut bound = vec![[0.0f64; 2]; n];
+            let mut turned = vec![[0.0f64; 2]; n]; // Σ ψ over the joints at and above
+            for j in 0..n {
+                let moved =
+                    |x: &Mu| (offset(&m, &pm.names[j], t) - offset(x, &pm.names[j], t)).norm();
+                let (dma, dmb) = (moved(&a), moved(&b));
+                match pm.parents[j] {
+                    None => {
+                        bound[j] = [dma, dmb];
+                        turned[j] = psi[j];
+                    }
+                    Some(p) => {
+                        let len = (pa.points[k][j] - pa.points[k][p]).norm();
+                        for side in 0..2 {
+                            bound[j][side] =
+                                bound[p][side] + len * turned[p][side].min(2.0) + [dma, dmb][side];
+                            turned[j][side] = turned[p][side] + psi[j][side];
+                        }
+                    }
+                }
+            }
+            for j in 0..n {
                 let (x, y, z) = (pa.points[k][j], pb.points[k][j], pm.points[k][j]);
                 let spread = (x - y).norm();
-                spread_excess = spread_excess.max((z - x).norm().max((z - y).norm()) - spread);
+                let excess = (z - x).norm().max((z - y).norm()) - spread;
+                if excess > spread_excess {
+                    spread_excess = excess;
+                    worst_spread = (t, pm.names[j].clone());
+                }
+                chain_excess = chain_excess
+                    .max(((z - x).norm() - bound[j][0]).max((z - y).norm() - bound[j][1]));
                 if k > 0 {
                     let step = |p: &mx::mocap::positions::Positions| {
                         (p.points[k][j] - p.points[k - 1][j]).norm()
@@ -320,7 +460,18 @@ fn blends_of_shared_clips_do_not_spin_limbs() {
             }
         }
         eprintln!(
-            "{}: beyond the inputs' spread {spread_excess:.4} m, per-step beyond the faster input {step_excess:.4} m",
+            "{}: beyond the inputs' spread {spread_excess:.4} m (worst: {} at t = {:.3} s), beyond the chain bound {chain_excess:.2e} m, \
+             off the a–b geodesic midpoint {worst_half:.1e} rad, on the long arc {:.2} % of joint samples (up to {worst_long:.2} rad past φ/2), {unresolved} fast samples skipped, \
+             per-step beyond the faster input {step_excess:.4} m",
+            path.display(),
+            worst_spread.1,
+            worst_spread.0,
+            100.0 * long_arc as f64 / samples.max(1) as f64
+        );
+        // (1) is measured and printed, not asserted: see the comment above
+        assert!(
+            chain_excess <= 0.01,
+            "{}: a joint is {chain_excess} m past the chain bound",
             path.display()
         );
         assert!(
