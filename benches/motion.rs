@@ -85,10 +85,17 @@ fn main() {
 /// left and nine right joints of three rotation channels each.
 fn skeleton_like(seconds: f64, phase: f64) -> Mu {
     let n = (seconds * RATE) as usize + 1;
-    let mut names: Vec<String> = ["Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation"]
-        .iter()
-        .map(|c| format!("Hips.{c}"))
-        .collect();
+    let mut names: Vec<String> = [
+        "Xposition",
+        "Yposition",
+        "Zposition",
+        "Zrotation",
+        "Xrotation",
+        "Yrotation",
+    ]
+    .iter()
+    .map(|c| format!("Hips.{c}"))
+    .collect();
     for side in ["Left", "Right"] {
         for j in 0..9 {
             for c in ["Zrotation", "Xrotation", "Yrotation"] {
@@ -110,7 +117,10 @@ fn skeleton_like(seconds: f64, phase: f64) -> Mu {
                 })
                 .collect();
             let c = Curve::samples(0.0, 1.0 / RATE, values).expect("valid samples");
-            (name, Dof::from(Interval::curve(c, 0.0, seconds).expect("valid interval")))
+            (
+                name,
+                Dof::from(Interval::curve(c, 0.0, seconds).expect("valid interval")),
+            )
         })
         .collect()
 }
@@ -133,10 +143,20 @@ fn operators() {
     let a = skeleton_like(SECONDS, 0.0);
     let b = skeleton_like(SECONDS, 1.3);
     let base = best_of(5, || sample_all(&a));
-    let rows: [(&str, Box<dyn Fn() -> usize>); 3] = [
-        ("blend(a, b, 0.5)", Box::new(|| sample_all(&blend(&a, &b, &Weight::Const(0.5)).expect("blend")))),
-        ("crossfade(a, b, 1 s)", Box::new(|| sample_all(&crossfade(&a, &b, 1.0, 1).expect("crossfade")))),
-        ("mirror(a)", Box::new(|| sample_all(&mirror(&a, 0).expect("mirror")))),
+    type Op<'a> = (&'static str, Box<dyn Fn() -> usize + 'a>);
+    let rows: [Op<'_>; 3] = [
+        (
+            "blend(a, b, 0.5)",
+            Box::new(|| sample_all(&blend(&a, &b, &Weight::Const(0.5)).expect("blend"))),
+        ),
+        (
+            "crossfade(a, b, 1 s)",
+            Box::new(|| sample_all(&crossfade(&a, &b, 1.0, 1).expect("crossfade"))),
+        ),
+        (
+            "mirror(a)",
+            Box::new(|| sample_all(&mirror(&a, 0).expect("mirror"))),
+        ),
     ];
     println!(
         "\noperators on 60 DOFs × {SECONDS} s at {RATE} Hz; sampling the input alone {:.1} ms",
@@ -144,7 +164,11 @@ fn operators() {
     );
     for (what, f) in rows {
         let t = best_of(3, f);
-        println!("  {what:<22} {:>8.1} ms  {:>6.1}× sampling the input", t * 1e3, t / base);
+        println!(
+            "  {what:<22} {:>8.1} ms  {:>6.1}× sampling the input",
+            t * 1e3,
+            t / base
+        );
     }
 }
 
@@ -157,7 +181,8 @@ fn ik_per_frame() {
     let (s, e) = later.span().expect("span");
     let e = e.min(walk.span().expect("span").1);
     let ts: Vec<f64> = grid_times((s.max(0.0), e), 60.0).expect("grid");
-    let p = mx::mocap::positions_at(&later, &model, ts.clone(), mx::mocap::Missing::Error).expect("positions");
+    let p = mx::mocap::positions_at(&later, &model, ts.clone(), mx::mocap::Missing::Error)
+        .expect("positions");
     let target = |link: &str| {
         let j = p.names.iter().position(|n| n == link).expect("foot link");
         let axis = |k: usize| {
@@ -165,10 +190,17 @@ fn ik_per_frame() {
             let c = Curve::samples(ts[0], ts[1] - ts[0], v).expect("samples");
             Dof::from(Interval::curve(c, ts[0], *ts.last().expect("frames")).expect("interval"))
         };
-        Target { link: link.into(), position: [axis(0), axis(1), axis(2)], weight: 1.0 }
+        Target {
+            link: link.into(),
+            position: [axis(0), axis(1), axis(2)],
+            weight: 1.0,
+        }
     };
     let targets = [target("foot_L"), target("foot_R")];
-    let opts = IkOptions { rate: Some(60.0), ..Default::default() };
+    let opts = IkOptions {
+        rate: Some(60.0),
+        ..Default::default()
+    };
     let t = Instant::now();
     let (_, r) = ik(&model, &walk, &targets, &opts).expect("ik");
     let secs = t.elapsed().as_secs_f64();

@@ -165,7 +165,7 @@ fn chain() -> Model {
             "hip",
             Arc::new(Spherical::default()),
             Se3::identity(),
-            link.clone(),
+            link,
         )
         .unwrap();
     let frames: Vec<Se3> = (0..6)
@@ -186,7 +186,7 @@ fn chain() -> Model {
             "curve",
             Arc::new(curve),
             Se3::from_translation(Vector3::new(0.0, -0.3, 0.0)),
-            link.clone(),
+            link,
         )
         .unwrap();
     let knee = FunctionJoint::from_osim_file(repo("examples/data/knee_r.osim"), "knee_r").unwrap();
@@ -197,7 +197,7 @@ fn chain() -> Model {
             "knee",
             Arc::new(knee),
             Se3::from_translation(Vector3::new(0.0, -0.1, 0.0)),
-            link.clone(),
+            link,
         )
         .unwrap();
     m.add_link(

@@ -306,8 +306,8 @@ fn resample_and_linear_fill() {
 ///    seen here at 4× finer times). On the long arc: 0.21 % of the Bandai
 ///    dance's joint samples (up to 2.01 rad past φ/2), 0.36 % of the kick's
 ///    (1.14 rad), 0.04 % of CMU 131's (3.10 rad). Around
-///    UpperArm_L at t ≈ 21.1–21.2 s, where the inputs turn fast (a turn of
-///    > 0.05 rad per quarter frame), the blend is up to 0.58 rad off the
+///    UpperArm_L at t ≈ 21.1–21.2 s, where the inputs turn fast (more than
+///    0.05 rad per quarter frame), the blend is up to 0.58 rad off the
 ///    midpoint even at slow samples nearby: not yet explained (open; see
 ///    the README's issue 17 notes);
 /// 2. asserted, the chain bound from the blend's own joint angles: a
@@ -378,6 +378,7 @@ fn blends_of_shared_clips_do_not_spin_limbs() {
             // per point: half-angle sums down the chain, and the bound
             let n = pm.names.len();
             let mut psi = vec![[0.0f64; 2]; n]; // rotation of the point's joint: blend vs a, vs b
+            #[allow(clippy::needless_range_loop)] // j indexes psi and the names together
             for j in 0..n {
                 let name = &pm.names[j];
                 if let (Some(ra), Some(rb), Some(rm)) =
@@ -441,6 +442,7 @@ fn blends_of_shared_clips_do_not_spin_limbs() {
                     }
                 }
             }
+            #[allow(clippy::needless_range_loop)] // j indexes four parallel tables
             for j in 0..n {
                 let (x, y, z) = (pa.points[k][j], pb.points[k][j], pm.points[k][j]);
                 let spread = (x - y).norm();

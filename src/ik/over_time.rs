@@ -132,7 +132,11 @@ fn common_span(m: &Mu, names: &[String], targets: &[Target]) -> Result<(f64, f64
             cut(d.span(), &format!("the target {}.{axis}", t.link))?;
         }
     }
-    if !(span.0 <= span.1) {
+    if span
+        .0
+        .partial_cmp(&span.1)
+        .is_none_or(|o| o == std::cmp::Ordering::Greater)
+    {
         return Err(invalid(format!(
             "the motion and the targets are never defined at the same time (common span [{}, {}] is empty)",
             span.0, span.1
