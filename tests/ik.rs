@@ -379,3 +379,92 @@ fn bad_input_gets_clear_errors() {
     ));
     assert!(e.contains("never defined at the same time"), "{e}");
 }
+
+/// Joint limits are bounds: a foot target that needs the knee past its
+/// range (OpenSim's knee_r: −120° … 10°) leaves the knee at the limit, and
+/// the residual says how far the foot stayed.
+#[test]
+fn joint_limits_are_respected_and_the_shortfall_reported() {
+    let mut m = Model::new("leg");
+    let mass = Inertia::point(1.0, Vector3::new(0.0, -0.2, 0.0)).unwrap();
+    let hip = m
+        .add_link(
+            "femur",
+            None,
+            "hip",
+            Arc::new(Revolute::new(Vector3::new(0.0, 0.0, 1.0)).unwrap()),
+            Se3::identity(),
+            mass,
+        )
+        .unwrap();
+    let knee = FunctionJoint::from_osim_file(repo("examples/data/knee_r.osim"), "knee_r").unwrap();
+    let lim = knee.limits()[0];
+    let tibia = m
+        .add_link(
+            "tibia",
+            Some(hip),
+            "knee",
+            Arc::new(knee),
+            Se3::from_translation(Vector3::new(0.0, -0.4, 0.0)),
+            mass,
+        )
+        .unwrap();
+    let foot = m
+        .add_link(
+            "foot",
+            Some(tibia),
+            "ankle",
+            Arc::new(mx::model::joints::Fixed::new(Se3::identity())),
+            Se3::from_translation(Vector3::new(0.0, -0.43, 0.0)),
+            mass,
+        )
+        .unwrap();
+    // the foot pulled up against the thigh: the knee would have to fold past −120°
+    let goal = Goal {
+        link: foot,
+        position: Vector3::new(0.0, -0.3, 0.0),
+        orientation: None,
+        weight: 1.0,
+    };
+    let mut solver = Solver::new(&m, &[foot], &[true, true]).unwrap();
+    let mut q = vec![0.0, -0.5];
+    let r = solver
+        .solve(&mut q, &[goal.clone()], &Settings::default())
+        .unwrap();
+    assert!(!r.converged);
+    assert!(
+        q[1] >= lim.lower && q[1] <= lim.upper,
+        "knee {} outside [{}, {}]",
+        q[1],
+        lim.lower,
+        lim.upper
+    );
+    assert!(
+        (q[1] - lim.lower).abs() < 1e-9,
+        "the knee should rest on its limit, at {}",
+        q[1]
+    );
+    // the reported residual is the true distance, and no admissible knee angle does better
+    let mut poses = vec![];
+    m.forward_kinematics(&q, &mut poses).unwrap();
+    assert!(((poses[foot].p - goal.position).norm() - r.position_error[0]).abs() < 1e-12);
+    let best = (0..=2000)
+        .flat_map(|i| (0..=200).map(move |k| (i, k)))
+        .map(|(i, k)| {
+            let h = -std::f64::consts::PI + 2.0 * std::f64::consts::PI * i as f64 / 2000.0;
+            let kn = lim.lower + (lim.upper - lim.lower) * k as f64 / 200.0;
+            let mut p = vec![];
+            m.forward_kinematics(&[h, kn], &mut p).unwrap();
+            (p[foot].p - goal.position).norm()
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        r.position_error[0] <= best + 1e-6,
+        "residual {} m, a grid search finds {best} m",
+        r.position_error[0]
+    );
+    println!(
+        "limit: knee at {:.4} rad (limit {:.4}), residual {:.4} m, grid best {best:.4} m",
+        q[1], lim.lower, r.position_error[0]
+    );
+}
