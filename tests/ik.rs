@@ -429,7 +429,7 @@ fn joint_limits_are_respected_and_the_shortfall_reported() {
     let mut solver = Solver::new(&m, &[foot], &[true, true]).unwrap();
     let mut q = vec![0.0, -0.5];
     let r = solver
-        .solve(&mut q, &[goal.clone()], &Settings::default())
+        .solve(&mut q, std::slice::from_ref(&goal), &Settings::default())
         .unwrap();
     assert!(!r.converged);
     assert!(
