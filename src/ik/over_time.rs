@@ -68,7 +68,7 @@ pub struct IkReport {
     /// The DOFs IK moved.
     pub dofs: Vec<String>,
     pub tolerance: f64,
-    /// Solved times: first, last, step.
+    /// First and last solved time (s).
     pub span: (f64, f64),
 }
 
