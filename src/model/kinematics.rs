@@ -46,3 +46,28 @@ impl Model {
         Ok(poses[link].act_point(point))
     }
 }
+
+/// How a point moves with one coordinate: ∂p/∂q_i for a point `p` (world) on
+/// a link below the joint placed at `pose` (world pose of the joint's child
+/// frame), where `s = [ω; v]` is the coordinate's column of the joint's
+/// body-frame Jacobian S(q). In the joint frame the point moves by ω × r + v
+/// with r = Rᵀ(p − o); rotated to the world, R(ω × r + v). The analytic
+/// Jacobian of forward kinematics that support IK (`spacetime::support`) and
+/// per-frame IK (`ik`) share.
+#[inline]
+pub fn point_velocity(
+    pose: &Se3,
+    s: &crate::lie::Twist,
+    p: &nalgebra::Vector3<f64>,
+) -> nalgebra::Vector3<f64> {
+    let (w, v) = (s.fixed_rows::<3>(0), s.fixed_rows::<3>(3));
+    let rl = pose.r.transpose() * (p - pose.p);
+    pose.r * (w.cross(&rl) + v)
+}
+
+/// The world angular velocity of every link below the joint placed at
+/// `pose` per unit of the coordinate whose Jacobian column is `s`: R ω.
+#[inline]
+pub fn angular_velocity(pose: &Se3, s: &crate::lie::Twist) -> nalgebra::Vector3<f64> {
+    pose.r * s.fixed_rows::<3>(0)
+}

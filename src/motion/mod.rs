@@ -2,7 +2,8 @@
 //! DOFs (lists of intervals), motion units (named DOFs), the set operations
 //! ∧ − + and the time operations affine, clip, clip-in-place, concatenate;
 //! the animator's operators beyond Rose (blend, crossfade, align, layer,
-//! mask, mirror, reverse, warp, resample) in [`compose`].
+//! mask, mirror, reverse, warp, resample) in [`compose`]; hold and loop
+//! extrapolation in [`extrapolate`].
 //!
 //! This module knows nothing of the language: the interpreter wraps mx
 //! functions of time as [`TimeFunction`]s and calls the operations here.
@@ -20,6 +21,7 @@ pub mod cyclify;
 mod display;
 pub mod dof;
 pub mod error;
+pub mod extrapolate;
 pub mod fill;
 pub mod func;
 pub mod interval;
@@ -32,6 +34,7 @@ pub use compose::Weight;
 pub use curve::{Curve, HermiteCurve, SampledCurve, TimeFunction};
 pub use dof::Dof;
 pub use error::MotionError;
+pub use extrapolate::{Extrapolation, extrapolate};
 pub use fill::{fill_hermite, fill_linear, fill_slerp};
 pub use func::Func;
 pub use interval::Interval;

@@ -12,6 +12,7 @@ pub mod fit;
 mod hard_case;
 pub mod hard_cases;
 pub mod hard_mechanisms;
+pub mod ik;
 pub mod inbetween;
 pub mod integrators;
 pub mod machine;

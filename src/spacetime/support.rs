@@ -30,6 +30,7 @@ use super::objective::{GapDof, TransitionSettings, composite_nodes, hermite_free
 use super::transition::TransitionCurve;
 use crate::cancel::CancelToken;
 use crate::lie::Se3;
+use crate::model::kinematics::point_velocity;
 use crate::model::{Derivatives, JointKinematics, Model};
 use nalgebra::{DMatrix, DVector, Vector3};
 
@@ -380,14 +381,12 @@ impl<'a> SupportObjective<'a> {
                     &mut jk,
                 );
                 let s = jk.s[dof.coord - link.q_index];
-                let (w, v) = (s.fixed_rows::<3>(0), s.fixed_rows::<3>(3));
                 let pose = &poses[o];
                 for (f, &fl) in self.frames.iter().enumerate() {
                     if !self.moves[f][d] {
                         continue;
                     }
-                    let rl = pose.r.transpose() * (poses[fl].p - pose.p);
-                    let dp = pose.r * (w.cross(&rl) + v);
+                    let dp = point_velocity(pose, &s, &poses[fl].p);
                     for i in 0..3 {
                         jac[(3 * f + i, d)] = dp[i];
                     }

@@ -16,6 +16,7 @@ mod dynamics_sim;
 mod graph;
 #[cfg(feature = "report")]
 mod hard_cases;
+mod ik;
 #[cfg(feature = "report")]
 mod inbetween;
 mod joints;

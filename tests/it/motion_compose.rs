@@ -281,6 +281,44 @@ fn resample_and_linear_fill() {
 /// where the two poses' relative rotation turns fast). The issue's stronger bound (within the inputs'
 /// spread + 1 cm at every time) is measured and printed: slerping every
 /// joint of a chain halfway does not meet it on every clip (see the report).
+/// The issue asks that a blend of a walk with itself half a cycle later never
+/// move a joint's world position more than the inputs' spread at that time
+/// plus 1 cm. That bound is geometrically unreachable for any per-joint
+/// interpolation, slerp included: two configurations can put a point in the
+/// same place with different joint angles (a planar two-link arm with unit
+/// links at (0°, +90°) and (90°, −90°) puts the hand at (1, 1) both ways;
+/// the per-joint mean (45°, 0°) puts it at (1.41, 1.41), 0.59 m from both,
+/// with a spread of 0). Measured on the shared clips (printed below), the
+/// blend exceeds the spread by up to 0.68 m (Bandai dance, a hand whose two
+/// inputs pass close together with different arm poses), 0.44 m (kick),
+/// 0.18 m (CMU jump-turn), 5–8 cm on the walks; a still pose (bow, bye, wave)
+/// stays within 1 mm.
+///
+/// What is measured (printed per clip) and asserted:
+/// 1. measured, not yet asserted: each joint's blended rotation should be the
+///    midpoint of an arc of the geodesic through the inputs' rotations
+///    (ψa = ψb, ψa + ψb = φ on the short arc). Each input's quaternion is
+///    sign-aligned along time so the blend is continuous; where two inputs
+///    pass through opposite rotations (φ = π) continuity forces the blend
+///    onto the long arc (ψa + ψb = 2π − φ) until they pass π again (the
+///    alternative is a 180° jump). On the still clips the deviation is
+///    ≤ 1.1e-3 rad (the blend is a C² spline through frame-step samples,
+///    seen here at 4× finer times). On the long arc: 0.21 % of the Bandai
+///    dance's joint samples (up to 2.01 rad past φ/2), 0.36 % of the kick's
+///    (1.14 rad), 0.04 % of CMU 131's (3.10 rad). Around
+///    UpperArm_L at t ≈ 21.1–21.2 s, where the inputs turn fast (more than
+///    0.05 rad per quarter frame), the blend is up to 0.58 rad off the
+///    midpoint even at slow samples nearby: not yet explained (open; see
+///    the README's issue 17 notes);
+/// 2. asserted, the chain bound from the blend's own joint angles: a
+///    point's distance from input a's is at most the root's move plus Σ over
+///    the bones above it of bone length × min(2, Σ ψa of the joints above
+///    that bone) (a rotation by ψ moves a vector of length L by
+///    ≤ 2L sin(ψ/2)), plus position channels' moves, plus 1 cm; the same
+///    for b. It checks that the Euler channels written back are the
+///    rotations mixed, in the joint's order, and composed down the chain;
+/// 3. asserted, the per-step bound: a joint moves at most 5 cm more per
+///    sample step than the faster input.
 #[test]
 fn blends_of_shared_clips_do_not_spin_limbs() {
     let files = common::shared_files("mocap", ".bvh");
@@ -305,12 +343,116 @@ fn blends_of_shared_clips_do_not_spin_limbs() {
             .unwrap()
         };
         let (pa, pb, pm) = (pos(&a), pos(&b), pos(&m));
-        let (mut spread_excess, mut step_excess) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let joints = euler_joints(a.names());
+        let rot = |x: &Mu, name: &str, t: f64| {
+            joints.iter().find(|j| j.joint == name).map(|j| {
+                let e: [f64; 3] =
+                    std::array::from_fn(|c| x.sample_value(&j.dofs[c], t).unwrap().unwrap());
+                from_euler(j.axes, e)
+            })
+        };
+        // a joint's position channels (root and any others), as a vector
+        let offset = |x: &Mu, name: &str, t: f64| {
+            let mut v = nalgebra::Vector3::zeros();
+            for (k, c) in ["Xposition", "Yposition", "Zposition"].iter().enumerate() {
+                if let Some(Some(val)) = x
+                    .get(&format!("{name}.{c}"))
+                    .map(|d| d.sample_value("p", t).unwrap())
+                {
+                    v[k] = val;
+                }
+            }
+            v
+        };
+        let (mut spread_excess, mut step_excess, mut chain_excess) =
+            (f64::NEG_INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let mut worst_spread = (0.0, String::new());
+        let mut worst_half = 0.0f64;
+        let (mut samples, mut long_arc, mut worst_long, mut unresolved) =
+            (0usize, 0usize, 0.0f64, 0usize);
         for k in 0..pm.times.len() {
-            for j in 0..pm.names.len() {
+            let t = pm.times[k];
+            if t >= e - 1e-9 {
+                break; // at a's end the b-only part starts, and touching intervals give it the time
+            }
+            // per point: half-angle sums down the chain, and the bound
+            let n = pm.names.len();
+            let mut psi = vec![[0.0f64; 2]; n]; // rotation of the point's joint: blend vs a, vs b
+            #[allow(clippy::needless_range_loop)] // j indexes psi and the names together
+            for j in 0..n {
+                let name = &pm.names[j];
+                if let (Some(ra), Some(rb), Some(rm)) =
+                    (rot(&a, name, t), rot(&b, name, t), rot(&m, name, t))
+                {
+                    let phi = ra.angle_to(&rb);
+                    psi[j] = [rm.angle_to(&ra), rm.angle_to(&rb)];
+                    // on the geodesic through a and b, at its midpoint: the
+                    // short arc (ψa + ψb = φ) or, after the inputs passed
+                    // through opposite rotations, the long one (2π − φ)
+                    let sum = psi[j][0] + psi[j][1];
+                    let long = (sum - (2.0 * std::f64::consts::PI - phi)).abs() < (sum - phi).abs();
+                    let off = (sum
+                        - if long {
+                            2.0 * std::f64::consts::PI - phi
+                        } else {
+                            phi
+                        })
+                    .abs();
+                    // only where both inputs turn < 0.05 rad per quarter frame: a
+                    // faster turn (a capture glitch through gimbal lock in the
+                    // dance) is not resolved by the blend's frame-step samples
+                    let dt4 = pm.times.get(1).map_or(0.0, |t1| t1 - pm.times[0]);
+                    let speed = |x: &Mu| match (rot(x, name, t), rot(x, name, t + dt4)) {
+                        (Some(p), Some(q)) => p.angle_to(&q),
+                        _ => 0.0,
+                    };
+                    let resolved = speed(&a) < 0.05 && speed(&b) < 0.05;
+                    let dev = if resolved {
+                        off.max((psi[j][0] - psi[j][1]).abs())
+                    } else {
+                        0.0
+                    };
+                    unresolved += usize::from(!resolved);
+                    worst_half = worst_half.max(dev);
+                    samples += 1;
+                    if long && sum - phi > 1e-3 {
+                        long_arc += 1;
+                        worst_long = worst_long.max(psi[j][0].max(psi[j][1]) - phi / 2.0);
+                    }
+                }
+            }
+            let mut bound = vec![[0.0f64; 2]; n];
+            let mut turned = vec![[0.0f64; 2]; n]; // Σ ψ over the joints at and above
+            for j in 0..n {
+                let moved =
+                    |x: &Mu| (offset(&m, &pm.names[j], t) - offset(x, &pm.names[j], t)).norm();
+                let (dma, dmb) = (moved(&a), moved(&b));
+                match pm.parents[j] {
+                    None => {
+                        bound[j] = [dma, dmb];
+                        turned[j] = psi[j];
+                    }
+                    Some(p) => {
+                        let len = (pa.points[k][j] - pa.points[k][p]).norm();
+                        for side in 0..2 {
+                            bound[j][side] =
+                                bound[p][side] + len * turned[p][side].min(2.0) + [dma, dmb][side];
+                            turned[j][side] = turned[p][side] + psi[j][side];
+                        }
+                    }
+                }
+            }
+            #[allow(clippy::needless_range_loop)] // j indexes four parallel tables
+            for j in 0..n {
                 let (x, y, z) = (pa.points[k][j], pb.points[k][j], pm.points[k][j]);
                 let spread = (x - y).norm();
-                spread_excess = spread_excess.max((z - x).norm().max((z - y).norm()) - spread);
+                let excess = (z - x).norm().max((z - y).norm()) - spread;
+                if excess > spread_excess {
+                    spread_excess = excess;
+                    worst_spread = (t, pm.names[j].clone());
+                }
+                chain_excess = chain_excess
+                    .max(((z - x).norm() - bound[j][0]).max((z - y).norm() - bound[j][1]));
                 if k > 0 {
                     let step = |p: &mx::mocap::positions::Positions| {
                         (p.points[k][j] - p.points[k - 1][j]).norm()
@@ -320,7 +462,18 @@ fn blends_of_shared_clips_do_not_spin_limbs() {
             }
         }
         eprintln!(
-            "{}: beyond the inputs' spread {spread_excess:.4} m, per-step beyond the faster input {step_excess:.4} m",
+            "{}: beyond the inputs' spread {spread_excess:.4} m (worst: {} at t = {:.3} s), beyond the chain bound {chain_excess:.2e} m, \
+             off the a–b geodesic midpoint {worst_half:.1e} rad, on the long arc {:.2} % of joint samples (up to {worst_long:.2} rad past φ/2), {unresolved} fast samples skipped, \
+             per-step beyond the faster input {step_excess:.4} m",
+            path.display(),
+            worst_spread.1,
+            worst_spread.0,
+            100.0 * long_arc as f64 / samples.max(1) as f64
+        );
+        // (1) is measured and printed, not asserted: see the comment above
+        assert!(
+            chain_excess <= 0.01,
+            "{}: a joint is {chain_excess} m past the chain bound",
             path.display()
         );
         assert!(
@@ -386,4 +539,118 @@ fn composing_examples_run() {
         let printed = String::from_utf8(out.lock().unwrap().clone()).unwrap();
         assert!(printed.contains("Mu ["), "{ex} printed {printed}");
     }
+}
+
+/// hold and loop extrapolation (issue 17 item 2): the motion unchanged inside
+/// its span, the first/last pose held or whole periods repeated outside, and
+/// the result an ordinary motion for the algebra.
+#[test]
+fn hold_and_loop_extend_a_motion_and_compose_with_the_algebra() {
+    let m = clip(&[0.3, -0.7, 1.1, 0.4], 0.0, false); // defined on [0, 2]
+    let inside = times(0.0, 2.0, 40);
+    let held = extrapolate(&m, -1.0, 3.5, Extrapolation::Hold).unwrap();
+    assert_eq!(held.span(), Some((-1.0, 3.5)));
+    assert_eq!(max_diff(&held, &m, &inside), 0.0);
+    for n in m.names() {
+        let first = m.sample_value(n, 0.0).unwrap().unwrap();
+        let last = m.sample_value(n, 2.0).unwrap().unwrap();
+        for t in [-1.0, -0.3] {
+            assert_eq!(held.sample_value(n, t).unwrap(), Some(first), "{n} at {t}");
+        }
+        for t in [2.2, 3.5] {
+            assert_eq!(held.sample_value(n, t).unwrap(), Some(last), "{n} at {t}");
+        }
+    }
+    let looped = extrapolate(&m, -3.0, 7.0, Extrapolation::Loop).unwrap();
+    assert_eq!(looped.span(), Some((-3.0, 7.0)));
+    // at a seam (t = 2 here) the next period's first pose is sampled
+    assert_eq!(max_diff(&looped, &m, &inside[..inside.len() - 1]), 0.0);
+    for n in m.names() {
+        for t in [0.1, 0.77, 1.5] {
+            let v = m.sample_value(n, t).unwrap().unwrap();
+            for k in [-1.0, 1.0, 2.0] {
+                let got = looped.sample_value(n, t + 2.0 * k).unwrap().unwrap();
+                assert!(
+                    (got - v).abs() < 1e-12,
+                    "{n} at {t} + {k} periods: {got} vs {v}"
+                );
+            }
+        }
+    }
+    // the algebra: what hold adds is exactly the outside, and a meet with it
+    // is defined where both are
+    let added = minus(&held, &m);
+    assert_eq!(added.span(), Some((-1.0, 3.5)));
+    let d = added.get("Hips.Xposition").unwrap();
+    assert_eq!(d.intervals.len(), 2);
+    assert!(
+        (d.intervals[0].stop - 0.0).abs() < 1e-12 && (d.intervals[1].start - 2.0).abs() < 1e-12
+    );
+    let window = {
+        let mut w = Mu::new();
+        w.insert(
+            "Hips.Xposition",
+            Dof::from(Interval::constant(0.0, 2.5, 3.0).unwrap()),
+        );
+        w
+    };
+    let met = and(&held, &window);
+    assert_eq!(
+        met.get("Hips.Xposition").and_then(|d| d.span()),
+        Some((2.5, 3.0))
+    );
+    // a cyclic motion loops seamlessly: value and velocity continuous at the seam
+    let mut cyc = Mu::new();
+    cyc.insert(
+        "q",
+        Dof::from(Interval::function(Arc::new(Sine), 0.0, 1.0).unwrap()),
+    );
+    let l = extrapolate(&cyc, 0.0, 3.0, Extrapolation::Loop).unwrap();
+    let (a, b) = (
+        l.sample("q", 1.0 - 1e-9).unwrap().unwrap(),
+        l.sample("q", 1.0 + 1e-9).unwrap().unwrap(),
+    );
+    assert!(
+        (a[0] - b[0]).abs() < 1e-6 && (a[1] - b[1]).abs() < 1e-6,
+        "{a:?} {b:?}"
+    );
+    // errors
+    assert!(extrapolate(&m, 3.0, 1.0, Extrapolation::Hold).is_err());
+    assert!(extrapolate(&Mu::new(), 0.0, 1.0, Extrapolation::Loop).is_err());
+}
+
+/// sin(2πt): one period over [0, 1].
+#[derive(Debug)]
+struct Sine;
+impl TimeFunction for Sine {
+    fn eval(&self, t: f64) -> Result<f64, String> {
+        Ok((2.0 * std::f64::consts::PI * t).sin())
+    }
+}
+
+/// The chain forms in mx: `m.hold(ts, tf)`, `m.loop(ts, tf)`, beside the
+/// older `hold(names, value, ts, tf)` and `loop(m, n)`.
+#[test]
+fn hold_and_loop_read_well_in_a_chain() {
+    let mut mx = Interpreter::new();
+    let v = mx
+        .eval_str(
+            "let a = mu({x: interval(fn(t) = t, 0, 1)})\n\
+             let h = a.hold(-1, 3)\n\
+             let l = a.loop(0, 3.5).only(\"x\")\n\
+             [span(h)[0], span(h)[1], sample(h, -0.5).x, sample(h, 2).x, sample(l, 2.25).x, span(hold([\"p\"], 2, 0, 1))[1], span(loop(cyclify(a, 0, 1), 2))[1]]",
+        )
+        .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let got: Vec<f64> = v
+        .as_list()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_number().unwrap())
+        .collect();
+    assert_eq!(&got[..6], &[-1.0, 3.0, 0.0, 1.0, 0.25, 1.0]);
+    assert!(got[6] > 1.0);
+    let e = error_of("let a = mu({x: interval(0, 0, 1)})\na.hold(2, 1)");
+    assert!(e.contains("ts < tf"), "{e}");
+    let e = error_of("let a = mu({x: interval(0, 0, 1)})\nextrapolate(a, 0, 2, \"bounce\")");
+    assert!(e.contains("\"hold\" or \"loop\""), "{e}");
 }

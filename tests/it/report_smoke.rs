@@ -45,6 +45,7 @@ fn smoke_report_produces_every_figure_with_finite_numbers() {
         "## Spline-joint",
         "## Mocap",
         "## Cyclification",
+        "## Inverse kinematics",
         "## Hard cases",
         "## Performance",
     ] {

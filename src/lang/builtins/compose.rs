@@ -1,5 +1,6 @@
 //! The animator's operators: `blend`, `crossfade`, `align`, `layer`, `mask`,
-//! `mirror`, `reverse` (motions and lists), `warp`, `resample`. The work is
+//! `mirror`, `reverse` (motions and lists), `warp`, `resample`,
+//! `extrapolate` (behind the prelude's `hold(m, ts, tf)`). The work is
 //! done by `crate::motion::compose`; this file converts values and errors.
 
 use std::sync::Arc;
@@ -13,7 +14,7 @@ use crate::lang::timefn::MxTimeFn;
 use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::motion::compose::{self, Weight};
-use crate::motion::{Dof, MotionError, Mu, TimeFunction};
+use crate::motion::{Dof, Extrapolation, MotionError, Mu, TimeFunction};
 
 fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
     a.mu(name)
@@ -238,6 +239,32 @@ fn reshaping(reg: &mut Registry) {
             compose::warp(&m, f)
                 .map(|m| Value::object(Motion::Mu(m)))
                 .map_err(|e| fail(e, farg.span, "a time warp must be strictly increasing over the whole motion"))
+        },
+    );
+    reg.add(
+        "extrapolate(m, ts, tf, mode)",
+        "m extended to [ts, tf] (and cut to it): mode \"hold\" holds each DOF's first value before its span and its last \
+         after; \"loop\" repeats m periodically (period: m's span; seamless where m is cyclic, see cyclify; drifting DOFs \
+         replay rather than continue, unlike loop(m, n)). The chain forms are hold(m, ts, tf) and loop(m, ts, tf); \
+         extrapolation is always to a finite span, so the result samples, plots and composes like any motion.",
+        |a, _| {
+            let (m, marg) = mu_arg(a, "m")?;
+            let ts = a.finite("ts")?;
+            let tf = a.finite("tf")?;
+            let mode_arg = a.arg("mode")?;
+            let mode = match mode_arg.value.as_str() {
+                Some("hold") => Extrapolation::Hold,
+                Some("loop") => Extrapolation::Loop,
+                _ => {
+                    return Err(MxError::value("mode must be \"hold\" or \"loop\"")
+                        .at(mode_arg.span)
+                        .label("unknown mode")
+                        .help("\"hold\": first/last pose held; \"loop\": periodic"));
+                }
+            };
+            crate::motion::extrapolate(&m, ts, tf, mode)
+                .map(|m| Value::object(Motion::Mu(m)))
+                .map_err(|e| fail(e, marg.span, "extrapolate to a finite span [ts, tf] with ts < tf"))
         },
     );
     reg.add(

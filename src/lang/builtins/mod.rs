@@ -1,5 +1,5 @@
 //! The built-in functions, one file per domain (`core.rs`, `motion.rs`,
-//! `compose.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
+//! `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
 //! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `opensim.rs`,
 //! `spacetime.rs`). Each is a leaf: it imports [`Args`], [`Value`], the host
 //! types it converts (`lang::host`) and the engine, and nothing of its
@@ -17,6 +17,7 @@
 pub mod compose;
 pub mod core;
 pub mod dynamics;
+pub mod ik;
 pub mod joints;
 pub mod links;
 pub mod mechanics;
@@ -39,6 +40,7 @@ impl Registry {
         core::register(&mut r);
         motion::register(&mut r);
         compose::register(&mut r);
+        ik::register(&mut r);
         joints::register(&mut r);
         spline_joints::register(&mut r);
         links::register(&mut r);

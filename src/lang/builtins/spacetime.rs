@@ -518,9 +518,16 @@ pub fn register(reg: &mut Registry) {
     reg.add(
         "loop(m, n)",
         "A cyclified motion (cyclify(m, ts, te)) played n times back to back; drifting DOFs continue from where the \
-         previous cycle ended.",
+         previous cycle ended. loop(m, ts, tf): m repeated periodically over [ts, tf] (extrapolate(m, ts, tf, \"loop\")).",
         |a, _| {
             let (m, marg) = mu_arg(a, "m")?;
+            if a.remaining() == 2 {
+                let ts = a.finite("ts")?;
+                let tf = a.finite("tf")?;
+                return crate::motion::extrapolate(&m, ts, tf, crate::motion::Extrapolation::Loop)
+                    .map(|m| Value::object(Motion::Mu(m)))
+                    .map_err(|e| crate::lang::host::errors::motion_error(e, marg.span));
+            }
             let n = a.count("n")?;
             let out = loop_motion(&m, n).map_err(|e| sp_error(e, a, marg.span))?;
             Ok(Value::object(Motion::Mu(out)))

@@ -1,0 +1,359 @@
+//! Inverse kinematics: `ik` and `ik_report`. The work is done by
+//! `crate::ik`; this file converts targets and options and attaches the
+//! report to the motion `ik` returns (as SP's travels with SP's result:
+//! the value is the motion for every other built-in, and any operation on
+//! it makes a new motion, which IK did not produce).
+
+use std::sync::Arc;
+
+use indexmap::IndexMap;
+
+use crate::ik::{self, IkError, IkOptions, IkReport, Target};
+use crate::lang::args::{ArgValue, Args};
+use crate::lang::ast::{BinOp, Span};
+use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::host::body::Body;
+use crate::lang::host::errors::motion_error;
+use crate::lang::host::motion::Motion;
+use crate::lang::registry::Registry;
+use crate::lang::topic::Topic;
+use crate::lang::value::{HostObject, Value};
+use crate::motion::{Dof, Mu};
+
+/// The motion `ik` returned, with its report attached.
+#[derive(Debug)]
+struct IkMotion {
+    motion: Motion,
+    report: Arc<IkReport>,
+}
+
+impl HostObject for IkMotion {
+    fn type_name(&self) -> &'static str {
+        self.motion.type_name()
+    }
+    fn summary(&self) -> String {
+        self.motion.summary()
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        &self.motion
+    }
+    fn attachment(&self) -> Option<&(dyn std::any::Any + Send + Sync)> {
+        Some(&self.report)
+    }
+    fn binary(&self, op: BinOp, other: &Value, self_left: bool) -> Option<Result<Value, String>> {
+        self.motion.binary(op, other, self_left)
+    }
+    fn field(&self, name: &str) -> Option<Value> {
+        self.motion.field(name)
+    }
+    fn equals(&self, other: &dyn HostObject) -> bool {
+        self.motion.equals(other)
+    }
+}
+
+/// `ik_report(m)`: reads like a record, prints as text.
+#[derive(Clone, Debug)]
+struct IkReportValue(Arc<IkReport>);
+
+fn num(x: f64) -> Value {
+    Value::Number(x)
+}
+
+fn record(fields: Vec<(&str, Value)>) -> Value {
+    Value::record(
+        fields
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect::<IndexMap<_, _>>(),
+    )
+}
+
+impl IkReportValue {
+    fn text(&self) -> String {
+        let r = &self.0;
+        let mut s = format!(
+            "ik: {} frames over [{}, {}] s, {} DOFs moved, iterations per frame mean {:.2} max {}, {} frames not within {} m",
+            r.frames,
+            r.span.0,
+            r.span.1,
+            r.dofs.len(),
+            r.mean_iterations,
+            r.max_iterations,
+            r.unconverged_frames,
+            r.tolerance
+        );
+        for t in &r.targets {
+            s.push_str(&format!(
+                "\n  {}: residual max {:.3e} m (t = {:.4} s), mean {:.3e} m, {} frames unreachable",
+                t.link, t.max_residual, t.worst_time, t.mean_residual, t.unreachable_frames
+            ));
+        }
+        s
+    }
+}
+
+impl HostObject for IkReportValue {
+    fn type_name(&self) -> &'static str {
+        "IkReport"
+    }
+    fn summary(&self) -> String {
+        self.text()
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn field(&self, name: &str) -> Option<Value> {
+        let r = &self.0;
+        Some(match name {
+            "targets" => Value::list(
+                r.targets
+                    .iter()
+                    .map(|t| {
+                        record(vec![
+                            ("link", Value::str(&t.link)),
+                            ("max", num(t.max_residual)),
+                            ("mean", num(t.mean_residual)),
+                            ("unreachable", num(t.unreachable_frames as f64)),
+                            ("worst_time", num(t.worst_time)),
+                        ])
+                    })
+                    .collect(),
+            ),
+            "max" => num(r.targets.iter().map(|t| t.max_residual).fold(0.0, f64::max)),
+            "frames" => num(r.frames as f64),
+            "iterations" => num(r.max_iterations as f64),
+            "mean_iterations" => num(r.mean_iterations),
+            "unconverged" => num(r.unconverged_frames as f64),
+            "dofs" => Value::list(r.dofs.iter().map(Value::str).collect()),
+            "tolerance" => num(r.tolerance),
+            "text" => Value::str(self.text()),
+            _ => return None,
+        })
+    }
+}
+
+fn ik_error(e: IkError, span: Span) -> MxError {
+    match e {
+        IkError::Motion(m) => motion_error(m, span),
+        e => MxError::new(ErrorKind::Value, e.to_string())
+            .at(span)
+            .label("here"),
+    }
+}
+
+/// The one DOF of `m` for `axis`: named `axis` or ending in `.axis`.
+fn axis_dof(m: &Mu, link: &str, axis: &str, span: Span) -> MxResult<Dof> {
+    // `x`, else `Link.x`, else the one DOF ending in `.x`
+    let own = format!("{link}.{axis}");
+    if let Some(d) = m.get(axis).or_else(|| m.get(&own)) {
+        return Ok(d.clone());
+    }
+    let suffix = format!(".{axis}");
+    let found: Vec<&str> = m.names().filter(|n| n.ends_with(&suffix)).collect();
+    match found.as_slice() {
+        [one] => Ok(m.get(one).cloned().unwrap_or_default()),
+        [] => Err(MxError::value(format!("the target of {link} has no DOF `{axis}` (or `….{axis}`)"))
+            .at(span)
+            .label("missing a coordinate")
+            .help("a target is a motion of the link's world position: DOFs x, y, z (or Link.x, Link.y, Link.z, as positions(m, body) gives)")),
+        _ => Err(MxError::value(format!("the target of {link} has several DOFs for `{axis}`: {}", found.join(", ")))
+            .at(span)
+            .label("ambiguous")
+            .help("give one motion per link: {LeftFoot: p} with DOFs x, y, z")),
+    }
+}
+
+/// Targets from a record `{Link: motion}` or one motion with `Link.x/.y/.z` DOFs.
+fn targets_of(a: &Args, arg: &ArgValue) -> MxResult<Vec<Target>> {
+    let mk = |link: &str, m: &Mu, span: Span| -> MxResult<Target> {
+        Ok(Target {
+            link: link.to_string(),
+            position: [
+                axis_dof(m, link, "x", span)?,
+                axis_dof(m, link, "y", span)?,
+                axis_dof(m, link, "z", span)?,
+            ],
+            weight: 1.0,
+        })
+    };
+    if let Some(rec) = arg.value.as_record() {
+        let mut out = vec![];
+        for (link, v) in rec.iter() {
+            let Some(Motion::Mu(m)) = v.as_object::<Motion>() else {
+                return Err(a.type_error(
+                    "targets",
+                    &format!("a motion (Mu) of {link}'s position for each link"),
+                    arg,
+                ));
+            };
+            out.push(mk(link, m, arg.span)?);
+        }
+        return Ok(out);
+    }
+    let Some(Motion::Mu(m)) = arg.value.as_object::<Motion>() else {
+        return Err(a.type_error(
+            "targets",
+            "a record {Link: position motion} or a motion with DOFs Link.x, Link.y, Link.z",
+            arg,
+        ));
+    };
+    let mut links: Vec<&str> = vec![];
+    for n in m.names() {
+        let Some((link, axis)) = n.rsplit_once('.') else {
+            return Err(MxError::value(format!("target DOF `{n}` is not named Link.x, Link.y or Link.z"))
+                .at(arg.span)
+                .label("unnamed link")
+                .help("a motion of targets names its DOFs Link.x, Link.y, Link.z, as positions(m, body) does"));
+        };
+        if !matches!(axis, "x" | "y" | "z") {
+            return Err(MxError::value(format!(
+                "target DOF `{n}` is not a position (.x, .y or .z)"
+            ))
+            .at(arg.span)
+            .label("not x, y or z")
+            .help("`only(targets, \"LeftFoot.*\")` keeps one link's position"));
+        }
+        if !links.contains(&link) {
+            links.push(link);
+        }
+    }
+    if links.is_empty() {
+        return Err(MxError::value("the targets motion has no DOFs")
+            .at(arg.span)
+            .label("empty"));
+    }
+    links
+        .iter()
+        .map(|l| {
+            let sub: Mu = m
+                .dofs
+                .iter()
+                .filter(|(n, _)| n.rsplit_once('.').map(|p| p.0) == Some(*l))
+                .map(|(n, d)| (n.clone(), d.clone()))
+                .collect();
+            mk(l, &sub, arg.span)
+        })
+        .collect()
+}
+
+/// `only:` as a list of patterns.
+fn patterns(a: &Args, arg: &ArgValue) -> MxResult<Vec<String>> {
+    match &arg.value {
+        Value::Str(s) => Ok(vec![s.to_string()]),
+        Value::List(l) => l
+            .iter()
+            .map(|x| {
+                x.as_str().map(str::to_string).ok_or_else(|| {
+                    a.type_error("only", "a DOF name or glob, or a list of them", arg)
+                })
+            })
+            .collect(),
+        _ => Err(a.type_error("only", "a DOF name or glob, or a list of them", arg)),
+    }
+}
+
+fn run_ik(a: &mut Args) -> MxResult<Value> {
+    let barg = a.arg("body")?;
+    let body: Body = a.free_body_of(
+        "body",
+        &barg,
+        "a body (body_of(clip), human(clip), body([...]), load(\"x.urdf\"))",
+    )?;
+    let (m, marg) = a.mu("m")?;
+    let targ = a.arg("targets")?;
+    let mut targets = targets_of(a, &targ)?;
+    let mut options = IkOptions::default();
+    if let Some(w) = a.opt_named("weights") {
+        let Some(rec) = w.value.as_record() else {
+            return Err(a.type_error("weights", "a record {Link: weight}", &w));
+        };
+        for (link, v) in rec.iter() {
+            let Some(t) = targets.iter_mut().find(|t| t.link == *link) else {
+                return Err(MxError::value(format!("weights: {link} has no target"))
+                    .at(w.span)
+                    .label("no such target")
+                    .help("weights are given per target link, by the same names as the targets"));
+            };
+            t.weight = v
+                .as_number()
+                .ok_or_else(|| a.type_error("weights", "a record of positive numbers", &w))?;
+        }
+    }
+    if let Some(o) = a.opt_named("only") {
+        options.only = Some(patterns(a, &o)?);
+    }
+    options.settings.tolerance = a.named_number_or("tolerance", options.settings.tolerance)?;
+    let iters = a.named_number_or("iterations", options.settings.max_iterations as f64)?;
+    if !(iters.is_finite() && iters >= 1.0 && iters.fract() == 0.0) {
+        return Err(a.error(
+            ErrorKind::Value,
+            format!("iterations must be a whole number ≥ 1, got {iters}"),
+        ));
+    }
+    options.settings.max_iterations = iters as usize;
+    if let Some(r) = a.opt_named("rate") {
+        let Value::Number(rate) = r.value else {
+            return Err(a.type_error("rate", "frames per second", &r));
+        };
+        options.rate = Some(rate);
+    }
+    let span = a.call_span();
+    let (out, report) = ik::ik(&body.model, &m, &targets, &options).map_err(|e| {
+        let at = match &e {
+            IkError::Invalid(msg) if msg.contains("target") || msg.contains("link") => targ.span,
+            IkError::Invalid(msg) if msg.contains("motion") => marg.span,
+            _ => span,
+        };
+        ik_error(e, at)
+    })?;
+    if report.unconverged_frames > 0 {
+        eprintln!(
+            "warning: ik: {} of {} frames not within {} m (largest residual {:.3e} m); ik_report(m) has the details",
+            report.unconverged_frames,
+            report.frames,
+            report.tolerance,
+            report
+                .targets
+                .iter()
+                .map(|t| t.max_residual)
+                .fold(0.0, f64::max)
+        );
+    }
+    Ok(Value::object(IkMotion {
+        motion: Motion::Mu(out),
+        report: Arc::new(report),
+    }))
+}
+
+/// Inverse kinematics.
+pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Motion);
+    reg.add(
+        "ik(body, m, targets, only: pattern, weights: {Link: w}, tolerance: 1e-6, iterations: 50, rate: Hz)",
+        "m with each frame moved so that each target link's origin follows its target: targets is a record {Link: p} \
+         (p a motion of the world position, DOFs x, y, z) or one motion with DOFs Link.x, Link.y, Link.z (what \
+         positions(m, body) gives). Each frame is solved by damped least squares (Levenberg–Marquardt, adaptive damping) \
+         on the analytic joint Jacobians, joint limits respected, warm-started from the previous frame plus m's own \
+         change; only: the DOFs it may move (default: all on the targets' chains); weights: per target, when not all can \
+         be met. Frames: m's frame rate (or rate:) where m and every target are defined; the moved DOFs are sampled \
+         there, the others are m's. An unreachable target gets as close as it can; ik_report(result) says by how much.",
+        |a, _| run_ik(a),
+    );
+    reg.add(
+        "ik_report(m)",
+        "What ik did to produce m: `targets` (per target: link, max and mean residual in m, unreachable = frames \
+         farther than the tolerance, worst_time), `max` (largest residual), `frames`, `iterations` (most per frame), \
+         `mean_iterations`, `unconverged` (frames with some target not met), `dofs` (moved), `tolerance`, `text`. \
+         Only the motion ik returned has a report.",
+        |a, _| {
+            let arg = a.arg("m")?;
+            match arg.value.attachment::<Arc<IkReport>>() {
+                Some(r) => Ok(Value::object(IkReportValue(r.clone()))),
+                None => Err(MxError::value("`ik_report`: this value was not returned by ik, so it has no report")
+                    .at(arg.span)
+                    .label("not a motion ik returned")
+                    .help("call ik_report on ik's result itself: `let m = ik(b, walk, t); print(ik_report(m))`")),
+            }
+        },
+    );
+}
