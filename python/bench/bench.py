@@ -47,7 +47,10 @@ def states(nq, n, seed):
     )
 
 
-def bench_dynamics(n):
+def bench_dynamics(n, reps=9):
+    """pin in a loop, mx per call and mx batched, timed in turn within each
+    repetition, so that the ratios compare runs under the same machine load:
+    the table gives the median time of each and the median of the per-repetition ratios."""
     try:
         import pinocchio as pin
     except ImportError:
@@ -58,9 +61,15 @@ def bench_dynamics(n):
         urdf = DATA / "reference" / name
         body = mx.Body.from_urdf(urdf)
         q, v, a = states(body.nq, n, 1)
-        per_call = median_time(lambda: [body.inverse_dynamics(q[k], v[k], a[k]) for k in range(n)]) / n
-        batched = median_time(lambda: body.inverse_dynamics(q, v, a)) / n
-        row = {"model": name, "nq": body.nq, "mx_call": per_call * 1e6, "mx_batch": batched * 1e6}
+
+        def timed(f):
+            t = time.perf_counter()
+            f()
+            return (time.perf_counter() - t) / n * 1e6
+
+        mx_call = lambda: [body.inverse_dynamics(q[k], v[k], a[k]) for k in range(n)]
+        mx_batch = lambda: body.inverse_dynamics(q, v, a)
+        row = {"model": name, "nq": body.nq}
         if pin is not None:
             model = pin.buildModelFromUrdf(str(urdf))
             data = model.createData()
@@ -68,20 +77,33 @@ def bench_dynamics(n):
             # mx's coordinates in Pinocchio's order (the same here, checked)
             perm = [body.coordinates.index(nm) for nm in names]
             qp, vp, ap = q[:, perm], v[:, perm], a[:, perm]
-            row["pin_call"] = median_time(lambda: [pin.rnea(model, data, qp[k], vp[k], ap[k]) for k in range(n)]) / n * 1e6
+            pin_call = lambda: [pin.rnea(model, data, qp[k], vp[k], ap[k]) for k in range(n)]
             tau_pin = np.array([pin.rnea(model, data, qp[k], vp[k], ap[k]) for k in range(min(n, 200))])
             tau_mx = body.inverse_dynamics(q[:200], v[:200], a[:200])[:, perm]
             row["max_rel_diff"] = float(np.max(np.abs(tau_pin - tau_mx)) / max(1.0, np.max(np.abs(tau_pin))))
+        times = {"pin_call": [], "mx_call": [], "mx_batch": []}
+        for _ in range(reps):
+            if pin is not None:
+                times["pin_call"].append(timed(pin_call))
+            times["mx_call"].append(timed(mx_call))
+            times["mx_batch"].append(timed(mx_batch))
+        for k, ts in times.items():
+            if ts:
+                row[k] = statistics.median(ts)
+        if pin is not None:
+            for k in ("mx_call", "mx_batch"):
+                ratios = [p / m for p, m in zip(times["pin_call"], times[k])]
+                row["ratio_" + k] = (statistics.median(ratios), min(ratios), max(ratios))
         rows.append(row)
-    print(f"\n## Inverse dynamics, {n} random states (median of 5), µs per state\n")
-    print("| model | pin per call | mx per call | mx batched | pin/mx per call | pin/mx batched | max rel. diff |")
+    print(f"\n## Inverse dynamics, {n} random states, µs per state (median of {reps} repetitions, each timing all three in turn)\n")
+    print("| model | pin per call | mx per call | mx batched | pin/mx per call (min–max) | pin/mx batched (min–max) | max rel. diff |")
     print("|---|---|---|---|---|---|---|")
+    fmt = lambda x: f"{x:.2f}" if x is not None else "—"
+    rfmt = lambda r: f"{r[0]:.2f} ({r[1]:.2f}–{r[2]:.2f})" if r else "—"
     for r in rows:
-        pc = r.get("pin_call")
-        fmt = lambda x: f"{x:.2f}" if x is not None else "—"
         print(
-            f"| {r['model']} (nq {r['nq']}) | {fmt(pc)} | {r['mx_call']:.2f} | {r['mx_batch']:.2f} | "
-            f"{fmt(pc / r['mx_call'] if pc else None)} | {fmt(pc / r['mx_batch'] if pc else None)} | "
+            f"| {r['model']} (nq {r['nq']}) | {fmt(r.get('pin_call'))} | {r['mx_call']:.2f} | {r['mx_batch']:.2f} | "
+            f"{rfmt(r.get('ratio_mx_call'))} | {rfmt(r.get('ratio_mx_batch'))} | "
             f"{r.get('max_rel_diff', float('nan')):.1e} |"
         )
 

@@ -190,13 +190,22 @@ impl PyBody {
             f(&mut ws, 0, &mut out).map_err(|e| (0, e))
         } else {
             let m = &self.model;
+            // A few blocks of states per thread, each on one workspace: rayon's
+            // per-item splitting (and a workspace per split) cost more than a
+            // small model's dynamics.
+            let width = width.max(1);
+            let per = b.n.div_ceil(4 * rayon::current_num_threads()).max(1);
             py.detach(|| {
-                out.par_chunks_mut(width.max(1))
+                out.par_chunks_mut(width * per)
                     .enumerate()
-                    .try_for_each_init(
-                        || Workspace::new(m),
-                        |ws, (i, row)| f(ws, i, row).map_err(|e| (i, e)),
-                    )
+                    .try_for_each(|(c, rows)| {
+                        let mut ws = Workspace::new(m);
+                        for (j, row) in rows.chunks_mut(width).enumerate() {
+                            let i = c * per + j;
+                            f(&mut ws, i, row).map_err(|e| (i, e))?;
+                        }
+                        Ok(())
+                    })
             })
         };
         if let Err((i, e)) = r {
@@ -207,7 +216,14 @@ impl PyBody {
             };
             return Err(value_error(py, format!("{fname}{at}: {e}")));
         }
-        let a = PyArray1::from_vec(py, out);
+        // One state: NumPy allocates and copies the few numbers, cheaper than
+        // handing it a Rust buffer to own (which costs a capsule object per
+        // call). A batch hands its buffer over, so nothing is copied.
+        let a = if b.n == 1 {
+            PyArray1::from_slice(py, &out)
+        } else {
+            PyArray1::from_vec(py, out)
+        };
         let nq = self.model.nq();
         Ok(match (b.batched, width == nq) {
             (false, true) => a.into_any(),

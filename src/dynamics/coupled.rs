@@ -6,7 +6,7 @@
 //! Cholesky: O(n³), like driven coordinates, for the small mechanisms
 //! (grippers, hands, knees) that have followers. Pinocchio 4.1 computes τ and
 //! M the same way and has no ABA for mimic joints; Simbody's forward dynamics
-//! with the coupler constraint enforced gives the same q̈ (tests/opensim_model.rs).
+//! with the coupler constraint enforced gives the same q̈ (tests/it/opensim_model.rs).
 
 use crate::dynamics::state::{Forces, JointState};
 use crate::dynamics::workspace::Workspace;
