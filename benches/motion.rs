@@ -193,6 +193,7 @@ fn ik_per_frame() {
         Target {
             link: link.into(),
             position: [axis(0), axis(1), axis(2)],
+            orientation: None,
             weight: 1.0,
         }
     };

@@ -15,10 +15,11 @@
 
 use super::frame::{Goal, Settings, Solver};
 use super::{IkError, invalid};
+use crate::lie::exp_so3;
 use crate::model::Model;
 use crate::motion::sample_period;
 use crate::motion::{Curve, Dof, Interval, Mu, grid_times};
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 /// One link's target: its world position over time as three DOFs.
 #[derive(Clone, Debug)]
@@ -27,6 +28,9 @@ pub struct Target {
     pub link: String,
     /// x, y, z (metres, world frame).
     pub position: [Dof; 3],
+    /// The link frame's world orientation as a rotation vector rx, ry, rz
+    /// (axis × angle, radians), when it matters.
+    pub orientation: Option<[Dof; 3]>,
     /// Relative weight (> 0); only matters when not every target can be met.
     pub weight: f64,
 }
@@ -53,6 +57,9 @@ pub struct TargetReport {
     pub unreachable_frames: usize,
     /// Time of the largest distance.
     pub worst_time: f64,
+    /// Largest angle (rad) between the link's frame and its target
+    /// orientation (0 without one).
+    pub max_orientation_residual: f64,
 }
 
 /// What IK did.
@@ -131,6 +138,9 @@ fn common_span(m: &Mu, names: &[String], targets: &[Target]) -> Result<(f64, f64
         for (d, axis) in t.position.iter().zip(["x", "y", "z"]) {
             cut(d.span(), &format!("the target {}.{axis}", t.link))?;
         }
+        for (d, axis) in t.orientation.iter().flatten().zip(["rx", "ry", "rz"]) {
+            cut(d.span(), &format!("the target {}.{axis}", t.link))?;
+        }
     }
     if span
         .0
@@ -145,7 +155,31 @@ fn common_span(m: &Mu, names: &[String], targets: &[Target]) -> Result<(f64, f64
     Ok(span)
 }
 
-/// Moves `m`'s frames so that each target's link follows its position.
+/// Three target DOFs sampled at `t` (finite, or a clear error naming them).
+fn target_at(
+    link: &str,
+    dofs: &[Dof; 3],
+    axes: [&str; 3],
+    t: f64,
+) -> Result<Vector3<f64>, IkError> {
+    let mut out = Vector3::zeros();
+    for (k, (d, axis)) in dofs.iter().zip(axes).enumerate() {
+        let name = format!("{link}.{axis}");
+        let v = d
+            .sample_value(&name, t)?
+            .ok_or_else(|| invalid(format!("the target {name} is undefined at t = {t:.4} s")))?;
+        if !v.is_finite() {
+            return Err(invalid(format!(
+                "the target {name} is {v} at t = {t:.4} s; targets must be finite"
+            )));
+        }
+        out[k] = v;
+    }
+    Ok(out)
+}
+
+/// Moves `m`'s frames so that each target's link follows its position (and
+/// orientation, where one is given).
 pub fn ik(
     body: &Model,
     m: &Mu,
@@ -220,7 +254,7 @@ pub fn ik(
         .map(|(&l, t)| Goal {
             link: l,
             position: Vector3::zeros(),
-            orientation: None,
+            orientation: t.orientation.as_ref().map(|_| Matrix3::identity()),
             weight: t.weight,
         })
         .collect();
@@ -228,6 +262,7 @@ pub fn ik(
     let mut q = vec![0.0; names.len()];
     let mut solved: Vec<Vec<f64>> = vec![Vec::with_capacity(times.len()); nf.len()];
     let mut residuals: Vec<Vec<f64>> = vec![Vec::with_capacity(times.len()); targets.len()];
+    let mut turn_residuals = vec![0.0f64; targets.len()];
     let (mut iters_max, mut iters_sum, mut unconverged) = (0, 0usize, 0);
     for (k, &t) in times.iter().enumerate() {
         sample_q(t, &mut q_in)?;
@@ -245,17 +280,9 @@ pub fn ik(
             }
         }
         for (g, tg) in goals.iter_mut().zip(targets) {
-            for axis in 0..3 {
-                let name = format!("{}.{}", tg.link, ["x", "y", "z"][axis]);
-                let v = tg.position[axis].sample_value(&name, t)?.ok_or_else(|| {
-                    invalid(format!("the target {name} is undefined at t = {t:.4} s"))
-                })?;
-                if !v.is_finite() {
-                    return Err(invalid(format!(
-                        "the target {name} is {v} at t = {t:.4} s; targets must be finite"
-                    )));
-                }
-                g.position[axis] = v;
+            g.position = target_at(&tg.link, &tg.position, ["x", "y", "z"], t)?;
+            if let Some(o) = &tg.orientation {
+                g.orientation = Some(exp_so3(&target_at(&tg.link, o, ["rx", "ry", "rz"], t)?));
             }
         }
         let fr = solver.solve(&mut q, &goals, &s)?;
@@ -264,6 +291,9 @@ pub fn ik(
         unconverged += usize::from(!fr.converged);
         for (r, e) in residuals.iter_mut().zip(&fr.position_error) {
             r.push(*e);
+        }
+        for (r, e) in turn_residuals.iter_mut().zip(&fr.orientation_error) {
+            *r = r.max(*e);
         }
         for (col, &c) in solved.iter_mut().zip(&nf) {
             col.push(q[c]);
@@ -293,7 +323,8 @@ pub fn ik(
         targets: targets
             .iter()
             .zip(&residuals)
-            .map(|(tg, r)| {
+            .zip(&turn_residuals)
+            .map(|((tg, r), &turn)| {
                 let (worst, max) = r
                     .iter()
                     .enumerate()
@@ -304,6 +335,7 @@ pub fn ik(
                     mean_residual: r.iter().sum::<f64>() / r.len() as f64,
                     unreachable_frames: r.iter().filter(|&&x| x > s.tolerance).count(),
                     worst_time: times[worst],
+                    max_orientation_residual: turn,
                 }
             })
             .collect(),

@@ -47,6 +47,7 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
         Ok(Target {
             link: link.into(),
             position: [axis(0)?, axis(1)?, axis(2)?],
+            orientation: None,
             weight: 1.0,
         })
     };

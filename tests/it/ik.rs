@@ -46,6 +46,7 @@ fn target_of(body: &Model, m: &Mu, link: &str, ts: &[f64], shift: Vector3<f64>) 
     Target {
         link: link.into(),
         position: [axis(0), axis(1), axis(2)],
+        orientation: None,
         weight: 1.0,
     }
 }
@@ -104,6 +105,104 @@ fn reachable_foot_targets_are_met_within_a_micrometre_in_at_most_20_iterations()
     }
     println!(
         "reachable: {} frames, iterations mean {:.2} max {}",
+        report.frames, report.mean_iterations, report.max_iterations
+    );
+}
+
+/// A link's world pose over `m` at times `ts`, as a target with an
+/// orientation (the frame's rotation vector, DOFs rx, ry, rz).
+fn pose_target_of(body: &Model, m: &Mu, link: &str, ts: &[f64]) -> Target {
+    let names = body.coordinate_names();
+    let l = body.link_index(link).unwrap();
+    let (mut cols, mut poses) = (vec![vec![]; 6], vec![]);
+    for &t in ts {
+        let q: Vec<f64> = names
+            .iter()
+            .map(|n| m.get(n).unwrap().sample_value(n, t).unwrap().unwrap())
+            .collect();
+        body.forward_kinematics(&q, &mut poses).unwrap();
+        let w = mx::lie::log_so3(&poses[l].r);
+        for k in 0..3 {
+            cols[k].push(poses[l].p[k]);
+            cols[3 + k].push(w[k]);
+        }
+    }
+    let dt = ts[1] - ts[0];
+    let dof = |v: Vec<f64>| {
+        Dof::from(
+            Interval::curve(
+                Curve::samples(ts[0], dt, v).unwrap(),
+                ts[0],
+                *ts.last().unwrap(),
+            )
+            .unwrap(),
+        )
+    };
+    let mut c = cols.into_iter().map(dof);
+    let mut three = || [c.next().unwrap(), c.next().unwrap(), c.next().unwrap()];
+    let position = three();
+    Target {
+        link: link.into(),
+        position,
+        orientation: Some(three()),
+        weight: 1.0,
+    }
+}
+
+/// Orientation targets over time: both feet's whole pose 0.3 s later (the
+/// same body reaches it), met to a micrometre and a microradian.
+#[test]
+fn reachable_pose_targets_with_orientation_are_met() {
+    let (m, body) = walk();
+    let later = mx::motion::affine(-0.3, 1.0, &m).unwrap();
+    let ts = grid(0.0, 1.6, 48);
+    let targets = vec![
+        pose_target_of(&body, &later, "LeftFoot", &ts),
+        pose_target_of(&body, &later, "RightFoot", &ts),
+    ];
+    let opts = IkOptions {
+        rate: Some(30.0),
+        ..Default::default()
+    };
+    let (out, report) = ik(&body, &m, &targets, &opts).unwrap();
+    assert_eq!(report.unconverged_frames, 0, "{report:?}");
+    assert!(
+        report.max_iterations <= 20,
+        "{} iterations",
+        report.max_iterations
+    );
+    for t in &report.targets {
+        assert!(t.max_residual <= 1e-6, "{}: {:e} m", t.link, t.max_residual);
+        assert!(
+            t.max_orientation_residual <= 1e-6 && t.max_orientation_residual >= 0.0,
+            "{}: {:e} rad",
+            t.link,
+            t.max_orientation_residual
+        );
+    }
+    // the result's own frames have the target orientation
+    let (names, l) = (
+        body.coordinate_names(),
+        body.link_index("LeftFoot").unwrap(),
+    );
+    let mut poses = vec![];
+    for &t in &ts[..10] {
+        let q: Vec<f64> = names
+            .iter()
+            .map(|n| out.get(n).unwrap().sample_value(n, t).unwrap().unwrap())
+            .collect();
+        body.forward_kinematics(&q, &mut poses).unwrap();
+        let want = Vector3::from_fn(|k, _| {
+            targets[0].orientation.as_ref().unwrap()[k]
+                .sample_value("r", t)
+                .unwrap()
+                .unwrap()
+        });
+        let e = mx::lie::log_so3(&(mx::lie::exp_so3(&want).transpose() * poses[l].r)).norm();
+        assert!(e <= 1.1e-6, "LeftFoot at {t}: {e:e} rad");
+    }
+    println!(
+        "pose targets: {} frames, iterations mean {:.2} max {}",
         report.frames, report.mean_iterations, report.max_iterations
     );
 }
@@ -378,6 +477,10 @@ fn bad_input_gets_clear_errors() {
         "{pre}ik(body, walk, {{LeftFoot: mu({{x: interval(0, 5, 6), y: interval(0, 5, 6), z: interval(0, 5, 6)}})}})"
     ));
     assert!(e.contains("never defined at the same time"), "{e}");
+    let e = error_of(&format!(
+        "{pre}ik(body, walk, {{LeftFoot: mu({{x: interval(0, 0, 1), y: interval(0, 0, 1), z: interval(0, 0, 1), rx: interval(0, 0, 1)}})}})"
+    ));
+    assert!(e.contains("part of an orientation"), "{e}");
 }
 
 /// Joint limits are bounds: a foot target that needs the knee past its

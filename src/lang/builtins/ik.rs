@@ -87,6 +87,12 @@ impl IkReportValue {
                 "\n  {}: residual max {:.3e} m (t = {:.4} s), mean {:.3e} m, {} frames unreachable",
                 t.link, t.max_residual, t.worst_time, t.mean_residual, t.unreachable_frames
             ));
+            if t.max_orientation_residual > 0.0 {
+                s.push_str(&format!(
+                    ", orientation within {:.3e} rad",
+                    t.max_orientation_residual
+                ));
+            }
         }
         s
     }
@@ -115,6 +121,7 @@ impl HostObject for IkReportValue {
                             ("mean", num(t.mean_residual)),
                             ("unreachable", num(t.unreachable_frames as f64)),
                             ("worst_time", num(t.worst_time)),
+                            ("orientation_max", num(t.max_orientation_residual)),
                         ])
                     })
                     .collect(),
@@ -163,6 +170,29 @@ fn axis_dof(m: &Mu, link: &str, axis: &str, span: Span) -> MxResult<Dof> {
     }
 }
 
+/// A target's optional orientation: DOFs `rx ry rz` (a world rotation
+/// vector, radians), all three or none.
+fn orientation_dofs(m: &Mu, link: &str, span: Span) -> MxResult<Option<[Dof; 3]>> {
+    let has = |axis: &str| {
+        let suffix = format!(".{axis}");
+        m.get(axis).is_some() || m.names().any(|n| n.ends_with(&suffix))
+    };
+    match ["rx", "ry", "rz"].map(has) {
+        [false, false, false] => Ok(None),
+        [true, true, true] => Ok(Some([
+            axis_dof(m, link, "rx", span)?,
+            axis_dof(m, link, "ry", span)?,
+            axis_dof(m, link, "rz", span)?,
+        ])),
+        _ => Err(MxError::value(format!(
+            "the target of {link} has part of an orientation: give all of rx, ry, rz or none"
+        ))
+        .at(span)
+        .label("incomplete orientation")
+        .help("an orientation target is the link frame's world rotation vector (axis × angle, radians) in DOFs rx, ry, rz")),
+    }
+}
+
 /// Targets from a record `{Link: motion}` or one motion with `Link.x/.y/.z` DOFs.
 fn targets_of(a: &Args, arg: &ArgValue) -> MxResult<Vec<Target>> {
     let mk = |link: &str, m: &Mu, span: Span| -> MxResult<Target> {
@@ -173,6 +203,7 @@ fn targets_of(a: &Args, arg: &ArgValue) -> MxResult<Vec<Target>> {
                 axis_dof(m, link, "y", span)?,
                 axis_dof(m, link, "z", span)?,
             ],
+            orientation: orientation_dofs(m, link, span)?,
             weight: 1.0,
         })
     };
@@ -205,9 +236,9 @@ fn targets_of(a: &Args, arg: &ArgValue) -> MxResult<Vec<Target>> {
                 .label("unnamed link")
                 .help("a motion of targets names its DOFs Link.x, Link.y, Link.z, as positions(m, body) does"));
         };
-        if !matches!(axis, "x" | "y" | "z") {
+        if !matches!(axis, "x" | "y" | "z" | "rx" | "ry" | "rz") {
             return Err(MxError::value(format!(
-                "target DOF `{n}` is not a position (.x, .y or .z)"
+                "target DOF `{n}` is not a position (.x, .y, .z) or an orientation (.rx, .ry, .rz)"
             ))
             .at(arg.span)
             .label("not x, y or z")
@@ -332,7 +363,8 @@ pub fn register(reg: &mut Registry) {
         "ik(body, m, targets, only: pattern, weights: {Link: w}, tolerance: 1e-6, iterations: 50, rate: Hz)",
         "m with each frame moved so that each target link's origin follows its target: targets is a record {Link: p} \
          (p a motion of the world position, DOFs x, y, z) or one motion with DOFs Link.x, Link.y, Link.z (what \
-         positions(m, body) gives). Each frame is solved by damped least squares (Levenberg–Marquardt, adaptive damping) \
+         positions(m, body) gives); a target with DOFs rx, ry, rz too (Link.rx … in one motion) also sets the link \
+         frame's world orientation, as a rotation vector (axis × angle, radians; 1 rad counts as 0.1 m). Each frame is solved by damped least squares (Levenberg–Marquardt, adaptive damping) \
          on the analytic joint Jacobians, joint limits respected, warm-started from the previous frame plus m's own \
          change; only: the DOFs it may move (default: all on the targets' chains); weights: per target, when not all can \
          be met. Frames: m's frame rate (or rate:) where m and every target are defined; the moved DOFs are sampled \
@@ -342,7 +374,7 @@ pub fn register(reg: &mut Registry) {
     reg.add(
         "ik_report(m)",
         "What ik did to produce m: `targets` (per target: link, max and mean residual in m, unreachable = frames \
-         farther than the tolerance, worst_time), `max` (largest residual), `frames`, `iterations` (most per frame), \
+         farther than the tolerance, worst_time, orientation_max in rad), `max` (largest residual), `frames`, `iterations` (most per frame), \
          `mean_iterations`, `unconverged` (frames with some target not met), `dofs` (moved), `tolerance`, `text`. \
          Only the motion ik returned has a report.",
         |a, _| {
