@@ -97,18 +97,6 @@ pub struct Solver<'a> {
     poses: Vec<Se3>,
 }
 
-/// `true` when link `a` is `b` or one of its ancestors.
-fn is_ancestor(model: &Model, a: usize, b: usize) -> bool {
-    let mut l = Some(b);
-    while let Some(i) = l {
-        if i == a {
-            return true;
-        }
-        l = model.link(i).parent;
-    }
-    false
-}
-
 impl<'a> Solver<'a> {
     /// `links`: the goal links; `allowed[c]`: coordinate c may move. The
     /// free coordinates are the allowed ones on some goal link's chain.
@@ -130,7 +118,7 @@ impl<'a> Solver<'a> {
         for (li, link) in model.links().iter().enumerate() {
             for k in 0..link.dof {
                 let c = link.q_index + k;
-                if allowed[c] && links.iter().any(|&g| is_ancestor(model, li, g)) {
+                if allowed[c] && links.iter().any(|&g| model.is_ancestor(li, g)) {
                     free.push(c);
                     owners.push(li);
                     let lim = link
@@ -145,7 +133,7 @@ impl<'a> Solver<'a> {
         }
         let moves = links
             .iter()
-            .map(|&g| owners.iter().map(|&o| is_ancestor(model, o, g)).collect())
+            .map(|&g| owners.iter().map(|&o| model.is_ancestor(o, g)).collect())
             .collect();
         Ok(Solver {
             model,

@@ -250,6 +250,18 @@ impl Model {
         &self.links
     }
 
+    /// `true` when link `a` is `b` or one of its ancestors.
+    pub fn is_ancestor(&self, a: usize, b: usize) -> bool {
+        let mut l = Some(b);
+        while let Some(i) = l {
+            if i == a {
+                return true;
+            }
+            l = self.link(i).parent;
+        }
+        false
+    }
+
     pub fn link(&self, i: usize) -> &Link {
         &self.links[i]
     }

@@ -730,9 +730,8 @@ fn hold_supports(
         };
         // the gap DOFs on the chains from the frames to the root are the IK
         // unknowns; a frame no gap DOF moves has nothing to solve
-        let moves = |f: usize, c: usize| {
-            support::owner(model, c).is_some_and(|o| support::is_ancestor(model, o, f))
-        };
+        let moves =
+            |f: usize, c: usize| support::owner(model, c).is_some_and(|o| model.is_ancestor(o, f));
         let mut frames: Vec<usize> = frames
             .into_iter()
             .filter(|&f| group.iter().any(|d| moves(f, d.coord)))

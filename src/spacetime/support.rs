@@ -70,18 +70,6 @@ fn link_positions(model: &Model, q: &[f64], poses: &mut Vec<Se3>) -> Result<(), 
         .map_err(|e| SpError::Evaluation(format!("forward kinematics: {e}")))
 }
 
-/// `true` when link `a` is `b` or an ancestor of it.
-pub(crate) fn is_ancestor(model: &Model, a: usize, b: usize) -> bool {
-    let mut l = Some(b);
-    while let Some(i) = l {
-        if i == a {
-            return true;
-        }
-        l = model.link(i).parent;
-    }
-    false
-}
-
 /// The link that owns coordinate c.
 pub(crate) fn owner(model: &Model, c: usize) -> Option<usize> {
     model
@@ -241,7 +229,7 @@ impl<'a> SupportObjective<'a> {
             .collect::<Result<Vec<_>, _>>()?;
         let moves = frames
             .iter()
-            .map(|&f| owners.iter().map(|&o| is_ancestor(model, o, f)).collect())
+            .map(|&f| owners.iter().map(|&o| model.is_ancestor(o, f)).collect())
             .collect();
         let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
         let n_free = settings.coefficients;

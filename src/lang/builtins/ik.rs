@@ -6,67 +6,22 @@
 
 use std::sync::Arc;
 
-use indexmap::IndexMap;
-
 use crate::ik::{self, IkError, IkOptions, IkReport, Target};
 use crate::lang::args::{ArgValue, Args};
-use crate::lang::ast::{BinOp, Span};
+use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::host::body::Body;
 use crate::lang::host::errors::motion_error;
-use crate::lang::host::motion::Motion;
+use crate::lang::host::motion::{Motion, Provenance, provenance};
+use crate::lang::host::sp_report::{num, record};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::{HostObject, Value};
 use crate::motion::{Dof, Mu};
 
-/// The motion `ik` returned, with its report attached.
-#[derive(Debug)]
-struct IkMotion {
-    motion: Motion,
-    report: Arc<IkReport>,
-}
-
-impl HostObject for IkMotion {
-    fn type_name(&self) -> &'static str {
-        self.motion.type_name()
-    }
-    fn summary(&self) -> String {
-        self.motion.summary()
-    }
-    fn as_any(&self) -> &dyn std::any::Any {
-        &self.motion
-    }
-    fn attachment(&self) -> Option<&(dyn std::any::Any + Send + Sync)> {
-        Some(&self.report)
-    }
-    fn binary(&self, op: BinOp, other: &Value, self_left: bool) -> Option<Result<Value, String>> {
-        self.motion.binary(op, other, self_left)
-    }
-    fn field(&self, name: &str) -> Option<Value> {
-        self.motion.field(name)
-    }
-    fn equals(&self, other: &dyn HostObject) -> bool {
-        self.motion.equals(other)
-    }
-}
-
 /// `ik_report(m)`: reads like a record, prints as text.
 #[derive(Clone, Debug)]
 struct IkReportValue(Arc<IkReport>);
-
-fn num(x: f64) -> Value {
-    Value::Number(x)
-}
-
-fn record(fields: Vec<(&str, Value)>) -> Value {
-    Value::record(
-        fields
-            .into_iter()
-            .map(|(k, v)| (k.to_string(), v))
-            .collect::<IndexMap<_, _>>(),
-    )
-}
 
 impl IkReportValue {
     fn text(&self) -> String {
@@ -350,9 +305,12 @@ fn run_ik(a: &mut Args) -> MxResult<Value> {
                 .fold(0.0, f64::max)
         );
     }
-    Ok(Value::object(IkMotion {
-        motion: Motion::Mu(out),
-        report: Arc::new(report),
+    // the input's clip (its skeleton) stays with the result; the report joins it
+    let clip = provenance(&marg.value).and_then(|p| p.clip.clone());
+    Ok(Motion::Mu(out).with_provenance(Provenance {
+        clip,
+        ik_report: Some(Arc::new(report)),
+        ..Provenance::default()
     }))
 }
 
@@ -379,8 +337,8 @@ pub fn register(reg: &mut Registry) {
          Only the motion ik returned has a report.",
         |a, _| {
             let arg = a.arg("m")?;
-            match arg.value.attachment::<Arc<IkReport>>() {
-                Some(r) => Ok(Value::object(IkReportValue(r.clone()))),
+            match provenance(&arg.value).and_then(|p| p.ik_report.clone()) {
+                Some(r) => Ok(Value::object(IkReportValue(r))),
                 None => Err(MxError::value("`ik_report`: this value was not returned by ik, so it has no report")
                     .at(arg.span)
                     .label("not a motion ik returned")

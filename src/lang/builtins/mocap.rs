@@ -105,7 +105,7 @@ fn clips(reg: &mut Registry) {
             ev.ctx.session.get::<LoadedClips>().remember(source.clone());
             Ok(Motion::Mu(clip.mu).with_provenance(Provenance {
                 clip: Some(source),
-                sp_report: None,
+                ..Provenance::default()
             }))
         },
     );

@@ -353,6 +353,7 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     Ok(Motion::Mu(filled).with_provenance(Provenance {
         clip: provenance(&marg.value).and_then(|p| p.clip.clone()),
         sp_report: Some(Arc::new(report)),
+        ..Provenance::default()
     }))
 }
 

@@ -205,6 +205,8 @@ pub struct Provenance {
     pub clip: Option<Arc<ClipSource>>,
     /// SP's report, on the motion SP returned (not on motions made from it).
     pub sp_report: Option<Arc<SpReport>>,
+    /// IK's report, on the motion `ik` returned.
+    pub ik_report: Option<Arc<crate::ik::IkReport>>,
 }
 
 /// A motion together with its [`Provenance`]. Its `as_any` is the motion

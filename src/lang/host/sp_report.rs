@@ -21,11 +21,13 @@ pub fn report_of(v: &Value) -> Option<Arc<SpReport>> {
 #[derive(Clone, Debug)]
 pub struct SpReportValue(pub Arc<SpReport>);
 
-fn num(x: f64) -> Value {
+/// A number value (report fields).
+pub fn num(x: f64) -> Value {
     Value::Number(x)
 }
 
-fn record(fields: Vec<(&str, Value)>) -> Value {
+/// A record value from its fields in order (report fields).
+pub fn record(fields: Vec<(&str, Value)>) -> Value {
     Value::record(
         fields
             .into_iter()
