@@ -181,10 +181,16 @@ impl fmt::Display for SpReport {
                 g.grad_norm,
                 g.stop,
                 if g.solves > 1 {
+                    // the continuation stops under Hermite's effort, or at its last step above it
                     format!(
-                        "; prior ×{} after {} solves (so the effort stays below Hermite's)",
+                        "; prior ×{} after {} solves ({})",
                         crate::fmt_num::format_number(g.prior_scale),
-                        g.solves
+                        g.solves,
+                        if g.energy < g.initial_energy {
+                            "lowered until the effort fell below Hermite's"
+                        } else {
+                            "still above Hermite's effort at the lowest prior"
+                        }
                     )
                 } else {
                     String::new()
