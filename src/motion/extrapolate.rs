@@ -83,14 +83,19 @@ pub fn extrapolate(m: &Mu, ts: f64, tf: f64, mode: Extrapolation) -> Result<Mu, 
             }
             Extrapolation::Loop => {
                 // copies k·period for every k whose copy meets [ts, tf]
-                let k0 = ((ts - b) / period).floor() as i64;
-                let k1 = ((tf - a) / period).ceil() as i64;
-                if k1 - k0 > 100_000 {
+                // counted in f64 first: a huge span over a short motion must be an
+                // error, not an i64 overflow
+                let (k0, k1) = (((ts - b) / period).floor(), ((tf - a) / period).ceil());
+                if !(k1 - k0 <= 100_000.0) {
                     return Err(bad(
                         op,
-                        format!("[{ts}, {tf}] would need {} copies of the motion", k1 - k0),
+                        format!(
+                            "[{ts}, {tf}] would need {} copies of the motion (at most 100000)",
+                            k1 - k0
+                        ),
                     ));
                 }
+                let (k0, k1) = (k0 as i64, k1 as i64);
                 let mut parts = vec![];
                 for k in k0..=k1 {
                     let shifted = if k == 0 {

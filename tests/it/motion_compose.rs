@@ -617,6 +617,11 @@ fn hold_and_loop_extend_a_motion_and_compose_with_the_algebra() {
     // errors
     assert!(extrapolate(&m, 3.0, 1.0, Extrapolation::Hold).is_err());
     assert!(extrapolate(&Mu::new(), 0.0, 1.0, Extrapolation::Loop).is_err());
+    // a span no number of copies can cover is a clear error, not an overflow
+    for (ts, tf) in [(-1e308, 1e308), (0.0, 1e12)] {
+        let e = extrapolate(&m, ts, tf, Extrapolation::Loop).unwrap_err();
+        assert!(e.to_string().contains("copies"), "{e}");
+    }
 }
 
 /// sin(2πt): one period over [0, 1].
