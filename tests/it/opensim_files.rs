@@ -267,6 +267,21 @@ fn bad_models_are_clear_errors() {
         e.contains("SimmSpline") && e.contains("strictly increasing") && e.contains("line 26"),
         "{e}"
     );
+    // a fourth rotation axis, or one named twice, would be dropped silently
+    for (i, name) in ["rotation4", "rotation1"].iter().enumerate() {
+        let e = load_err(
+            d,
+            &format!("axis{i}.osim"),
+            &mini(&[(
+                "<TransformAxis name=\"rotation2\">",
+                &format!("<TransformAxis name=\"{name}\">"),
+            )]),
+        );
+        assert!(
+            e.contains(name) && (e.contains("rotation1..3") || e.contains("two axes")),
+            "{e}"
+        );
+    }
     let e = load_err(d, "e.osim", &mini(&[("PinJoint", "ScrewJoint")]));
     assert!(e.contains("ScrewJoint") && e.contains("line 10"), "{e}");
     let e = load_err(

@@ -857,6 +857,7 @@ fn spatial_transform(
     let mut rot = Vec::new();
     let mut tr = Vec::new();
     let mut decided = vec![false; coords.len()];
+    let mut seen: Vec<String> = vec![];
     for ta in elements(st) {
         if !ta.has_tag_name("TransformAxis") {
             return err(format!(
@@ -894,11 +895,26 @@ fn spatial_transform(
             None => return err(format!("{tw} reads a coordinate but has no function")),
         };
         let is_rot = label.starts_with("rotation");
-        if !is_rot && !label.starts_with("translation") {
+        // exactly rotation1..3 / translation1..3: a fourth axis would be dropped
+        if !matches!(
+            label.as_str(),
+            "rotation1"
+                | "rotation2"
+                | "rotation3"
+                | "translation1"
+                | "translation2"
+                | "translation3"
+        ) {
             return err(format!(
                 "{tw}: the name must be rotation1..3 or translation1..3"
             ));
         }
+        if seen.contains(&label) {
+            return err(format!(
+                "{tw}: the SpatialTransform has two axes named '{label}'"
+            ));
+        }
+        seen.push(label.clone());
         // OpenSim's rule: the first axis that reads the coordinate
         // through the identity (LinearFunction 1·q + 0) makes it
         // rotational or translational; without one it is coupled.
