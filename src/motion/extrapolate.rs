@@ -86,7 +86,8 @@ pub fn extrapolate(m: &Mu, ts: f64, tf: f64, mode: Extrapolation) -> Result<Mu, 
                 // counted in f64 first: a huge span over a short motion must be an
                 // error, not an i64 overflow
                 let (k0, k1) = (((ts - b) / period).floor(), ((tf - a) / period).ceil());
-                if !(k1 - k0 <= 100_000.0) {
+                let copies = k1 - k0;
+                if copies.is_nan() || copies > 100_000.0 {
                     return Err(bad(
                         op,
                         format!(
