@@ -67,7 +67,13 @@ pub(crate) fn rnea_core(
         ws.wa[i] = wa;
         ws.a[i] = ai;
         let g = &l.inertia;
-        let mut f = g.mul_twist(&ai) - ad_dual(&ws.v[i], &g.mul_twist(&ws.v[i]));
+        // Massless links (between the axes of one anatomical joint) carry no
+        // inertial wrench: half of a URDF human's links.
+        let mut f = if g.is_zero() {
+            Wrench::zeros()
+        } else {
+            g.mul_twist(&ai) - ad_dual(&ws.v[i], &g.mul_twist(&ws.v[i]))
+        };
         if let Some(fe) = fext {
             f -= fe[i];
         }

@@ -158,18 +158,30 @@ pub(crate) fn velocity_pass(
 ) {
     for (i, l) in model.links().iter().enumerate() {
         let r = l.q_index..l.q_index + l.dof;
-        let want = if hessian && !l.constant_jacobian {
-            Derivatives::Hessian
-        } else {
-            Derivatives::Jacobian
+        let sv = match &l.axis {
+            // Revolute/prismatic (most URDF and BVH links): a constant column,
+            // placed directly, without the generic joint call.
+            Some(axis) => {
+                let s = axis.twist();
+                ws.kin[i].s[0] = s;
+                ws.xt[i] = axis.place(&l.offset, q[l.q_index]);
+                s * v[l.q_index]
+            }
+            None => {
+                let want = if hessian && !l.constant_jacobian {
+                    Derivatives::Hessian
+                } else {
+                    Derivatives::Jacobian
+                };
+                l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
+                ws.xt[i] = l.offset.compose(&ws.kin[i].transform);
+                s_mul(&ws.kin[i], &v[r.clone()])
+            }
         };
-        l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
-        ws.xt[i] = l.offset.compose(&ws.kin[i].transform);
         let wv = match l.parent {
             Some(p) => ws.xt[i].inv_ad_twist(&ws.v[p]),
             None => Twist::zeros(),
         };
-        let sv = s_mul(&ws.kin[i], &v[r.clone()]);
         let vi = wv + sv;
         let mut c = ad(&vi, &sv);
         if !l.constant_jacobian {
