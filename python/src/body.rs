@@ -257,6 +257,9 @@ impl PyBody {
     ) -> PyResult<Bound<'py, PyAny>> {
         let m = &*self.model;
         let g = gravity_of(py, m, gravity)?;
+        if let Some(r) = self.one_state(py, fname, &inputs, &g, f) {
+            return r;
+        }
         let b = batch(py, m, fname, &inputs)?;
         let nq = m.nq();
         let x = b.slices();
@@ -264,6 +267,44 @@ impl PyBody {
         self.run(py, fname, &b, nq, |ws, i, out| {
             let r = i * nq..(i + 1) * nq;
             f(m, ws, &q[r.clone()], &v[r.clone()], &w[r], &g, out)
+        })
+    }
+
+    /// The common single state, three finite 1-D float64 arrays of nq, read in
+    /// place and answered in a NumPy array written directly: no Rust buffer
+    /// at all, since in a per-call loop this glue costs as much as a small
+    /// robot's dynamics. `None` for anything else, which [`batch`] then
+    /// handles (and explains when it is wrong).
+    fn one_state<'py>(
+        &self,
+        py: Python<'py>,
+        fname: &str,
+        inputs: &[(&str, &Bound<'py, PyAny>); 3],
+        g: &Vector3<f64>,
+        f: StateFn,
+    ) -> Option<PyResult<Bound<'py, PyAny>>> {
+        let m = &*self.model;
+        let nq = m.nq();
+        let mut x: [&[f64]; 3] = [&[]; 3];
+        for (k, (_, obj)) in inputs.iter().enumerate() {
+            let a = obj.cast::<PyArray1<f64>>().ok()?;
+            // SAFETY: we hold the GIL and do not release it until the slices
+            // are dropped, so no Python code can resize or write the arrays
+            // meanwhile; `as_slice` itself checks contiguity.
+            let s = unsafe { a.as_slice() }.ok()?;
+            if s.len() != nq || !s.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            x[k] = s;
+        }
+        // SAFETY: the new array is written in full below before Python sees it
+        // (or dropped on error).
+        let out = unsafe { PyArray1::<f64>::new(py, nq, false) };
+        let o = unsafe { out.as_slice_mut() }.expect("a new array is contiguous");
+        let mut ws = self.ws.lock().unwrap_or_else(|p| p.into_inner());
+        Some(match f(m, &mut ws, x[0], x[1], x[2], g, o) {
+            Ok(()) => Ok(out.into_any()),
+            Err(e) => Err(value_error(py, format!("{fname}: {e}"))),
         })
     }
 }

@@ -109,6 +109,13 @@ def test_bad_shapes_dtypes_and_nan_raise(references):
     with pytest.raises(mx.MxValueError, match=r"q\[3, 2\].*NaN.*finite") as e:
         body.inverse_dynamics(bad, np.zeros((5, n)), np.zeros((5, n)))
     assert body.coordinates[2] in str(e.value)
+    # one state (the path that reads the arrays in place) names the entry too
+    one = np.zeros(n)
+    one[2] = np.inf
+    with pytest.raises(mx.MxValueError, match=r"v\[2\].*inf.*finite"):
+        body.inverse_dynamics(z, one, z)
+    with pytest.raises(mx.MxValueError, match=r"tau\[2\].*inf.*finite"):
+        body.forward_dynamics(z, z, one)
     with pytest.raises(mx.MxValueError, match="gravity"):
         body.inverse_dynamics(z, z, z, gravity=[0, 1])
 
