@@ -652,6 +652,13 @@ pub fn methods() -> Vec<Method> {
         Method::Sp("SP defaults".into(), Box::default()),
         sp("SP objective: \"torque\" (Rose)", with_prior(Prior::none())),
         sp(
+            "SP example: \"none\"",
+            with_prior(Prior {
+                example: false,
+                ..Prior::default()
+            }),
+        ),
+        sp(
             "SP smoothness: 1e3",
             with_prior(Prior {
                 smoothness: 1e3,

@@ -5,6 +5,7 @@
 use super::error::SpError;
 use super::objective::{GapDof, Inputs, Objective, TransitionSettings};
 use super::progress::ProgressEvent;
+use super::reference::Example;
 use super::solve::{GroupSolution, SolveOptions, solve_group, solve_group_from};
 use super::torque::TorqueModel;
 use rayon::prelude::*;
@@ -27,6 +28,9 @@ pub fn group_overlapping(mut gaps: Vec<GapDof>) -> Vec<Vec<GapDof>> {
 }
 
 /// Solve every group (in parallel); results in the order of [`group_overlapping`].
+/// Finds the example a group of gaps follows ([`super::reference::find`]).
+pub type FindExample<'a> = dyn Fn(&[GapDof]) -> Result<Option<Example>, SpError> + Sync + 'a;
+
 /// SP's kinematic prior (see `sp::prior_weights`) and what it is held to.
 pub struct PriorTerm<'a> {
     /// Per model coordinate, [c_v, c_a].
@@ -34,6 +38,9 @@ pub struct PriorTerm<'a> {
     /// ∫Στ² over [t0, t1] of the whole motion filled by Hermite curves (every
     /// gap DOF, support limbs included): what a transition must undercut.
     pub baseline: &'a (dyn Fn(f64, f64) -> Result<f64, SpError> + Sync),
+    /// The stretch of the motion a group's prior follows, if any
+    /// ([`super::reference::find`]).
+    pub example: &'a FindExample<'a>,
 }
 
 /// What every group of one motion shares: the body, the transition's
@@ -131,22 +138,58 @@ const BISECTION_STEPS: usize = 8;
 /// ([`nearest_cheaper`]). So SP returns the transition nearest the prior's
 /// motion along this continuation that costs less effort than
 /// interpolation, or the last step's. The report's energies are ∫Στ² alone.
+/// With an example (the motion's own repeat, [`super::reference`]) the prior
+/// follows it; if even the last step cannot undercut Hermite with it, the
+/// plain prior's continuation decides instead.
 fn solve_with_prior<M: TorqueModel>(
     problem: &Problem<'_, M>,
     dofs: Vec<GapDof>,
 ) -> Result<GroupSolution, SpError> {
-    let (settings, opts) = (problem.settings, problem.opts);
     let prior = problem
         .prior
         .filter(|p| p.weights.iter().flatten().any(|w| *w > 0.0));
     let Some(prior) = prior else {
-        return solve_group(&problem.objective(dofs, settings)?, opts);
+        return solve_group(&problem.objective(dofs, problem.settings)?, problem.opts);
     };
+    let example = (prior.example)(&dofs)?;
+    let had_example = example.is_some();
+    let first = continuation(problem, prior, &dofs, example)?;
+    if !had_example || first.undercut {
+        return Ok(first.solution);
+    }
+    // The example could not be made cheaper than Hermite (a short gap whose
+    // example moves faster than its ends): the plain prior, which always
+    // starts at Hermite's effort, then decides; the work of both is reported.
+    let mut plain = continuation(problem, prior, &dofs, None)?;
+    let (r, f) = (&mut plain.solution.report, &first.solution.report);
+    r.iterations += f.iterations;
+    r.evaluations += f.evaluations;
+    r.seconds += f.seconds;
+    r.solves += f.solves;
+    Ok(plain.solution)
+}
+
+/// The result of one run down [`PRIOR_SCHEDULE`].
+struct Continued {
+    solution: GroupSolution,
+    /// Whether it costs less ∫Στ² than Hermite by [`EFFORT_MARGIN`].
+    undercut: bool,
+}
+
+/// [`solve_with_prior`]'s continuation with the prior following `example`
+/// (or the plain prior).
+fn continuation<M: TorqueModel>(
+    problem: &Problem<'_, M>,
+    prior: &PriorTerm<'_>,
+    dofs: &[GapDof],
+    mut example: Option<Example>,
+) -> Result<Continued, SpError> {
+    let (settings, opts) = (problem.settings, problem.opts);
     let fine = TransitionSettings {
         samples: settings.samples * CHECK_SAMPLES,
         ..settings.clone()
     };
-    let torque_only = problem.objective(dofs.clone(), &fine)?;
+    let torque_only = problem.objective(dofs.to_vec(), &fine)?;
     let mut scratch = torque_only.scratch();
     let hermite = torque_only.hermite_start();
     let t0 = dofs.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
@@ -162,9 +205,14 @@ fn solve_with_prior<M: TorqueModel>(
             .iter()
             .map(|[v, a]| [v * scale, a * scale])
             .collect();
-        let obj = problem
-            .objective(dofs.clone(), settings)?
+        let mut obj = problem
+            .objective(dofs.to_vec(), settings)?
             .with_prior(&scaled)?;
+        if let Some(ex) = &example
+            && !obj.with_example(problem.inputs, ex.shift, &ex.follow, ex.trust())?
+        {
+            example = None;
+        }
         let above = x.clone();
         let mut sol = solve_group_from(&obj, x, opts)?;
         let mut energy = torque_only.eval(&mut scratch, &sol.x, None)?;
@@ -173,8 +221,9 @@ fn solve_with_prior<M: TorqueModel>(
         seconds += sol.report.seconds;
         solves += 1;
         let target = (1.0 - EFFORT_MARGIN) * hermite_energy;
-        if energy <= target || step + 1 == PRIOR_SCHEDULE.len() {
-            if step > 0 && energy <= target {
+        let undercut = energy <= target;
+        if undercut || step + 1 == PRIOR_SCHEDULE.len() {
+            if step > 0 && undercut {
                 let (x, e, n) = nearest_cheaper(&above, &sol.x, energy, target, |x| {
                     torque_only.eval(&mut scratch, x, None)
                 })?;
@@ -190,9 +239,13 @@ fn solve_with_prior<M: TorqueModel>(
             r.solves = solves;
             r.prior_scale = scale;
             r.energy = energy;
+            r.example = example.clone();
             // under the same rule as `energy`, with any support limbs as held
             r.initial_energy = torque_only.eval(&mut scratch, &hermite, None)?;
-            return Ok(sol);
+            return Ok(Continued {
+                solution: sol,
+                undercut,
+            });
         }
         x = sol.x;
         step += 1;

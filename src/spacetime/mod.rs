@@ -31,6 +31,7 @@ pub use groups::{Problem, group_overlapping, solve_all};
 pub mod fig8;
 pub mod precond;
 pub mod progress;
+pub mod reference;
 pub use progress::{Progress, ProgressEvent};
 pub mod sp;
 pub mod support;

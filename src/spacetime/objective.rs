@@ -125,8 +125,12 @@ pub struct Objective<'a, M: TorqueModel> {
     active: Vec<Vec<Option<NodeRows>>>,
     n_free: usize,
     /// Per gap DOF, the weights (c_v, c_a) of the kinematic prior
-    /// ∫ c_v q̇² + c_a q̈² dt added to the torque term ([`Objective::with_prior`]).
+    /// ∫ c_v (q̇ − ṙ)² + c_a (q̈ − r̈)² dt added to the torque term
+    /// ([`Objective::with_prior`]).
     prior: Vec<[f64; 2]>,
+    /// Per gap DOF and node, the example's [ṙ, r̈] the prior follows
+    /// ([`Objective::with_example`]); zero without one.
+    example: Vec<Vec<[f64; 2]>>,
 }
 
 /// Scratch vectors of one node evaluation (one thread's).
@@ -269,6 +273,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                 .collect();
             active.push(per_node);
         }
+        let example = vec![vec![[0.0; 2]; nodes.len()]; active.len()];
         Ok(Objective {
             model,
             dofs,
@@ -278,6 +283,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             qweights,
             base,
             prior: vec![[0.0; 2]; active.len()],
+            example,
             active,
             n_free,
         })
@@ -306,6 +312,40 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         }
         self.prior = self.dofs.iter().map(|d| per_coord[d.coord]).collect();
         Ok(self)
+    }
+
+    /// Makes the prior of the gap DOFs of model coordinates `follow` follow an
+    /// example: `trust` (0–1) times the velocities and accelerations of the
+    /// motion of `inputs` `shift` seconds away (see [`super::reference`]).
+    /// They must be defined there at every node; `false` (and the objective
+    /// unchanged) if not.
+    pub fn with_example(
+        &mut self,
+        inputs: &Inputs,
+        shift: f64,
+        follow: &[usize],
+        trust: f64,
+    ) -> Result<bool, SpError> {
+        let n = self.model.nq();
+        let (mut q, mut v, mut a) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut example = vec![vec![[0.0; 2]; self.nodes.len()]; self.dofs.len()];
+        for (k, &t) in self.nodes.iter().enumerate() {
+            v.fill(f64::NAN);
+            a.fill(f64::NAN);
+            inputs(t + shift, &mut q, &mut v, &mut a)?;
+            for (d, dof) in self.dofs.iter().enumerate() {
+                if self.active[d][k].is_none() || !follow.contains(&dof.coord) {
+                    continue;
+                }
+                let (dv, da) = (v[dof.coord], a[dof.coord]);
+                if !(dv.is_finite() && da.is_finite()) {
+                    return Ok(false);
+                }
+                example[d][k] = [trust * dv, trust * da];
+            }
+        }
+        self.example = example;
+        Ok(true)
     }
 
     /// Number of unknowns (gap DOFs × free coefficients), laid out DOF-major.
@@ -445,11 +485,13 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             )?;
             let wk = self.qweights[k];
             e += wk * f;
-            for (dof, (act, [cv, ca])) in self.dofs.iter().zip(self.active.iter().zip(&self.prior))
-            {
+            for (d, (dof, act)) in self.dofs.iter().zip(&self.active).enumerate() {
                 if act[k].is_some() {
+                    let [cv, ca] = self.prior[d];
+                    let [rv, ra] = self.example[d][k];
                     let c = dof.coord;
-                    e += wk * (cv * s.v[c] * s.v[c] + ca * s.a[c] * s.a[c]);
+                    let (dv, da) = (s.v[c] - rv, s.a[c] - ra);
+                    e += wk * (cv * dv * dv + ca * da * da);
                 }
             }
             if let Some(g) = grad.as_deref_mut() {
@@ -457,10 +499,11 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                     if let Some(r) = &act[k] {
                         let c = dof.coord;
                         let [cv, ca] = self.prior[d];
+                        let [rv, ra] = self.example[d][k];
                         let (a0, a1, a2) = (
                             wk * s.gq[c],
-                            wk * (s.gv[c] + 2.0 * cv * s.v[c]),
-                            wk * (s.ga[c] + 2.0 * ca * s.a[c]),
+                            wk * (s.gv[c] + 2.0 * cv * (s.v[c] - rv)),
+                            wk * (s.ga[c] + 2.0 * ca * (s.a[c] - ra)),
                         );
                         let gd = &mut g[d * self.n_free..(d + 1) * self.n_free];
                         for j in r.live.clone() {
@@ -768,6 +811,80 @@ mod tests {
             sum += w * f * (b - a) / n as f64;
         }
         assert!((e - sum).abs() < 1e-5 * sum, "{e} vs {sum}");
+    }
+
+    /// With an example, the prior integrates c_v (q̇ − ṙ)² + c_a (q̈ − r̈)² with
+    /// r the inputs `shift` away, and its gradient still matches differences.
+    #[test]
+    fn an_example_moves_the_priors_target_to_its_own_derivatives() {
+        let arm = TwoLinkArm::default();
+        let settings = TransitionSettings {
+            coefficients: 5,
+            samples: 30,
+            continuity: Continuity::C1,
+        };
+        let prior = [[0.4, 1.5], [0.7, 0.2]];
+        let shift = 0.3;
+        let inputs = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
+            q[0] = (2.0 * t).sin();
+            v[0] = 2.0 * (2.0 * t).cos();
+            a[0] = -4.0 * (2.0 * t).sin();
+            q[1] = t * t;
+            v[1] = 2.0 * t;
+            a[1] = 2.0;
+            Ok(())
+        };
+        let plain = problem(&arm, &settings);
+        let mut with = problem(&arm, &settings).with_prior(&prior).unwrap();
+        assert!(with.with_example(&inputs, shift, &[0, 1], 1.0).unwrap());
+        let mut s = with.scratch();
+        let x: Vec<f64> = (0..with.n_vars()).map(|i| 0.2 * (i as f64).sin()).collect();
+        let part = with.eval(&mut s, &x, None).unwrap() - plain.eval(&mut s, &x, None).unwrap();
+        let coefs = with.coefficients(&x);
+        let (n, mut sum) = (20000, 0.0);
+        for (d, dof) in with.dofs().iter().enumerate() {
+            let [cv, ca] = prior[dof.coord];
+            for i in 0..=n {
+                let t = dof.t0 + (dof.t1 - dof.t0) * i as f64 / n as f64;
+                let c = with.curves()[d].eval(&coefs[d], t);
+                let (mut q, mut v, mut a) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+                inputs(t + shift, &mut q, &mut v, &mut a).unwrap();
+                let f = cv * (c[1] - v[dof.coord]).powi(2) + ca * (c[2] - a[dof.coord]).powi(2);
+                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                sum += w * f * (dof.t1 - dof.t0) / n as f64;
+            }
+        }
+        assert!((part - sum).abs() < 1e-6 * sum, "{part} vs {sum}");
+        let mut g = vec![0.0; x.len()];
+        with.eval(&mut s, &x, Some(&mut g)).unwrap();
+        let scale = g.iter().map(|v: &f64| v.abs()).fold(0.0, f64::max);
+        for i in 0..x.len() {
+            let h = 1e-6;
+            let (mut xp, mut xm) = (x.clone(), x.clone());
+            xp[i] += h;
+            xm[i] -= h;
+            let fd = (with.eval(&mut s, &xp, None).unwrap()
+                - with.eval(&mut s, &xm, None).unwrap())
+                / (2.0 * h);
+            assert!(
+                (fd - g[i]).abs() <= 1e-6 * scale,
+                "i={i}: fd {fd} vs {}",
+                g[i]
+            );
+        }
+        // an example undefined at some node is refused, the objective unchanged
+        let undefined = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
+            if t < 1.0 { inputs(t, q, v, a) } else { Ok(()) }
+        };
+        let mut other = problem(&arm, &settings).with_prior(&prior).unwrap();
+        assert!(!other.with_example(&undefined, shift, &[0, 1], 1.0).unwrap());
+        let e0 = other.eval(&mut s, &x, None).unwrap();
+        let e1 = problem(&arm, &settings)
+            .with_prior(&prior)
+            .unwrap()
+            .eval(&mut s, &x, None)
+            .unwrap();
+        assert_eq!(e0, e1);
     }
 
     #[test]

@@ -116,6 +116,9 @@ pub struct GapReport {
     pub prior_scale: f64,
     /// Solves run (one, or more while the prior was being lowered).
     pub solves: u32,
+    /// The stretch of the motion the prior followed (`None`: the plain prior;
+    /// see [`super::reference`]).
+    pub example: Option<super::reference::Example>,
 }
 
 impl GapReport {
@@ -502,6 +505,7 @@ pub fn solve_group_from<M: TorqueModel>(
         stop,
         seconds: started.elapsed().as_secs_f64(),
         prior_scale: 1.0,
+        example: None,
         solves: 1,
     };
     Ok(GroupSolution {

@@ -8,6 +8,7 @@ use super::error::{SpError, invalid};
 use super::groups::{PriorTerm, Problem, solve_all};
 use super::objective::{GapDof, Inputs, TransitionSettings};
 use super::quadrature::GaussLegendre;
+use super::reference::Example;
 use super::root::{RootCoords, RootTransition};
 use super::solve::{GapReport, SolveOptions};
 use super::support::HeldFrame;
@@ -34,8 +35,10 @@ pub struct SpOptions {
 }
 
 /// The kinematic prior SP adds to Rose's ∫Στ² (see [`prior_weights`]):
-/// Σ_d λ s_d² ∫ (q̈_d² + q̇_d²/T²) dt over the gap DOFs, s_d the DOF's own
-/// inertia (the mass-matrix diagonal at the gap's start).
+/// Σ_d λ s_d² ∫ ((q̈_d − r̈_d)² + (q̇_d − ṙ_d)²/T²) dt over the gap DOFs, s_d
+/// the DOF's own inertia (the mass-matrix diagonal at the gap's start) and r
+/// the motion's own example where it repeats (zero without one; see
+/// [`super::reference`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prior {
     /// λ (`smoothness:`); 0 is Rose's objective alone (`objective: "torque"`).
@@ -43,6 +46,9 @@ pub struct Prior {
     /// T in seconds (`time_constant:`); `f64::INFINITY` drops the q̇ term;
     /// `None`: [`AUTO_TIME_SCALE`]² / d for a gap of d seconds.
     pub time_constant: Option<f64>,
+    /// Follow the motion's own example where it repeats (`example: "self"`,
+    /// the default; `"none"`: the plain prior). See [`super::reference`].
+    pub example: bool,
 }
 
 /// τ₀ of the default time constant T = τ₀²/d: the longer a gap, the sooner
@@ -67,6 +73,7 @@ impl Default for Prior {
         Prior {
             smoothness: DEFAULT_SMOOTHNESS,
             time_constant: None,
+            example: true,
         }
     }
 }
@@ -77,6 +84,7 @@ impl Prior {
         Prior {
             smoothness: 0.0,
             time_constant: None,
+            example: false,
         }
     }
 
@@ -163,7 +171,7 @@ impl fmt::Display for SpReport {
         for (i, g) in self.groups.iter().enumerate() {
             writeln!(
                 f,
-                "gap {} [{:.4}, {:.4}] s, {} DOF{} ({}): {} {} unknowns, {} iterations, {} evaluations, ∫Στ² {:.6e} (Hermite {:.6e}, {:+.2}%), |∇e| {:.3e}, {}{} ({:.1} ms)",
+                "gap {} [{:.4}, {:.4}] s, {} DOF{} ({}): {} {} unknowns, {} iterations, {} evaluations, ∫Στ² {:.6e} (Hermite {:.6e}, {:+.2}%), |∇e| {:.3e}, {}{}{} ({:.1} ms)",
                 i + 1,
                 g.t0,
                 g.t1,
@@ -194,6 +202,16 @@ impl fmt::Display for SpReport {
                     )
                 } else {
                     String::new()
+                },
+                match &g.example {
+                    Some(ex) => format!(
+                        "; prior follows the motion {:+.3} s away on {} of {} DOFs (mismatch {:.3})",
+                        ex.shift,
+                        ex.follow.len(),
+                        ex.of,
+                        ex.mismatch
+                    ),
+                    None => String::new(),
                 },
                 g.seconds * 1e3
             )?;
@@ -505,9 +523,17 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
         let piece = crate::motion::clip_in_place(t0, t1, &hermite_all).map_err(motion_err)?;
         torque_energy(&piece, model, Some(gravity))
     };
+    let rotation = |c: usize| !is_translation(model, c);
+    let example = |group: &[GapDof]| -> Result<Option<Example>, SpError> {
+        if !opts.prior.example {
+            return Ok(None);
+        }
+        super::reference::find(&out, names, &rotation, group)
+    };
     let prior = PriorTerm {
         weights: prior_weights(model, &out, &gaps, &opts.prior)?,
         baseline: &baseline,
+        example: &example,
     };
     let body = BodyDynamics { model, gravity };
     let inputs_fn = motion_inputs(&out, names);
@@ -618,10 +644,12 @@ const RELATIVE_INERTIA_FLOOR: f64 = 0.1;
 /// the DOF would need to accelerate its own inertia alone, so the prior is in
 /// torque² units and holds every DOF in proportion to its own torque scale,
 /// light or heavy. Its q̈ part alone is minimised by the cubic Hermite curve
-/// (with position and velocity fixed at both ends), so SP never ends above
-/// Hermite in e = ∫Στ² + prior; the q̇/T² part damps the end velocities over a
-/// time T, as captured motion does over long gaps (the slerp baseline, with no
-/// velocity at all, beats Hermite there).
+/// (with position and velocity fixed at both ends), so without an example SP
+/// never ends above Hermite in e = ∫Στ² + prior; the q̇/T² part damps the end
+/// velocities over a time T, as captured motion does over long gaps (the slerp
+/// baseline, with no velocity at all, beats Hermite there). With an example r
+/// the prior is minimised by r plus the smooth correction that meets the end
+/// states.
 pub fn prior_weights(
     model: &Model,
     m: &Mu,

@@ -240,6 +240,24 @@ fn prior(a: &mut Args) -> MxResult<Prior> {
             }
         }
     }
+    if let Some(arg) = a.opt_named("example") {
+        match arg.value.as_str() {
+            Some("self") => p.example = true,
+            Some("none") => p.example = false,
+            _ => {
+                return Err(bad_option(
+                    a,
+                    &arg,
+                    format!(
+                        "`example:` must be \"self\" or \"none\", found {}",
+                        arg.value.repr()
+                    ),
+                    "\"self\" (default): where the motion repeats (a walk, a run), the prior follows the stretch of it \
+                     whose frames around it best match the frames around the gap; \"none\": the plain prior",
+                ));
+            }
+        }
+    }
     Ok(p)
 }
 
@@ -411,7 +429,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 pub fn register(reg: &mut Registry) {
     reg.topic(Topic::Spacetime);
     reg.add(
-        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", root: \"shift\")",
+        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"shift\")",
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
@@ -419,7 +437,10 @@ pub fn register(reg: &mut Registry) {
          of the torque integral (at least 6 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
          iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. \
          objective: \"effort\" (default) adds to ∫Στ² a kinematic prior, λ Σ M_dd² ∫ q̈² + q̇²/T² (smoothness: λ, time_constant: T, default (0.32 s)²/gap length), \
-         lowered tenfold until the transition costs at least 2 % less ∫Στ² than the Hermite curves; \"torque\" is Rose's ∫Στ² alone. \
+         lowered tenfold until the transition costs at least 1 % less ∫Στ² than the Hermite curves; \"torque\" is Rose's ∫Στ² alone. \
+         example: \"self\" (default): where the motion repeats (a walk, a run), the prior follows the velocities of the stretch of m \
+         whose 0.3 s on each side best match those around the gap, λ Σ M_dd² ∫ (q̈ − r̈)² + (q̇ − ṙ)²/T², if it matches better than \
+         the context's own mean pose; \"none\": the plain prior. \
          root: \"shift\" (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays). \
          Translation DOFs constant on both sides (bone offsets) stay constant. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
@@ -429,7 +450,7 @@ pub fn register(reg: &mut Registry) {
         "sp_report(m)",
         "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \
          initial_energy (∫Στ² of the Hermite start), energy (∫Στ² of the result), grad_norm, stop = why the solver \
-         stopped, converged (false: stopped short, also warned on stderr), prior_scale (the factor the prior ended at), \
+         stopped, converged (false: stopped short, also warned on stderr), prior_scale (the factor the prior ended at), example (the stretch the prior followed: shift in s and mismatch, or none), \
          solves, seconds), `root` (t0, t1, shift applied to the motion after each gap), `hermite` (root DOFs filled by \
          Hermite curves), `constant` (bone-offset DOFs held constant: dof, start, stop), `undefined` \
          (DOFs left undefined at the start/end: dof, start, stop), `text`. print shows it as text. Only the motion SP \

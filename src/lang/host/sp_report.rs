@@ -75,6 +75,27 @@ impl SpReportValue {
                         ("converged", Value::Bool(g.converged())),
                         ("prior_scale", num(g.prior_scale)),
                         ("solves", num(g.solves as f64)),
+                        (
+                            "example",
+                            match &g.example {
+                                Some(ex) => record(vec![
+                                    ("shift", num(ex.shift)),
+                                    ("mismatch", num(ex.mismatch)),
+                                    (
+                                        "dofs",
+                                        Value::list(
+                                            g.coords
+                                                .iter()
+                                                .zip(&g.names)
+                                                .filter(|(c, _)| ex.follow.contains(c))
+                                                .map(|(_, n)| Value::str(n))
+                                                .collect(),
+                                        ),
+                                    ),
+                                ]),
+                                None => Value::Nil,
+                            },
+                        ),
                         ("seconds", num(g.seconds)),
                     ])
                 })
