@@ -724,17 +724,18 @@ mod tests {
                 end: st(0.9, 2.0),
             },
         ];
-        // outside a gap each joint follows a smooth known motion
-        let inputs = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
-            q[0] = (2.0 * t).sin();
-            v[0] = 2.0 * (2.0 * t).cos();
-            a[0] = -4.0 * (2.0 * t).sin();
-            q[1] = t * t;
-            v[1] = 2.0 * t;
-            a[1] = 2.0;
-            Ok(())
-        };
-        Objective::new(arm, dofs, settings, vec![1.0, 1.5], &inputs).unwrap()
+        Objective::new(arm, dofs, settings, vec![1.0, 1.5], &known_motion).unwrap()
+    }
+
+    /// Outside a gap each joint of [`problem`] follows this smooth known motion.
+    fn known_motion(t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) -> Result<(), SpError> {
+        q[0] = (2.0 * t).sin();
+        v[0] = 2.0 * (2.0 * t).cos();
+        a[0] = -4.0 * (2.0 * t).sin();
+        q[1] = t * t;
+        v[1] = 2.0 * t;
+        a[1] = 2.0;
+        Ok(())
     }
 
     #[test]
@@ -825,15 +826,7 @@ mod tests {
         };
         let prior = [[0.4, 1.5], [0.7, 0.2]];
         let shift = 0.3;
-        let inputs = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
-            q[0] = (2.0 * t).sin();
-            v[0] = 2.0 * (2.0 * t).cos();
-            a[0] = -4.0 * (2.0 * t).sin();
-            q[1] = t * t;
-            v[1] = 2.0 * t;
-            a[1] = 2.0;
-            Ok(())
-        };
+        let inputs = known_motion;
         let plain = problem(&arm, &settings);
         let mut with = problem(&arm, &settings).with_prior(&prior).unwrap();
         assert!(with.with_example(&inputs, shift, &[0, 1], 1.0).unwrap());
