@@ -22,6 +22,10 @@ const STEP: f64 = 1.0 / 30.0;
 /// ten frames at 30 Hz (`$MX_SHARED/data/inbetween/README.md`).
 const CONTEXT: f64 = 0.3;
 
+/// How far (s) from the gap an example is looked for: a long recording is
+/// searched only this near the gap (the cost is linear in the span).
+const SEARCH_SPAN: f64 = 30.0;
+
 /// Fewest context samples worth comparing (both sides together).
 const MIN_CONTEXT_SAMPLES: usize = 4;
 
@@ -94,9 +98,14 @@ pub fn find(
     ) else {
         return Ok(None);
     };
+    // a zero-length gap (or a degenerate span) has no stretch to copy
+    if !(t1 - t0 > 1e-9 && (t1 - t0).is_finite()) {
+        return Ok(None);
+    }
     let Some((start, stop)) = m.span() else {
         return Ok(None);
     };
+    let (start, stop) = (start.max(t0 - SEARCH_SPAN), stop.min(t1 + SEARCH_SPAN));
     // the grid: t0 + k h, with the gap's end on it
     let n = ((t1 - t0) / STEP).round().max(1.0) as i64;
     let h = (t1 - t0) / n as f64;
@@ -287,6 +296,17 @@ mod tests {
             .expect("an example");
         assert!((ex.shift - ex.shift.round()).abs() < 0.05, "{ex:?}");
         assert_eq!((ex.follow, ex.of), (vec![0, 2, 3], 4));
+    }
+
+    #[test]
+    fn a_zero_length_gap_has_no_example() {
+        let f = |_: usize, t: f64| (2.0 * PI * t).sin();
+        let names = ["a"];
+        let (m, mut gaps) = with_gap(&names, &f);
+        gaps[0].t1 = gaps[0].t0;
+        let names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+        assert_eq!(find(&m, &names, &|_| true, &gaps).unwrap(), None);
+        assert_eq!(find(&m, &names, &|_| true, &[]).unwrap(), None);
     }
 
     #[test]
