@@ -27,7 +27,6 @@ pub fn group_overlapping(mut gaps: Vec<GapDof>) -> Vec<Vec<GapDof>> {
     groups.into_iter().map(|(_, m)| m).collect()
 }
 
-/// Solve every group (in parallel); results in the order of [`group_overlapping`].
 /// Finds the example a group of gaps follows ([`super::reference::find`]).
 pub type FindExample<'a> = dyn Fn(&[GapDof]) -> Result<Option<Example>, SpError> + Sync + 'a;
 
@@ -71,6 +70,7 @@ impl<M: TorqueModel> Problem<'_, M> {
     }
 }
 
+/// Solve every group (in parallel); results in the order of [`group_overlapping`].
 pub fn solve_all<M: TorqueModel>(
     problem: &Problem<'_, M>,
     gaps: Vec<GapDof>,
