@@ -26,6 +26,10 @@ const CONTEXT: f64 = 0.3;
 /// searched only this near the gap (the cost is linear in the span).
 const SEARCH_SPAN: f64 = 30.0;
 
+/// Longest gap (s) an example is looked for: a cycle copied from the same
+/// motion tells nothing over longer, and the search's grid grows with it.
+const MAX_GAP: f64 = 10.0;
+
 /// Fewest context samples worth comparing (both sides together).
 const MIN_CONTEXT_SAMPLES: usize = 4;
 
@@ -98,8 +102,9 @@ pub fn find(
     ) else {
         return Ok(None);
     };
-    // a zero-length gap (or a degenerate span) has no stretch to copy
-    if !(t1 - t0 > 1e-9 && (t1 - t0).is_finite()) {
+    // a zero-length gap (or a degenerate span) has no stretch to copy, nor
+    // has one longer than any cycle
+    if !(t1 - t0 > 1e-9 && t1 - t0 <= MAX_GAP) {
         return Ok(None);
     }
     let Some((start, stop)) = m.span() else {
@@ -136,7 +141,12 @@ pub fn find(
         }
     }
     let at = |k: i64| (k - k_lo) as usize;
-    let defined = |k: i64| k >= k_lo && k <= k_hi && x.iter().all(|row| row[at(k)].is_finite());
+    // whether every gap coordinate is defined at each grid point (once: the
+    // shift search asks it for every point of every candidate window)
+    let everywhere: Vec<bool> = (0..len)
+        .map(|j| x.iter().all(|row| row[j].is_finite()))
+        .collect();
+    let defined = |k: i64| k >= k_lo && k <= k_hi && everywhere[at(k)];
     // the context: up to CONTEXT before t0 and after t1, where defined
     let reach = (CONTEXT / h).round() as i64;
     let before: Vec<i64> = (0..=reach)
@@ -299,12 +309,15 @@ mod tests {
     }
 
     #[test]
-    fn a_zero_length_gap_has_no_example() {
+    fn a_zero_length_or_huge_gap_has_no_example() {
         let f = |_: usize, t: f64| (2.0 * PI * t).sin();
         let names = ["a"];
         let (m, mut gaps) = with_gap(&names, &f);
         gaps[0].t1 = gaps[0].t0;
         let names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+        assert_eq!(find(&m, &names, &|_| true, &gaps).unwrap(), None);
+        // nor one longer than any cycle (whose grid would be huge)
+        gaps[0].t1 = gaps[0].t0 + 1e7;
         assert_eq!(find(&m, &names, &|_| true, &gaps).unwrap(), None);
         assert_eq!(find(&m, &names, &|_| true, &[]).unwrap(), None);
     }
