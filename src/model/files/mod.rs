@@ -1,5 +1,5 @@
 //! Reading bodies and joints from files: URDF (`urdf.rs`), whole OpenSim models
-//! (`osim.rs`), single OpenSim `CustomJoint`s from `.osim` XML (`osim_joint.rs`)
+//! (`osim/`), single OpenSim `CustomJoint`s from `.osim` XML (`osim_joint.rs`)
 //! and from the JSON of the reference samples (`osim_json.rs`). BVH, which gives
 //! motions as well as skeletons, stays with the capture code in `mocap::bvh`.
 //!
