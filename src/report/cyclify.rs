@@ -6,8 +6,8 @@ use super::plot::{Figure, Series};
 use super::timed;
 use crate::mocap::bvh::Units;
 use crate::motion::Mu;
-use crate::spacetime::cyclify::floor_drift;
-use crate::spacetime::{CyclifyOptions, cyclify, loop_motion};
+use crate::motion::cyclify::floor_drift;
+use crate::motion::cyclify::{CyclifyOptions, cyclify, loop_motion};
 use std::path::Path;
 
 /// The marks given to `cyclify` (s): about one stride of `examples/data/walk.bvh`.

@@ -1,6 +1,7 @@
 //! Errors of the spacetime layer: each says what was wrong and what to do.
 
 use crate::cancel::Cancelled;
+use crate::motion::cyclify::CyclifyError;
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SpError {
@@ -20,6 +21,17 @@ pub enum SpError {
 impl From<Cancelled> for SpError {
     fn from(_: Cancelled) -> Self {
         SpError::Cancelled
+    }
+}
+
+/// Cyclification lives with the motion operations; the language reports its
+/// errors as it reports SP's.
+impl From<CyclifyError> for SpError {
+    fn from(e: CyclifyError) -> Self {
+        match e {
+            CyclifyError::Invalid(m) => SpError::Invalid(m),
+            CyclifyError::Evaluation(m) => SpError::Evaluation(m),
+        }
     }
 }
 

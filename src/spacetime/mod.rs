@@ -1,6 +1,6 @@
 //! Spacetime transitions (Rose et al. 1996, §3): fill the interior gaps of a
 //! motion with cubic B-spline curves that minimise ∫Σwτ² dt, keep support
-//! limbs planted by IK, move the root kinematically, and cyclify loops.
+//! limbs planted by IK, and move the root kinematically (cyclification is `motion::cyclify`).
 //!
 //! Layering: this module uses `spline`, `model`, `dynamics`, `motion`; it knows
 //! nothing of the language.
@@ -37,5 +37,3 @@ pub mod sp;
 pub mod support;
 pub use sp::{Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp, torque_energy};
 pub use support::HeldFrame;
-pub mod cyclify;
-pub use cyclify::{CyclifyOptions, CyclifyReport, cyclify, loop_motion};

@@ -5,8 +5,8 @@ use crate::common;
 
 use mx::mocap::bvh::Units;
 use mx::motion::Mu;
-use mx::spacetime::cyclify::floor_drift;
-use mx::spacetime::{CyclifyOptions, cyclify, loop_motion};
+use mx::motion::cyclify::floor_drift;
+use mx::motion::cyclify::{CyclifyOptions, cyclify, loop_motion};
 
 /// Largest (|Δq|, |Δq̇|, |Δq̈|) where consecutive intervals touch, minus each DOF's
 /// own per-cycle advance in q (a drifting root continues, it does not jump).

@@ -20,9 +20,10 @@ use crate::lang::topic::Topic;
 use crate::lang::value::{Value, format_number};
 use crate::model::Model;
 use crate::motion::Mu;
+use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
 use crate::spacetime::{
-    Continuity, CyclifyOptions, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions,
-    Support, cyclify, fill_hermite, loop_motion, sp, torque_energy,
+    Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
+    fill_hermite, sp, torque_energy,
 };
 
 /// Methods `fill(m, method)` knows.
@@ -381,7 +382,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let te = a.finite("t_end")?;
     let mut opts = CyclifyOptions {
         // BVH clips are y up: a walk advances in the floor plane x–z.
-        drift: crate::spacetime::cyclify::floor_drift(&m),
+        drift: floor_drift(&m),
         ..Default::default()
     };
     if let Some(arg) = a.opt_named("drift") {
@@ -422,7 +423,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let busy = Busy::start("cyclify", "{spinner} {prefix} [{elapsed}]");
     let r = cyclify(&m, ts, te, &opts);
     drop(busy);
-    let (out, _) = r.map_err(|e| sp_error(e, a, a.call_span()))?;
+    let (out, _) = r.map_err(|e| sp_error(e.into(), a, a.call_span()))?;
     Ok(Value::object(Motion::Mu(out)))
 }
 
@@ -551,7 +552,7 @@ pub fn register(reg: &mut Registry) {
                     .map_err(|e| crate::lang::host::errors::motion_error(e, marg.span));
             }
             let n = a.count("n")?;
-            let out = loop_motion(&m, n).map_err(|e| sp_error(e, a, marg.span))?;
+            let out = loop_motion(&m, n).map_err(|e| sp_error(e.into(), a, marg.span))?;
             Ok(Value::object(Motion::Mu(out)))
         },
     );
