@@ -21,7 +21,9 @@ pub use torque::{BodyDynamics, TorqueModel};
 pub mod objective;
 pub use objective::{GapDof, Objective, TransitionSettings};
 pub mod solve;
-pub use solve::{GapReport, GroupSolution, SolveOptions, solve_group, solve_group_from};
+pub use solve::{
+    GapReport, GroupSolution, SolveOptions, StopReason, solve_group, solve_group_from,
+};
 pub mod root;
 pub use root::{RootCoords, RootTransition};
 pub mod groups;

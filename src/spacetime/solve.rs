@@ -44,7 +44,7 @@ use argmin::core::{
 };
 use argmin::solver::linesearch::MoreThuenteLineSearch;
 use argmin::solver::quasinewton::{BFGS, LBFGS};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::time::Instant;
 
 /// Solver settings (not the transition's shape: see `TransitionSettings`).
@@ -106,7 +106,7 @@ pub struct GapReport {
     pub initial_energy: f64,
     pub energy: f64,
     pub grad_norm: f64,
-    pub stop: String,
+    pub stop: StopReason,
     pub seconds: f64,
     /// The factor the kinematic prior's weights were scaled by in the last
     /// solve (1: as asked; smaller when SP had to lower it so the transition
@@ -125,7 +125,57 @@ impl GapReport {
     /// Whether the solve ended by one of its stopping rules (not by the
     /// iteration limit or a failed step): a result, not a flagged stop.
     pub fn converged(&self) -> bool {
-        !(self.stop.contains("iteration limit") || self.stop.starts_with("stopped"))
+        self.stop.converged()
+    }
+}
+
+/// Why a solve ended. Printed as a sentence (`sp_report`'s `stop`).
+#[derive(Clone, Debug, PartialEq)]
+pub enum StopReason {
+    /// No free coefficient: the gap's curves are fixed by their end states.
+    NothingToOptimise,
+    /// The gradient at the Hermite start is exactly zero.
+    StationaryStart,
+    /// argmin's gradient or cost tolerance was met.
+    Converged,
+    /// The stall rule: the last `iterations` lowered the energy by less than
+    /// `tolerance` (relative).
+    Stalled { iterations: u64, tolerance: f64 },
+    /// The iteration budget ran out first: a flagged stop.
+    IterationLimit,
+    /// The line search could not progress (the objective's precision limit):
+    /// the best point seen is kept, but the stop is flagged.
+    LineSearch(String),
+    /// Any other reason argmin gave.
+    Other(String),
+}
+
+impl StopReason {
+    /// A result, not a flagged stop.
+    pub fn converged(&self) -> bool {
+        !matches!(self, StopReason::IterationLimit | StopReason::LineSearch(_))
+    }
+}
+
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StopReason::NothingToOptimise => write!(f, "nothing to optimise (coefficients: 0)"),
+            StopReason::StationaryStart => {
+                write!(f, "converged (the Hermite start is stationary)")
+            }
+            StopReason::Converged => write!(f, "converged"),
+            StopReason::Stalled {
+                iterations,
+                tolerance,
+            } => write!(
+                f,
+                "converged (the last {iterations} iterations lowered the energy by less than {tolerance})"
+            ),
+            StopReason::IterationLimit => write!(f, "iteration limit reached"),
+            StopReason::LineSearch(e) => write!(f, "stopped: {e}"),
+            StopReason::Other(s) => write!(f, "{s}"),
+        }
     }
 }
 
@@ -231,14 +281,21 @@ fn norm(g: &[f64]) -> f64 {
     g.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 
-fn stop_text(status: &TerminationStatus) -> String {
+/// Why a round ended: the stall rule if it fired, else argmin's status.
+fn stop_reason(status: &TerminationStatus, stalled: Option<(u64, f64)>) -> StopReason {
+    if let Some((iterations, tolerance)) = stalled {
+        return StopReason::Stalled {
+            iterations,
+            tolerance,
+        };
+    }
     match status {
-        TerminationStatus::Terminated(TerminationReason::SolverConverged) => "converged".into(),
+        TerminationStatus::Terminated(TerminationReason::SolverConverged) => StopReason::Converged,
         TerminationStatus::Terminated(TerminationReason::MaxItersReached) => {
-            "iteration limit reached".into()
+            StopReason::IterationLimit
         }
-        TerminationStatus::Terminated(r) => r.text().to_string(),
-        TerminationStatus::NotTerminated => "not terminated".into(),
+        TerminationStatus::Terminated(r) => StopReason::Other(r.text().to_string()),
+        TerminationStatus::NotTerminated => StopReason::Other("not terminated".into()),
     }
 }
 
@@ -254,6 +311,9 @@ struct StallAware<'h, S> {
     tolerance: f64,
     /// (iteration, best energy) after every iteration so far.
     history: &'h RefCell<Vec<(u64, f64)>>,
+    /// Set when this rule ends the run, so the report can say so (argmin's
+    /// own reason is only text).
+    stalled: &'h Cell<Option<(u64, f64)>>,
 }
 
 impl<O, I, S> Solver<O, I> for StallAware<'_, S>
@@ -301,11 +361,8 @@ where
             .copied();
         match then {
             Some((t, e_then)) if e_then - e < self.tolerance * e.abs() => {
-                TerminationStatus::Terminated(TerminationReason::SolverExit(format!(
-                    "converged (the last {} iterations lowered the energy by less than {})",
-                    now - t,
-                    self.tolerance
-                )))
+                self.stalled.set(Some((now - t, self.tolerance)));
+                TerminationStatus::Terminated(TerminationReason::SolverExit("stalled".into()))
             }
             _ => TerminationStatus::NotTerminated,
         }
@@ -318,6 +375,8 @@ struct Stall<'h> {
     window: u64,
     tolerance: f64,
     history: &'h RefCell<Vec<(u64, f64)>>,
+    /// Set when the stall rule ends the round: (iterations looked back, tolerance).
+    stalled: &'h Cell<Option<(u64, f64)>>,
 }
 
 /// One round of a quasi-Newton `solver` (BFGS or L-BFGS: they differ only in
@@ -329,7 +388,7 @@ fn run_round<'p, 'o, 'a, M, S, H>(
     solver: S,
     stall: Stall<'_>,
     init: impl FnOnce(RoundState<H>) -> RoundState<H>,
-) -> Result<(u64, String), argmin::core::Error>
+) -> Result<(u64, StopReason), argmin::core::Error>
 where
     M: TorqueModel,
     S: Solver<Lend<'p, 'o, 'a, M>, RoundState<H>>,
@@ -341,6 +400,7 @@ where
         window: stall.window,
         tolerance: stall.tolerance,
         history: stall.history,
+        stalled: stall.stalled,
     };
     Executor::new(Lend(problem), solver)
         .configure(init)
@@ -348,7 +408,7 @@ where
         .map(|r| {
             (
                 r.state().get_iter(),
-                stop_text(r.state().get_termination_status()),
+                stop_reason(r.state().get_termination_status(), stall.stalled.get()),
             )
         })
 }
@@ -397,16 +457,18 @@ pub fn solve_group_from<M: TorqueModel>(
     let n = x0.len();
     let mut iterations = 0;
     let mut method = "none";
-    let mut stop = String::from("nothing to optimise (coefficients: 0)");
+    let mut stop = StopReason::NothingToOptimise;
     if n > 0 && g0n == 0.0 {
-        stop = "converged (the Hermite start is stationary)".into();
+        stop = StopReason::StationaryStart;
     } else if n > 0 {
         let tol_grad = (opts.grad_rtol * g0n).max(f64::MIN_POSITIVE);
         let tol_cost = (opts.cost_rtol * e0.abs()).max(f64::MIN_POSITIVE);
         let mem = opts.lbfgs_memory.max(1);
         let round = opts.relinearise_every.max(1);
         let mut y_start = y0.clone();
-        let mut run: Result<(u64, String), argmin::core::Error> = Ok((0, String::new()));
+        let mut run: Result<(u64, StopReason), argmin::core::Error> =
+            Ok((0, StopReason::NothingToOptimise));
+        let stalled = Cell::new(None);
         let history = RefCell::new(vec![(0, e0)]);
         let mut total = 0;
         while total < opts.max_iters {
@@ -417,6 +479,7 @@ pub fn solve_group_from<M: TorqueModel>(
                 window: opts.stall_window.max(1),
                 tolerance: opts.tolerance,
                 history: &history,
+                stalled: &stalled,
             };
             let y = y_start.clone();
             run = if n <= opts.bfgs_max_vars {
@@ -445,7 +508,7 @@ pub fn solve_group_from<M: TorqueModel>(
             total += it.max(1);
             // only a run cut short by its round's budget continues; convergence,
             // a stuck line search or cancellation end the solve
-            let limited = matches!(&run, Ok((_, s)) if s == "iteration limit reached");
+            let limited = matches!(&run, Ok((_, StopReason::IterationLimit)));
             if !limited || total >= opts.max_iters {
                 break;
             }
@@ -472,7 +535,7 @@ pub fn solve_group_from<M: TorqueModel>(
                 }
                 // A line search that cannot progress means we are at the
                 // precision limit of the objective: keep the best point seen.
-                stop = format!("stopped: {e}");
+                stop = StopReason::LineSearch(e.to_string());
             }
         }
     }
@@ -638,7 +701,7 @@ mod tests {
         };
         let r = solve_group(&obj, &opts).unwrap().report;
         assert!(
-            r.stop.starts_with("converged (the last 5 iterations"),
+            matches!(r.stop, StopReason::Stalled { iterations: 5, .. }),
             "{r:?}"
         );
         assert!(r.iterations >= 5 && r.iterations < 1000, "{r:?}");

@@ -71,7 +71,7 @@ impl SpReportValue {
                         ("initial_energy", num(g.initial_energy)),
                         ("energy", num(g.energy)),
                         ("grad_norm", num(g.grad_norm)),
-                        ("stop", Value::str(&g.stop)),
+                        ("stop", Value::str(g.stop.to_string())),
                         ("converged", Value::Bool(g.converged())),
                         ("prior_scale", num(g.prior_scale)),
                         ("solves", num(g.solves as f64)),
