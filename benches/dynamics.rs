@@ -108,7 +108,9 @@ fn instructions_driver(args: &[String]) {
     let result = Model::from_urdf_file(Path::new(urdf))
         .map_err(|e| e.to_string())
         .and_then(|m| {
-            let n = n.parse().map_err(|_| format!("N must be a count, got `{n}`"))?;
+            let n = n
+                .parse()
+                .map_err(|_| format!("N must be a count, got `{n}`"))?;
             mx::report::perf::drive(&m, algorithm, n)
         });
     if let Err(e) = result {
@@ -156,7 +158,7 @@ fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
         model.nq()
     );
     println!(
-        "{:<24}{:>10}{:>12}{:>8}{:>14}{:>14}",
+        "{:<24}{:>10}{:>14}{:>8}{:>14}{:>15}",
         "algorithm", "mx µs", "pinocchio µs", "ratio", "ratio range", "mx instr/call"
     );
     let pin = theirs.len() == ours.len();
@@ -173,11 +175,14 @@ fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
             let r = median(each);
             ratios.push(r);
             println!(
-                "{alg:<24}{t:>10.3}{p:>12.3}{r:>8.2}{:>14}{ins:>14}",
+                "{alg:<24}{t:>10.3}{p:>14.3}{r:>8.2}{:>14}{ins:>15}",
                 format!("{lo:.2}–{hi:.2}")
             );
         } else {
-            println!("{alg:<24}{t:>10.3}{:>12}{:>8}{:>14}{ins:>14}", "-", "-", "-");
+            println!(
+                "{alg:<24}{t:>10.3}{:>14}{:>8}{:>14}{ins:>15}",
+                "-", "-", "-"
+            );
         }
     }
     let adj = median(ours.iter().map(|r| r[4]).collect());
@@ -421,7 +426,9 @@ fn main() {
     }
     let mut ratios = Vec::new();
     for urdf in &urdfs {
-        let name = urdf.file_stem().map_or_else(String::new, |s| s.to_string_lossy().into());
+        let name = urdf
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into());
         ratios.extend(per_call(&name, urdf));
     }
     if !ratios.is_empty() {
