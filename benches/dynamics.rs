@@ -1,11 +1,14 @@
 //! Dynamics benchmark: prints tables.
 //!
-//! 1. Per call on human44, UR5 and Panda (`$MX_SHARED/data/reference`): RNEA,
-//!    ABA, CRBA, ∂τ (RNEA derivatives) and the adjoint gradient of Σwτ², median
-//!    µs over random states; when Pinocchio's timer is built
+//! 1. Per call on every URDF of `$MX_SHARED/data/reference` (human44, Panda,
+//!    UR5): RNEA, ABA, CRBA, ∂τ (RNEA derivatives) and the adjoint gradient of
+//!    Σwτ², median µs over random states; when Pinocchio's timer is built
 //!    (`$MX_SHARED/tools/pinocchio/build.sh /tmp/pinocchio-bench`, or
-//!    `$MX_PINOCCHIO_BENCH`), it is run on the same URDF in the same session and
-//!    the ratios are printed (the table says so when it is absent).
+//!    `$MX_PINOCCHIO_BENCH`), it is run on the same URDF in the same session,
+//!    alternated with ours `MX_BENCH_RUNS` times (default 5), and the median
+//!    ratios are printed (the table says so when it is absent); beside them
+//!    mx's instructions per call under callgrind (when valgrind is installed),
+//!    which show whether a change saved work on this noisy shared machine.
 //! 2. The cost of each scene effect (same scene with and without it).
 //! 3. Integrator work–precision: error at t = 1 s against a tight reference vs time.
 //!
@@ -37,66 +40,159 @@ impl Rng {
     }
 }
 
-use mx::report::perf::median_us;
+use mx::report::perf::{ALGORITHMS, median_us};
 
-/// Times our algorithms and Pinocchio's with the report's measurement
-/// (`mx::report::perf`), so the bench and `docs/accuracy.md` cannot differ.
-/// Ours is the best of `ROUNDS` rounds of medians, as Pinocchio's timer
-/// reports the best of its 5 rounds: the machine is shared.
-fn per_call(name: &str, urdf: &Path) {
+/// Runs of mx's timing and Pinocchio's timer, alternated, per model: ratios are
+/// quoted as the median over the runs (`MX_BENCH_RUNS`, default 5).
+fn runs() -> usize {
+    std::env::var("MX_BENCH_RUNS")
+        .ok()
+        .and_then(|x| x.parse().ok())
+        .filter(|n| *n > 0)
+        .unwrap_or(5)
+}
+
+fn median(mut x: Vec<f64>) -> f64 {
+    x.sort_by(|a, b| a.total_cmp(b));
+    let n = x.len();
+    if n % 2 == 1 {
+        x[n / 2]
+    } else {
+        0.5 * (x[n / 2 - 1] + x[n / 2])
+    }
+}
+
+/// Instructions per call of `algorithm` on `urdf`, counted by callgrind: this
+/// binary runs [`mx::report::perf::drive`] for 20 and for 220 calls, and the
+/// difference of the two totals over 200 leaves out loading and set-up. Exact
+/// and repeatable where times on this shared machine are not; `None` without valgrind.
+fn instructions_per_call(urdf: &Path, algorithm: &str) -> Option<f64> {
+    let exe = std::env::current_exe().ok()?;
+    let count = |n: usize| -> Option<f64> {
+        let out = std::env::temp_dir().join(format!(
+            "mx-dynamics-callgrind-{}-{algorithm}-{n}.out",
+            std::process::id()
+        ));
+        let status = std::process::Command::new("valgrind")
+            .arg("--tool=callgrind")
+            .arg(format!("--callgrind-out-file={}", out.display()))
+            .arg(&exe)
+            .arg("instructions-driver")
+            .arg(urdf)
+            .arg(algorithm)
+            .arg(n.to_string())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .ok()?;
+        let text = std::fs::read_to_string(&out).ok();
+        let _ = std::fs::remove_file(&out);
+        if !status.success() {
+            return None;
+        }
+        text?
+            .lines()
+            .find_map(|l| l.strip_prefix("summary:").or(l.strip_prefix("totals:")))
+            .and_then(|x| x.trim().parse::<f64>().ok())
+    };
+    let (a, b) = (20, 220);
+    Some((count(b)? - count(a)?) / (b - a) as f64)
+}
+
+/// The `instructions-driver URDF ALGORITHM N` mode of this binary, run under callgrind.
+fn instructions_driver(args: &[String]) {
+    let [urdf, algorithm, n] = args else {
+        eprintln!("usage: instructions-driver URDF ALGORITHM N");
+        std::process::exit(2);
+    };
+    let result = Model::from_urdf_file(Path::new(urdf))
+        .map_err(|e| e.to_string())
+        .and_then(|m| {
+            let n = n
+                .parse()
+                .map_err(|_| format!("N must be a count, got `{n}`"))?;
+            mx::report::perf::drive(&m, algorithm, n)
+        });
+    if let Err(e) = result {
+        eprintln!("{e}");
+        std::process::exit(1);
+    }
+}
+
+/// One model's table: mx's time, Pinocchio's (its C++ timer, same URDF, same
+/// session, alternated with ours `runs()` times), the ratio and mx's
+/// instructions per call. Times are medians over the runs of each run's
+/// median per call (ours: 2000 states; Pinocchio's: the best of its 5 rounds
+/// of 10000), the ratio the median of the runs' ratios with their range.
+/// Returns the median ratios, for the mean over all models.
+fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
     let model = match Model::from_urdf_file(urdf) {
         Ok(m) => m,
         Err(e) => {
             println!("{name}: cannot load ({e})");
-            return;
+            return Vec::new();
         }
     };
     const N: usize = 2000;
-    const ROUNDS: usize = 3;
-    let mut best = [f64::INFINITY; 5];
-    for _ in 0..ROUNDS {
+    let runs = runs();
+    let mut ours: Vec<[f64; 5]> = Vec::new();
+    let mut theirs: Vec<[f64; 4]> = Vec::new();
+    for _ in 0..runs {
         match mx::report::perf::per_call(&model, N) {
-            Ok(t) => {
-                for (b, x) in best.iter_mut().zip(t) {
-                    *b = b.min(x);
-                }
-            }
+            Ok(t) => ours.push(t),
             Err(e) => {
                 println!("{name}: {e}");
-                return;
+                return Vec::new();
             }
         }
+        if let Some(p) = mx::report::perf::pinocchio(urdf) {
+            theirs.push(p);
+        }
     }
-    let [rnea, aba, crba, der, adj] = best;
-    let pin = mx::report::perf::pinocchio(urdf);
+    let instructions: Vec<Option<f64>> = ALGORITHMS
+        .iter()
+        .map(|a| instructions_per_call(urdf, a))
+        .collect();
     println!(
-        "\n{name} (nq = {}), median µs per call over {N} states (best of {ROUNDS} rounds)",
+        "\n{name} (nq = {}): median over {runs} alternated runs of the median µs per call",
         model.nq()
     );
     println!(
-        "{:<24}{:>10}{:>14}{:>10}",
-        "algorithm", "mx", "pinocchio", "ratio"
+        "{:<24}{:>10}{:>14}{:>8}{:>14}{:>15}",
+        "algorithm", "mx µs", "pinocchio µs", "ratio", "ratio range", "mx instr/call"
     );
-    let rows = [
-        ("rnea", rnea, 0),
-        ("aba", aba, 1),
-        ("crba", crba, 2),
-        ("rnea_derivatives", der, 3),
-    ];
-    for (k, t, i) in rows {
-        match pin {
-            Some(p) => println!("{k:<24}{t:>10.3}{:>14.3}{:>10.2}", p[i], t / p[i]),
-            None => println!("{k:<24}{t:>10.3}{:>14}{:>10}", "-", "-"),
+    let pin = theirs.len() == ours.len();
+    let mut ratios = Vec::new();
+    for (k, alg) in ALGORITHMS.iter().enumerate() {
+        let t = median(ours.iter().map(|r| r[k]).collect());
+        let ins = instructions[k].map_or("-".to_string(), |x| format!("{x:.0}"));
+        if pin {
+            let p = median(theirs.iter().map(|r| r[k]).collect());
+            let each: Vec<f64> = ours.iter().zip(&theirs).map(|(a, b)| a[k] / b[k]).collect();
+            let (lo, hi) = each
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(l, h), x| (l.min(*x), h.max(*x)));
+            let r = median(each);
+            ratios.push(r);
+            println!(
+                "{alg:<24}{t:>10.3}{p:>14.3}{r:>8.2}{:>14}{ins:>15}",
+                format!("{lo:.2}–{hi:.2}")
+            );
+        } else {
+            println!(
+                "{alg:<24}{t:>10.3}{:>14}{:>8}{:>14}{ins:>15}",
+                "-", "-", "-"
+            );
         }
     }
+    let adj = median(ours.iter().map(|r| r[4]).collect());
+    let rnea = median(ours.iter().map(|r| r[0]).collect());
     println!(
-        "{:<24}{adj:>10.3}{:>14}{:>10}   ({:.2}× one RNEA)",
+        "{:<24}{adj:>10.3}   ({:.2}× one RNEA)",
         "adjoint Σwτ² gradient",
-        "-",
-        "-",
         adj / rnea
     );
-    if pin.is_none() {
+    if !pin {
         println!(
             "(Pinocchio's timer is absent at {}: build it with \
              `$MX_SHARED/tools/pinocchio/build.sh /tmp/pinocchio-bench` or point \
@@ -104,6 +200,7 @@ fn per_call(name: &str, urdf: &Path) {
             mx::report::perf::pinocchio_exe().display()
         );
     }
+    ratios
 }
 
 fn chain(n: usize) -> Arc<Model> {
@@ -303,27 +400,46 @@ fn work_precision() {
 }
 
 fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if let Some(k) = args.iter().position(|a| a == "instructions-driver") {
+        instructions_driver(&args[k + 1..]);
+        return;
+    }
     // `cargo test --benches` runs this with --bench absent; keep it quick then.
-    let quick = !std::env::args().any(|a| a == "--bench");
+    let quick = !args.iter().any(|a| a == "--bench");
     let dir = shared().join("data/reference");
     if quick {
         println!("dynamics bench: run with `cargo bench --bench dynamics` for the tables");
         return;
     }
-    for (name, file) in [
-        ("human44", "human44.urdf"),
-        ("ur5", "ur5_robot.urdf"),
-        ("panda", "panda.urdf"),
-    ] {
-        let urdf = dir.join(file);
-        if urdf.exists() {
-            per_call(name, &urdf);
-        } else {
-            println!("\n{name}: {} not found (set MX_SHARED)", urdf.display());
-        }
+    // Every URDF of the reference data (human44, Panda, UR5, and any added later).
+    let mut urdfs: Vec<_> = std::fs::read_dir(&dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "urdf"))
+                .collect()
+        })
+        .unwrap_or_default();
+    urdfs.sort();
+    if urdfs.is_empty() {
+        println!("\nno URDF in {} (set MX_SHARED)", dir.display());
+    }
+    let mut ratios = Vec::new();
+    for urdf in &urdfs {
+        let name = urdf
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into());
+        ratios.extend(per_call(&name, urdf));
+    }
+    if !ratios.is_empty() {
+        println!(
+            "\nmean ratio over {} cells (models × algorithms): {:.2}",
+            ratios.len(),
+            ratios.iter().sum::<f64>() / ratios.len() as f64
+        );
     }
     // Table 1 alone is what one checks against Pinocchio after a change.
-    if std::env::args().any(|a| a == "per_call") {
+    if args.iter().any(|a| a == "per_call") {
         return;
     }
     effects();

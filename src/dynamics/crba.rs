@@ -3,6 +3,7 @@
 //! subtree of link j, all in the world frame.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::crba_local::mass_matrix_local;
 use crate::dynamics::workspace::Workspace;
 use crate::model::joint::Derivatives;
 use crate::model::{Inertia, Model};
@@ -28,6 +29,18 @@ pub fn mass_matrix(
     // Entries between coordinates of different branches are never written below.
     let out = m.as_mut_slice();
     out.fill(0.0);
+    // (A workspace checks only the sizes of its model: test the link order too.)
+    if ws.crba_in_link_frames && model.subtree_coordinates(0).is_some() {
+        mass_matrix_local(model, ws, q, out);
+    } else {
+        mass_matrix_world(model, ws, q, out);
+    }
+    Ok(())
+}
+
+/// The world-frame CRBA on a zeroed column-major `out` (n × n): any link order.
+fn mass_matrix_world(model: &Model, ws: &mut Workspace, q: &[f64], out: &mut [f64]) {
+    let n = model.nq();
     // Everything in the world frame (as Pinocchio does): composite inertias then
     // add up without transforms, and each entry above the diagonal block is a
     // plain dot product `J_aᵀ (I^c_i J_i)` instead of a transform per ancestor.
@@ -110,7 +123,6 @@ pub fn mass_matrix(
             ws.ic[p] += ic;
         }
     }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -168,6 +180,125 @@ mod tests {
                 .unwrap();
         }
         m
+    }
+
+    /// A depth-first tree that takes every path of the link-frame pass: rotations
+    /// about ±x, ±y, z behind translating offsets (the fast path), a general
+    /// axis, a rotating offset, a prismatic, a spherical, a massless link in a
+    /// chain and a massless leaf, two branches.
+    fn mixed_chain() -> Model {
+        let joints: [(Option<usize>, Arc<dyn Joint>, bool, bool); 10] = [
+            (
+                None,
+                Arc::new(Revolute::new(Vector3::z()).unwrap()),
+                false,
+                true,
+            ),
+            (
+                Some(0),
+                Arc::new(Revolute::new(-Vector3::y()).unwrap()),
+                false,
+                false,
+            ),
+            (
+                Some(1),
+                Arc::new(Revolute::new(Vector3::x()).unwrap()),
+                false,
+                true,
+            ),
+            (
+                Some(2),
+                Arc::new(Revolute::new(Vector3::new(0.3, -0.4, 0.8)).unwrap()),
+                false,
+                true,
+            ),
+            (Some(3), Arc::new(Fixed::new(Se3::identity())), false, false),
+            (
+                Some(2),
+                Arc::new(Revolute::new(-Vector3::x()).unwrap()),
+                true,
+                true,
+            ),
+            (
+                Some(5),
+                Arc::new(Prismatic::new(Vector3::y()).unwrap()),
+                false,
+                true,
+            ),
+            (
+                Some(6),
+                Arc::new(Spherical::new(EulerOrder([0, 1, 2]))),
+                false,
+                true,
+            ),
+            (
+                Some(0),
+                Arc::new(Revolute::new(Vector3::y()).unwrap()),
+                false,
+                true,
+            ),
+            (
+                Some(8),
+                Arc::new(Revolute::new(-Vector3::z()).unwrap()),
+                false,
+                true,
+            ),
+        ];
+        let mut m = Model::new("mixed");
+        for (i, (parent, joint, rotates, massive)) in joints.into_iter().enumerate() {
+            let r = if rotates {
+                Rotation3::from_euler_angles(0.4, -0.2, 0.9).into_inner()
+            } else {
+                Matrix3::identity()
+            };
+            let offset = Se3::new(r, Vector3::new(0.1 * i as f64, -0.2, 0.05 * i as f64));
+            let inertia = if massive {
+                Inertia::from_com(
+                    0.5 + i as f64,
+                    Vector3::new(0.03 * i as f64, -0.1, 0.2),
+                    Matrix3::new(0.1, 0.01, -0.02, 0.01, 0.2, 0.03, -0.02, 0.03, 0.15),
+                )
+                .unwrap()
+            } else {
+                Inertia::zero()
+            };
+            m.add_link(
+                &format!("l{i}"),
+                parent,
+                &format!("j{i}"),
+                joint,
+                offset,
+                inertia,
+            )
+            .unwrap();
+        }
+        m
+    }
+
+    /// The link-frame pass and the world-frame pass give the same matrix, on a
+    /// model that takes every path of the link-frame pass.
+    #[test]
+    fn link_frames_and_world_frame_give_the_same_matrix() {
+        let model = mixed_chain();
+        assert!(model.subtree_coordinates(0).is_some());
+        let n = model.nq();
+        let mut ws = Workspace::new(&model);
+        for s in 0..5 {
+            let q: Vec<f64> = (0..n).map(|k| (0.7 * (k + s) as f64).sin() * 1.3).collect();
+            let (mut a, mut b) = (vec![0.0; n * n], vec![0.0; n * n]);
+            mass_matrix_local(&model, &mut ws, &q, &mut a);
+            mass_matrix_world(&model, &mut ws, &q, &mut b);
+            let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for k in 0..n * n {
+                let d = (a[k] - b[k]).abs();
+                assert!(
+                    d < 1e-13 * scale,
+                    "entry {k}: {} vs {} (state {s})",
+                    a[k],
+                    b[k]
+                );
+            }
+        }
     }
 
     /// Both ways of filling the matrix (contiguous subtree ranges, walks to the

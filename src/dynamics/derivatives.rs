@@ -31,8 +31,8 @@ use crate::dynamics::state::JointState;
 use crate::dynamics::variation::Variation;
 use crate::dynamics::workspace::{Workspace, base_acceleration, sdot_v, world_velocity_pass};
 use crate::lie::{Twist, Wrench, ad, ad_dual};
-use crate::model::Model;
 use crate::model::joint::{Derivatives, Joint, JointKinematics, MAX_JOINT_DOF};
+use crate::model::{Inertia, Model};
 use nalgebra::{DMatrix, Vector3};
 
 /// `out[m] = ∂(Ṡ(q) q̇)/∂q_m` for the coordinates of link `l` (`q`, `v` its own):
@@ -186,11 +186,18 @@ fn forward_pass(
             ws.dadq[c] = dadq;
             ws.dadv[c] = dadv;
         }
-        let y = l.inertia.transformed(&t);
-        let yv = y.mul_twist(&ov);
-        ws.of[i] = y.mul_twist(&oa) - ad_dual(&ov, &yv);
-        ws.doy[i] = Variation::new(&y, &ov, &yv);
-        ws.ic[i] = y;
+        // Massless links (half of a URDF human's) carry no force and no variation.
+        if l.inertia.is_zero() {
+            ws.of[i] = Wrench::zeros();
+            ws.doy[i] = Variation::zero();
+            ws.ic[i] = Inertia::zero();
+        } else {
+            let y = l.inertia.transformed(&t);
+            let yv = y.mul_twist(&ov);
+            ws.of[i] = y.mul_twist(&oa) - ad_dual(&ov, &yv);
+            ws.doy[i] = Variation::new(&y, &ov, &yv);
+            ws.ic[i] = y;
+        }
         ws.oa[i] = oa;
     }
 }

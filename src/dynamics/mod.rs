@@ -14,8 +14,11 @@
 
 mod aba;
 mod adjoint;
+mod axis_turn;
 mod coupled;
 mod crba;
+mod crba_frame;
+mod crba_local;
 mod derivatives;
 mod driven;
 mod energy;

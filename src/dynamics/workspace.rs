@@ -2,9 +2,10 @@
 //! (kinematic) sweep they share.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::axis_turn::AxisTurn;
 use crate::dynamics::variation::Variation;
 use crate::lie::{Se3, Twist, Wrench, ad};
-use crate::model::joint::{Derivatives, JointKinematics, MAX_JOINT_DOF};
+use crate::model::joint::{AxisMotion, Derivatives, JointKinematics, MAX_JOINT_DOF};
 use crate::model::{Inertia, Model};
 use nalgebra::{Matrix6, Vector3, Vector6};
 
@@ -18,6 +19,8 @@ pub struct Workspace {
     pub(crate) kin: Vec<JointKinematics>,
     /// Pose of each link in its parent: `offset · G(q)`.
     pub(crate) xt: Vec<Se3>,
+    /// The same pose as an [`AxisTurn`] where the link allows (set by [`velocity_pass`]).
+    pub(crate) turn: Vec<Option<AxisTurn>>,
     /// Body twist `V_i`.
     pub(crate) v: Vec<Twist>,
     /// Body acceleration `V̇_i` (with the gravity trick: the base accelerates at −g).
@@ -61,6 +64,9 @@ pub struct Workspace {
     pub(crate) scratch: JointKinematics,
     /// World poses (energies).
     pub(crate) world: Vec<Se3>,
+    /// The mass matrix is computed in link frames rather than the world frame
+    /// (decided once per model: `crba_frame::prefers_link_frames`).
+    pub(crate) crba_in_link_frames: bool,
 }
 
 impl Workspace {
@@ -71,6 +77,7 @@ impl Workspace {
             nq: model.nq(),
             kin: vec![JointKinematics::default(); n],
             xt: vec![Se3::identity(); n],
+            turn: vec![None; n],
             v: vec![Twist::zeros(); n],
             a: vec![Twist::zeros(); n],
             f: vec![Wrench::zeros(); n],
@@ -100,6 +107,7 @@ impl Workspace {
             tau: vec![0.0; model.nq()],
             scratch: JointKinematics::default(),
             world: vec![Se3::identity(); n],
+            crba_in_link_frames: crate::dynamics::crba_frame::prefers_link_frames(model),
         }
     }
 
@@ -164,10 +172,18 @@ pub(crate) fn velocity_pass(
             Some(axis) => {
                 let s = axis.twist();
                 ws.kin[i].s[0] = s;
-                ws.xt[i] = axis.place(&l.offset, q[l.q_index]);
+                // A turn about a coordinate axis behind a translating offset
+                // (most URDF links) also moves twists and wrenches cheaply.
+                let turn = AxisTurn::of(l, q[l.q_index]).map(|(t, _)| t);
+                ws.xt[i] = match &turn {
+                    Some(t) => t.se3(),
+                    None => axis.place(&l.offset, q[l.q_index]),
+                };
+                ws.turn[i] = turn;
                 s * v[l.q_index]
             }
             None => {
+                ws.turn[i] = None;
                 let want = if hessian && !l.constant_jacobian {
                     Derivatives::Hessian
                 } else {
@@ -178,9 +194,10 @@ pub(crate) fn velocity_pass(
                 s_mul(&ws.kin[i], &v[r.clone()])
             }
         };
-        let wv = match l.parent {
-            Some(p) => ws.xt[i].inv_ad_twist(&ws.v[p]),
-            None => Twist::zeros(),
+        let wv = match (l.parent, &ws.turn[i]) {
+            (Some(p), Some(t)) => t.inv_ad_twist(&ws.v[p]),
+            (Some(p), None) => ws.xt[i].inv_ad_twist(&ws.v[p]),
+            (None, _) => Twist::zeros(),
         };
         let vi = wv + sv;
         let mut c = ad(&vi, &sv);
@@ -222,41 +239,74 @@ fn frame_velocity_pass<const ALIGNED: bool>(
 ) {
     for (i, l) in model.links().iter().enumerate() {
         let qi = l.q_index;
-        let r = qi..qi + l.dof;
-        let want = if l.constant_jacobian {
-            Derivatives::Jacobian
-        } else {
-            Derivatives::Hessian
+        let (vp, origin) = match l.parent {
+            Some(p) => (ws.ov[p], ws.world[p].p),
+            None => (Twist::zeros(), Vector3::zeros()),
         };
-        l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
-        let local = l.offset.compose(&ws.kin[i].transform);
-        let (t, vp, origin) = match l.parent {
-            Some(p) => (ws.world[p].compose(&local), ws.ov[p], ws.world[p].p),
-            None => (local, Twist::zeros(), Vector3::zeros()),
+        // The frame the joint moves in: the parent's placement times the fixed
+        // offset (most URDF offsets only translate: no rotation product then).
+        let before = match (l.parent, l.offset_rotates) {
+            (Some(p), true) => ws.world[p].compose(&l.offset),
+            (Some(p), false) => ws.world[p].translated(&l.offset.p),
+            (None, _) => l.offset,
         };
-        // the frame the link's quantities are expressed in, and the parent's
-        // twist moved into it
-        let (frame, vp) = if ALIGNED {
-            let d = t.p - origin;
-            ws.shift[i] = d;
-            (Se3::from_rotation(t.r), shift_twist(&vp, &d))
-        } else {
-            (t, vp)
+        let (t, c, vi) = match &l.axis {
+            // Revolute/prismatic (most URDF links): placed through the cached
+            // axis, one column, no Hessian: the generic joint call, a 3×3
+            // rotation product and a full `Ad` of the column are skipped.
+            Some(axis) => {
+                let t = axis.place(&before, q[qi]);
+                let (jm, vp) = if ALIGNED {
+                    let d = t.p - origin;
+                    ws.shift[i] = d;
+                    let u = axis.direction_in(&t.r);
+                    let jm = match axis.motion {
+                        AxisMotion::Rotation => Twist::new(u.x, u.y, u.z, 0.0, 0.0, 0.0),
+                        AxisMotion::Translation => Twist::new(0.0, 0.0, 0.0, u.x, u.y, u.z),
+                    };
+                    (jm, shift_twist(&vp, &d))
+                } else {
+                    (axis.twist_in(&t), vp)
+                };
+                ws.jw[qi] = jm;
+                let vj = jm * v[qi];
+                // v_i × J q̇ = v_λ × J q̇: the J q̇ × J q̇ part vanishes.
+                (t, ad(&vp, &vj), vp + vj)
+            }
+            None => {
+                let r = qi..qi + l.dof;
+                let want = if l.constant_jacobian {
+                    Derivatives::Jacobian
+                } else {
+                    Derivatives::Hessian
+                };
+                l.joint.kinematics(&q[r.clone()], want, &mut ws.kin[i]);
+                let t = before.compose(&ws.kin[i].transform);
+                // the frame the link's quantities are expressed in, and the
+                // parent's twist moved into it
+                let (frame, vp) = if ALIGNED {
+                    let d = t.p - origin;
+                    ws.shift[i] = d;
+                    (Se3::from_rotation(t.r), shift_twist(&vp, &d))
+                } else {
+                    (t, vp)
+                };
+                let kin = &ws.kin[i];
+                let mut vj = Twist::zeros();
+                for m in 0..l.dof {
+                    let jm = frame.ad_twist(&kin.s[m]);
+                    ws.jw[qi + m] = jm;
+                    vj += jm * v[qi + m];
+                }
+                let mut c = ad(&vp, &vj);
+                if !l.constant_jacobian {
+                    c += frame.ad_twist(&sdot_v(kin, &v[r]));
+                }
+                (t, c, vp + vj)
+            }
         };
-        let kin = &ws.kin[i];
-        let mut vj = Twist::zeros();
-        for m in 0..l.dof {
-            let jm = frame.ad_twist(&kin.s[m]);
-            ws.jw[qi + m] = jm;
-            vj += jm * v[qi + m];
-        }
-        // v_i × J q̇ = v_λ × J q̇: the J q̇ × J q̇ part vanishes.
-        let mut c = ad(&vp, &vj);
-        if !l.constant_jacobian {
-            c += frame.ad_twist(&sdot_v(kin, &v[r]));
-        }
         ws.world[i] = t;
-        ws.ov[i] = vp + vj;
+        ws.ov[i] = vi;
         ws.c[i] = c;
     }
 }

@@ -91,36 +91,49 @@ impl Inertia {
     #[inline]
     pub fn transformed(&self, t: &Se3) -> Inertia {
         let r = &t.r;
-        let rh = r * self.h;
-        let p = &t.p;
         // The dynamics transforms every link's inertia on every call, so only the
-        // six unique entries of the symmetric result are formed. `R I Rᵀ` is
-        // `A Rᵀ` with `A = R I`; the parallel-axis part −[rh][p] − [p][rh] − m[p]²
-        // written out with [a][b] = b aᵀ − (a·b) 1 is 2(p·w) 1 − p wᵀ − w pᵀ,
-        // w = rh + m p / 2.
+        // six unique entries of the symmetric `R I Rᵀ` are formed, as `A Rᵀ`
+        // with `A = R I`.
         let a = r * self.i_o;
-        let w = rh + p * (0.5 * self.mass);
-        let d = 2.0 * p.dot(&w);
         let e = |i: usize, j: usize| {
             a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)]
-                - p[i] * w[j]
-                - w[i] * p[j]
         };
-        let (xy, xz, yz) = (e(0, 1), e(0, 2), e(1, 2));
+        let rotated = [e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(0, 2), e(1, 2)];
+        Inertia::shifted(self.mass, &(r * self.h), &rotated, &t.p)
+    }
+
+    /// The inertia of mass `mass` whose first moment `rh` and rotational
+    /// inertia (unique entries `xx, yy, zz, xy, xz, yz` of a symmetric matrix)
+    /// are about an origin that sits at `p` in the frame wanted, axes already
+    /// turned into it: the parallel-axis part −[rh][p] − [p][rh] − m[p]²,
+    /// written out with [a][b] = b aᵀ − (a·b) 1, is 2(p·w) 1 − p wᵀ − w pᵀ with
+    /// w = rh + m p / 2.
+    #[inline]
+    pub(crate) fn shifted(
+        mass: f64,
+        rh: &Vector3<f64>,
+        rotated: &[f64; 6],
+        p: &Vector3<f64>,
+    ) -> Inertia {
+        let w = rh + p * (0.5 * mass);
+        let d = 2.0 * p.dot(&w);
+        let e = |x: f64, i: usize, j: usize| x - p[i] * w[j] - w[i] * p[j];
+        let [xx, yy, zz, xy, xz, yz] = *rotated;
+        let (xy, xz, yz) = (e(xy, 0, 1), e(xz, 0, 2), e(yz, 1, 2));
         let i_o = Matrix3::new(
-            e(0, 0) + d,
+            e(xx, 0, 0) + d,
             xy,
             xz,
             xy,
-            e(1, 1) + d,
+            e(yy, 1, 1) + d,
             yz,
             xz,
             yz,
-            e(2, 2) + d,
+            e(zz, 2, 2) + d,
         );
         Inertia {
-            mass: self.mass,
-            h: rh + p * self.mass,
+            mass,
+            h: rh + p * mass,
             i_o,
         }
     }

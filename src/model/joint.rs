@@ -151,6 +151,13 @@ impl JointAxis {
         self.axis.into_inner()
     }
 
+    /// `Some((k, σ))` when the axis is exactly `σ e_k`: the motion subspace
+    /// then has one nonzero, and link-frame algorithms read a component
+    /// where they would take a dot product.
+    pub fn principal(&self) -> Option<(usize, f64)> {
+        self.principal
+    }
+
     /// The joint's Jacobian column `s` (body frame, constant).
     pub fn twist(&self) -> Twist {
         let a = &self.axis;
@@ -213,9 +220,11 @@ impl JointAxis {
         }
     }
 
-    /// `R a`: for a coordinate axis, a (signed) column of `r`.
+    /// `R a`: the axis in the frame of rotation `r` (for a coordinate axis, a
+    /// signed column of `r`). A link-aligned frame's Jacobian column is this
+    /// direction in its angular (rotation) or linear (translation) half.
     #[inline]
-    fn direction_in(&self, r: &Matrix3<f64>) -> Vector3<f64> {
+    pub fn direction_in(&self, r: &Matrix3<f64>) -> Vector3<f64> {
         match self.principal {
             Some((k, sign)) => r.column(k) * sign,
             None => r * self.axis.into_inner(),

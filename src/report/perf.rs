@@ -1,17 +1,22 @@
 //! Per-call dynamics timings on a URDF, side by side with Pinocchio's C++
 //! timer when it is built (`$MX_SHARED/tools/pinocchio/build.sh
 //! /tmp/pinocchio-bench`, or `$MX_PINOCCHIO_BENCH`), run in the same session on
-//! the same file. The measurement is the one of `benches/dynamics.rs`.
+//! the same file. The measurement is the one of `benches/dynamics.rs`, which
+//! also counts instructions per call under callgrind through [`drive`].
 
 use crate::dynamics::{
-    JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics, mass_matrix,
-    rnea_derivatives, torque_sq_gradient,
+    DynamicsError, JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics,
+    mass_matrix, rnea_derivatives, torque_sq_gradient,
 };
 use crate::model::Model;
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// The algorithms timed beside Pinocchio, in the order of [`pinocchio`]'s and
+/// [`per_call`]'s results (named as Pinocchio's timer names them).
+pub const ALGORITHMS: [&str; 4] = ["rnea", "aba", "crba", "rnea_derivatives"];
 
 /// Median µs per call of `f(i)` over `n` states, timing each call after a warm-up.
 pub fn median_us(n: usize, mut f: impl FnMut(usize)) -> f64 {
@@ -52,17 +57,15 @@ pub fn pinocchio(urdf: &Path) -> Option<[f64; 4]> {
             .and_then(|x| x.parse().ok())
     };
     Some([
-        get("rnea")?,
-        get("aba")?,
-        get("crba")?,
-        get("rnea_derivatives")?,
+        get(ALGORITHMS[0])?,
+        get(ALGORITHMS[1])?,
+        get(ALGORITHMS[2])?,
+        get(ALGORITHMS[3])?,
     ])
 }
 
-/// Our medians in µs: rnea, aba, crba, rnea_derivatives, adjoint Σwτ² gradient.
-pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
-    let n = model.nq();
-    let g = model.default_gravity;
+/// Random states `(q, q̇, q̈)` (a fixed xorshift seed, so every run times the same ones).
+fn random_states(n: usize, n_states: usize) -> Vec<[Vec<f64>; 3]> {
     let mut s = 0x1234_5678u64;
     let mut r = |lo: f64, hi: f64| {
         s ^= s << 13;
@@ -70,7 +73,7 @@ pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
         s ^= s << 17;
         lo + (hi - lo) * ((s >> 11) as f64 / (1u64 << 53) as f64)
     };
-    let states: Vec<[Vec<f64>; 3]> = (0..n_states)
+    (0..n_states)
         .map(|_| {
             [
                 (0..n).map(|_| r(-1.0, 1.0)).collect(),
@@ -78,84 +81,111 @@ pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
                 (0..n).map(|_| r(-5.0, 5.0)).collect(),
             ]
         })
-        .collect();
-    let mut ws = Workspace::new(model);
-    let mut out = vec![0.0; n];
-    let (mut gq, mut gv, mut ga) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let w = vec![1.0; n];
-    let mut mm = DMatrix::zeros(n, n);
-    let mut dq = DMatrix::zeros(n, n);
-    let mut dv = DMatrix::zeros(n, n);
-    // Check once that every algorithm accepts the model before timing (errors, not panics).
-    {
-        let [q, v, a] = &states[0];
-        inverse_dynamics(model, &mut ws, q, v, a, &g, &mut out).map_err(|e| e.to_string())?;
-        forward_dynamics(model, &mut ws, q, v, a, &g, &mut out).map_err(|e| e.to_string())?;
-        mass_matrix(model, &mut ws, q, &mut mm).map_err(|e| e.to_string())?;
-        rnea_derivatives(
+        .collect()
+}
+
+/// One model's states and every output buffer: each call allocates nothing.
+struct Calls<'a> {
+    model: &'a Model,
+    states: Vec<[Vec<f64>; 3]>,
+    ws: Workspace,
+    out: Vec<f64>,
+    grad: [Vec<f64>; 3],
+    w: Vec<f64>,
+    mm: DMatrix<f64>,
+    dq: DMatrix<f64>,
+    dv: DMatrix<f64>,
+}
+
+impl<'a> Calls<'a> {
+    fn new(model: &'a Model, n_states: usize) -> Self {
+        let n = model.nq();
+        Calls {
             model,
-            &mut ws,
-            &JointState::new(q, v, a),
-            &g,
-            &mut dq,
-            &mut dv,
-        )
-        .map_err(|e| e.to_string())?;
-        torque_sq_gradient(
-            model,
-            &mut ws,
-            &JointState::new(q, v, a),
-            &g,
-            &w,
-            StateGradient {
-                q: &mut gq,
-                v: &mut gv,
-                a: &mut ga,
-            },
-        )
-        .map_err(|e| e.to_string())?;
+            states: random_states(n, n_states),
+            ws: Workspace::new(model),
+            out: vec![0.0; n],
+            grad: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            w: vec![1.0; n],
+            mm: DMatrix::zeros(n, n),
+            dq: DMatrix::zeros(n, n),
+            dv: DMatrix::zeros(n, n),
+        }
     }
-    let rnea = median_us(n_states, |i| {
-        let [q, v, a] = &states[i];
-        let _ = inverse_dynamics(model, &mut ws, q, v, a, &g, &mut out);
-        black_box(&out);
-    });
-    let aba = median_us(n_states, |i| {
-        let [q, v, a] = &states[i];
-        let _ = forward_dynamics(model, &mut ws, q, v, a, &g, &mut out);
-        black_box(&out);
-    });
-    let crba = median_us(n_states, |i| {
-        let _ = mass_matrix(model, &mut ws, &states[i][0], &mut mm);
-        black_box(&mm);
-    });
-    let der = median_us(n_states, |i| {
-        let [q, v, a] = &states[i];
-        let _ = rnea_derivatives(
-            model,
-            &mut ws,
-            &JointState::new(q, v, a),
-            &g,
-            &mut dq,
-            &mut dv,
-        );
-        black_box(&dq);
-    });
-    let adj = median_us(n_states, |i| {
-        let [q, v, a] = &states[i];
-        let j = torque_sq_gradient(
-            model,
-            &mut ws,
-            &JointState::new(q, v, a),
-            &g,
-            &w,
-            StateGradient {
-                q: &mut gq,
-                v: &mut gv,
-                a: &mut ga,
-            },
-        );
-        let _ = black_box(j);
-    });
-    Ok([rnea, aba, crba, der, adj])
+
+    /// Algorithm `k` (0–3 as [`ALGORITHMS`], 4 the adjoint Σwτ² gradient) at state `i`.
+    fn call(&mut self, k: usize, i: usize) -> Result<(), DynamicsError> {
+        let model = self.model;
+        let g = model.default_gravity;
+        let [q, v, a] = &self.states[i];
+        let ws = &mut self.ws;
+        match k {
+            0 => inverse_dynamics(model, ws, q, v, a, &g, &mut self.out)?,
+            1 => forward_dynamics(model, ws, q, v, a, &g, &mut self.out)?,
+            2 => mass_matrix(model, ws, q, &mut self.mm)?,
+            3 => rnea_derivatives(
+                model,
+                ws,
+                &JointState::new(q, v, a),
+                &g,
+                &mut self.dq,
+                &mut self.dv,
+            )?,
+            _ => {
+                let [gq, gv, ga] = &mut self.grad;
+                let j = torque_sq_gradient(
+                    model,
+                    ws,
+                    &JointState::new(q, v, a),
+                    &g,
+                    &self.w,
+                    StateGradient {
+                        q: gq,
+                        v: gv,
+                        a: ga,
+                    },
+                )?;
+                black_box(j);
+            }
+        }
+        black_box((&self.out, &self.mm, &self.dq));
+        Ok(())
+    }
+}
+
+/// Our medians in µs: rnea, aba, crba, rnea_derivatives, adjoint Σwτ² gradient.
+pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
+    let mut calls = Calls::new(model, n_states);
+    // Check once that every algorithm accepts the model before timing (errors, not panics).
+    for k in 0..5 {
+        calls.call(k, 0).map_err(|e| e.to_string())?;
+    }
+    let mut t = [0.0; 5];
+    for (k, tk) in t.iter_mut().enumerate() {
+        *tk = median_us(n_states, |i| {
+            let _ = calls.call(k, i);
+        });
+    }
+    Ok(t)
+}
+
+/// Runs algorithm `algorithm` (a name of [`ALGORITHMS`]) `n_calls` times,
+/// cycling over 64 random states, and nothing else: the driver a process runs
+/// under callgrind, so that two runs of different lengths differ only by calls
+/// and their difference gives instructions per call.
+pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), String> {
+    let k = ALGORITHMS
+        .iter()
+        .position(|a| *a == algorithm)
+        .ok_or_else(|| {
+            format!(
+                "unknown algorithm `{algorithm}`; one of {}",
+                ALGORITHMS.join(", ")
+            )
+        })?;
+    let mut calls = Calls::new(model, 64);
+    for i in 0..n_calls {
+        calls.call(k, i % 64).map_err(|e| e.to_string())?;
+    }
+    Ok(())
 }

@@ -1,0 +1,34 @@
+//! Which of the two CRBA passes a model gets: the world-frame one (`crba.rs`)
+//! or the link-frame one (`crba_local.rs`). Kept apart from both so that the
+//! workspace, which both use, can decide once per model without a loop.
+
+use crate::model::Model;
+
+/// Whether the link-frame CRBA (`crba_local.rs`) does less work than the
+/// world-frame one on `model`, by a count of multiplications per call: in link
+/// frames each link carries its composite inertia up (about 35 on the fast
+/// path, 75 otherwise) and each of its subtree's momenta (14 or 24 per column);
+/// in the world frame each link with mass is placed and its inertia turned
+/// (about 95), each own column gets its momentum (24), and each entry is a dot
+/// product (6). Only depth-first models qualify (the link-frame pass reads
+/// subtree coordinate ranges). Decided once per workspace.
+pub(super) fn prefers_link_frames(model: &Model) -> bool {
+    if model.num_links() == 0 || model.subtree_coordinates(0).is_none() {
+        return false;
+    }
+    let (mut local, mut world) = (0usize, 0usize);
+    for (i, l) in model.links().iter().enumerate() {
+        let sub = model.subtree_coordinates(i).map_or(0, |r| r.len());
+        let fast = !l.offset_rotates
+            && l.axis.is_some_and(|a| {
+                a.motion == crate::model::joint::AxisMotion::Rotation && a.principal().is_some()
+            });
+        let (act, carry) = if fast { (35, 14) } else { (75, 24) };
+        let massive = !l.inertia.is_zero();
+        if l.parent.is_some() {
+            local += (if massive || sub > 0 { act } else { 0 }) + sub * carry;
+        }
+        world += 20 + (if massive { 75 } else { 0 }) + l.dof * (24 + 6 * sub);
+    }
+    local < world
+}
