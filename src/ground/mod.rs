@@ -16,8 +16,10 @@
 //! Layering: uses `lie`, `model`, `dynamics`, `motion`; used by `spacetime`
 //! (contact-aware SP), `report` and `lang`. Knows nothing of the language.
 
+pub mod cone;
 pub mod contacts;
 pub mod points;
+pub mod residual;
 pub mod skate;
 
 pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
@@ -25,6 +27,7 @@ pub use points::{
     ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points, tracks,
     up_direction,
 };
+pub use residual::{GroundResidual, ground_residual};
 pub use skate::{Penetration, Skate, foot_skate, penetration};
 
 /// Why a ground measure could not run: bad input, named.
