@@ -37,7 +37,7 @@ pub use derivatives::rnea_derivatives;
 pub use driven::{Driven, driven_accelerations};
 pub use energy::{kinetic_energy, potential_energy};
 pub use integrate::{Integrator, State, Trajectory, simulate};
-pub use rnea::{inverse_dynamics, inverse_dynamics_ext, nonlinear_effects};
+pub use rnea::{inverse_dynamics, inverse_dynamics_ext, nonlinear_effects, root_wrench};
 pub use scene::{ExternalForce, LimitPenalty, Scene, SceneWorkspace, Spring};
 pub use state::{Forces, JointState, StateGradient};
 pub use workspace::Workspace;

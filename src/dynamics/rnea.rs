@@ -163,3 +163,17 @@ pub fn nonlinear_effects(
     ws.tau = zero;
     Ok(())
 }
+
+/// The wrench the world applies to the tree through its root joints in the
+/// last RNEA run on `ws` (`inverse_dynamics*`): moment about the world origin
+/// and force, world axes. For a body whose root joint is free (6 DOFs) this is
+/// the external wrench its motion needs: what contacts must supply.
+pub fn root_wrench(model: &Model, ws: &Workspace) -> Wrench {
+    let mut w = Wrench::zeros();
+    for (i, l) in model.links().iter().enumerate() {
+        if l.parent.is_none() {
+            w += ws.xt[i].ad_wrench(&ws.f[i]);
+        }
+    }
+    w
+}

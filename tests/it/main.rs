@@ -14,6 +14,7 @@ mod dynamics;
 mod dynamics_lang;
 mod dynamics_sim;
 mod graph;
+mod ground;
 #[cfg(feature = "report")]
 mod hard_cases;
 mod ik;

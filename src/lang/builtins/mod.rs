@@ -17,6 +17,7 @@
 pub mod compose;
 pub mod core;
 pub mod dynamics;
+pub mod ground;
 pub mod ik;
 pub mod joints;
 pub mod links;
@@ -47,6 +48,7 @@ impl Registry {
         mechanics::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
+        ground::register(&mut r);
         opensim::register(&mut r);
         spacetime::register(&mut r);
         // Functions an embedder registers later are listed with the language.

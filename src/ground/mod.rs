@@ -1,0 +1,48 @@
+//! Does a motion stand on the ground? Measures anyone can run on any motion
+//! (captured, filled, simulated), on any body: where its contact points touch
+//! the floor, how fast they slide while they do, how deep they sink, and how
+//! much of the external wrench the motion needs no friction-cone contact
+//! forces at those points can supply.
+//!
+//! `points.rs` picks the contact points (a body's ankle and toe joints, or
+//! links the caller names), samples their world positions at the motion's
+//! frame rate and places the floor (the lowest height they reach, "up" being
+//! against the model's gravity); `contacts.rs` finds the intervals where each
+//! point touches the floor; `skate.rs` measures foot skate and penetration;
+//! `residual.rs` runs inverse dynamics of the floating base per frame and
+//! `cone.rs` solves the per-frame friction-cone problem (a small SOCP, by
+//! `clarabel`).
+//!
+//! Layering: uses `lie`, `model`, `dynamics`, `motion`; used by `spacetime`
+//! (contact-aware SP), `report` and `lang`. Knows nothing of the language.
+
+pub mod cone;
+pub mod contacts;
+pub mod points;
+pub mod residual;
+pub mod skate;
+
+pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
+pub use points::{
+    ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points, tracks,
+    up_direction,
+};
+pub use residual::{GroundResidual, ground_residual};
+pub use skate::{Penetration, Skate, foot_skate, penetration};
+
+/// Why a ground measure could not run: bad input, named.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GroundError {
+    #[error("{0}")]
+    Invalid(String),
+    #[error(transparent)]
+    Motion(#[from] crate::motion::MotionError),
+    #[error(transparent)]
+    Model(#[from] crate::model::ModelError),
+    #[error(transparent)]
+    Dynamics(#[from] crate::dynamics::DynamicsError),
+}
+
+pub(crate) fn invalid(msg: impl Into<String>) -> GroundError {
+    GroundError::Invalid(msg.into())
+}
