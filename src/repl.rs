@@ -216,14 +216,23 @@ fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
     true
 }
 
-/// `:info EXPR`: what is known about a value beyond its summary: for a
-/// motion SP returned, SP's report (gap groups, energies, why each solve stopped).
+/// `:info EXPR`: what is known about a value beyond its summary: for a clip
+/// its frame rate and frame count; for a motion SP returned, SP's report (gap groups, energies, why each solve stopped).
 fn info(mx: &mut mx::Interpreter, expr: &str, n: usize) {
     let v = match mx.eval_named(&format!("<repl:{n}>"), expr) {
         Ok(v) => v,
         Err(d) => return report(d),
     };
     println!("{}: {}", v.type_name(), v.repr());
+    // Animators count frames: a clip's rate and frame count, as frames(m) gives them.
+    if let Some(Ok(Some((dt, count)))) = Interpreter::motion_of(&v).map(|m| mx::motion::frames(&m))
+    {
+        println!(
+            "frames: {count} at {} fps ({} s per frame)",
+            mx::fmt_num::format_number((1000.0 / dt).round() / 1000.0),
+            mx::fmt_num::format_number(dt)
+        );
+    }
     if let Some(r) = Interpreter::sp_report_text(&v) {
         print!("SP report:\n{r}");
     }

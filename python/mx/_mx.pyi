@@ -66,8 +66,12 @@ class Motion:
         """A pandas DataFrame indexed by time (needs pandas)."""
     def frame_times(self) -> List[float]:
         """The motion's frame times (its sample rate, else 30 Hz)."""
+    def frames(self) -> int:
+        """How many frames the motion has (a loaded clip's frame count)."""
+    def frame_time(self) -> float:
+        """Seconds per frame (a loaded clip's frame time)."""
     def save(self, path: _Path, **options: Any) -> None:
-        """Write by extension: .json, .csv (rate=), .bvh."""
+        """Write by extension: .json, .csv (rate=), .bvh, .glb/.gltf (body=)."""
     def affine(self, ts: float, d: float) -> "Motion":
         """Time t ↦ ts + d·t."""
     def clip(self, ts: float, tf: float) -> "Motion":

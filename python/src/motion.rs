@@ -311,7 +311,23 @@ impl PyMotion {
             .map_err(|e| raise_diag(py, &Diagnostic::new(motion_error(e, Span::default()), None)))
     }
 
-    /// Write to a file by extension (`.json`, `.csv` with `rate=`, `.bvh`, …).
+    /// How many frames the motion has (the language's `frames(m)`).
+    fn frames(&self, py: Python<'_>) -> PyResult<usize> {
+        let v = Builtins::get()
+            .call("frames", vec![self.value.clone()], vec![])
+            .map_err(|e| raise_diag(py, &e))?;
+        Ok(v.as_number().unwrap_or(0.0) as usize)
+    }
+
+    /// Seconds per frame (the language's `frame_time(m)`).
+    fn frame_time(&self, py: Python<'_>) -> PyResult<f64> {
+        let v = Builtins::get()
+            .call("frame_time", vec![self.value.clone()], vec![])
+            .map_err(|e| raise_diag(py, &e))?;
+        Ok(v.as_number().unwrap_or(f64::NAN))
+    }
+
+    /// Write to a file by extension (`.json`, `.csv` with `rate=`, `.bvh`, `.glb`, `.gltf`, …).
     #[pyo3(signature = (path, **options))]
     fn save(
         &self,

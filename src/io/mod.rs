@@ -3,6 +3,7 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod gltf;
 pub mod motion_json;
 pub mod plot;
 pub mod storage;

@@ -18,5 +18,5 @@ pub mod to_motion;
 
 pub use body_of::body_of;
 pub use error::MocapError;
-pub use positions::{Missing, Positions, positions, positions_at};
+pub use positions::{Missing, Poses, Positions, frame_times, poses_at, positions, positions_at};
 pub use to_motion::{Clip, from_bvh, load};

@@ -52,6 +52,13 @@ pub fn positions(
     rate: Option<f64>,
     missing: Missing,
 ) -> Result<Positions, MocapError> {
+    positions_at(mu, body, frame_times(mu, rate)?, missing)
+}
+
+/// The frame times of `mu`: every multiple of 1/`rate` in its span (default
+/// rate: the clip's own frame rate, else 30 Hz); one time for a span shorter
+/// than a frame. [`positions`], glTF files and `frames(m)` share this grid.
+pub fn frame_times(mu: &Mu, rate: Option<f64>) -> Result<Vec<f64>, MocapError> {
     let rate = rate
         .or_else(|| sample_period(mu).map(|dt| 1.0 / dt))
         .unwrap_or(30.0);
@@ -62,7 +69,7 @@ pub fn positions(
     if times.is_empty() {
         times.push(span.0);
     }
-    positions_at(mu, body, times, missing)
+    Ok(times)
 }
 
 /// Forward kinematics of `body` driven by `mu` at the given times.
@@ -72,6 +79,46 @@ pub fn positions_at(
     times: Vec<f64>,
     missing: Missing,
 ) -> Result<Positions, MocapError> {
+    let p = poses_at(mu, body, times, missing)?;
+    Ok(Positions {
+        names: p.names,
+        parents: p.parents,
+        links: p.links,
+        times: p.times,
+        points: p
+            .poses
+            .iter()
+            .map(|fr| fr.iter().map(|x| x.p).collect())
+            .collect(),
+        undefined: p.undefined,
+    })
+}
+
+/// Joint frames over time: the points of [`Positions`] with their orientations
+/// (what a glTF skeleton animates).
+#[derive(Clone, Debug)]
+pub struct Poses {
+    /// Link name of each joint.
+    pub names: Vec<String>,
+    /// Parent joint of each joint (`None` at a root).
+    pub parents: Vec<Option<usize>>,
+    /// Link index of each joint in the body.
+    pub links: Vec<usize>,
+    pub times: Vec<f64>,
+    /// `poses[k][j]`: world frame of joint `j` at `times[k]`.
+    pub poses: Vec<Vec<Se3>>,
+    /// As [`Positions::undefined`].
+    pub undefined: Vec<bool>,
+}
+
+/// Forward kinematics of `body` driven by `mu` at the given times: every
+/// joint's world frame.
+pub fn poses_at(
+    mu: &Mu,
+    body: &Model,
+    times: Vec<f64>,
+    missing: Missing,
+) -> Result<Poses, MocapError> {
     let coords = body.coordinate_names();
     let lacking: Vec<&str> = coords
         .iter()
@@ -108,15 +155,15 @@ pub fn positions_at(
             }
         }
         body.forward_kinematics(&q, &mut poses)?;
-        points.push(links.iter().map(|&l| poses[l].p).collect());
+        points.push(links.iter().map(|&l| poses[l]).collect());
         undefined.push(held);
     }
-    Ok(Positions {
+    Ok(Poses {
         names: links.iter().map(|&l| body.link(l).name.clone()).collect(),
         parents,
         links,
         times,
-        points,
+        poses: points,
         undefined,
     })
 }

@@ -43,7 +43,7 @@ pub use ops::{
     DofSpan, affine, and, clip, clip_in_place, concatenate, conflicts, gaps, minus, only, plus,
     span,
 };
-pub use sample::{Grid, Located, grid_times, sample_grid, sample_period};
+pub use sample::{Grid, Located, frames, grid_times, sample_grid, sample_period};
 
 /// Two times closer than this are treated as equal: 1e-9 s, relative beyond
 /// one second. Far below any frame period (mocap runs at ≤ 1 kHz) and far

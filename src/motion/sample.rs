@@ -228,6 +228,17 @@ pub fn sample_grid(m: &Mu, rate: f64, cancel: Option<&CancelToken>) -> Result<Gr
     })
 }
 
+/// A clip's frames: its frame time ([`sample_period`]) and how many frames its
+/// span holds (the multiples of the frame time in it, as [`grid_times`]
+/// counts them, at least 1); `None` when no DOF is a sampled curve or nothing
+/// is defined. Files written from `mu` (BVH, glTF, positions) have this many frames.
+pub fn frames(mu: &Mu) -> Result<Option<(f64, usize)>, MotionError> {
+    let (Some(dt), Some(span)) = (sample_period(mu), mu.span()) else {
+        return Ok(None);
+    };
+    Ok(Some((dt, grid_times(span, 1.0 / dt)?.len().max(1))))
+}
+
 /// The frame time of the first sampled curve in `mu` (how a loaded clip was
 /// sampled), if any.
 pub fn sample_period(mu: &Mu) -> Option<f64> {

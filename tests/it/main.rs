@@ -13,6 +13,7 @@ mod cli;
 mod dynamics;
 mod dynamics_lang;
 mod dynamics_sim;
+mod gltf;
 mod graph;
 mod ground;
 #[cfg(feature = "report")]

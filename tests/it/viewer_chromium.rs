@@ -231,6 +231,8 @@ fn clip_starting_at_2_5_s_is_shown_in_the_middle_at_its_own_time() {
     assert_eq!(field(&title, "t1"), "4.500", "{title}");
     assert_eq!(field(&title, "time"), "3.500", "{title}");
     assert_eq!(field(&title, "frame"), "30", "{title}");
+    // The clock's frame number is the clip's: 3.5 s at 30 fps.
+    assert_eq!(field(&title, "clip_frame"), "105", "{title}");
     assert_eq!(field(&title, "undefined"), "[]", "{title}");
     // Past the 60 frames of the clip the page still draws (it used to vanish).
     let end = check_page(&page, "#t=4.5", 500);

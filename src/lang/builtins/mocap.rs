@@ -87,6 +87,7 @@ pub fn register(reg: &mut Registry) {
 /// BVH clips: the `.bvh` format and `bvh_info`.
 fn clips(reg: &mut Registry) {
     reg.topic(Topic::Files);
+    gltf_files(reg);
     reg.loader(
         "bvh",
         "BVH motion capture: an Mu with DOFs `Joint.channel` (radians, metres; cubic between frames). Option `unit:` metres per file unit (default: detected; see bvh_info).",
@@ -164,6 +165,122 @@ fn clips(reg: &mut Registry) {
             Ok(Value::record(r))
         },
     );
+}
+
+fn gltf_error(e: crate::io::gltf::GltfError, span: Span) -> MxError {
+    use crate::io::gltf::GltfError;
+    match e {
+        GltfError::File(f) => file_error(f, span),
+        GltfError::Mocap(m) => mocap_error(m, span),
+        GltfError::Invalid(m) => MxError::new(ErrorKind::Io, m)
+            .at(span)
+            .help("mx reads glTF files holding a skin (skeleton) and an animation of its joints"),
+    }
+}
+
+/// The motions of a `save(…, "x.glb")`: one Mu, or a non-empty list of them.
+fn motions_to_save(v: &Value, a: &Args) -> MxResult<Vec<Mu>> {
+    let bad = || {
+        a.error(
+            ErrorKind::Type,
+            format!(
+                "glTF holds a motion unit (Mu) or a list of them, not {}",
+                describe(v)
+            ),
+        )
+    };
+    match v {
+        Value::List(items) if !items.is_empty() => items
+            .iter()
+            .map(|x| match x.as_object::<Motion>() {
+                Some(Motion::Mu(m)) => Ok(m.clone()),
+                _ => Err(bad()),
+            })
+            .collect(),
+        _ => match v.as_object::<Motion>() {
+            Some(Motion::Mu(m)) => Ok(vec![m.clone()]),
+            _ => Err(bad()),
+        },
+    }
+}
+
+/// glTF 2.0: `.glb` and `.gltf` (`crate::io::gltf`).
+fn gltf_files(reg: &mut Registry) {
+    for ext in ["glb", "gltf"] {
+        reg.loader(
+            ext,
+            "glTF 2.0 skeleton animation: an Mu with DOFs `Joint.Zrotation/Xrotation/Yrotation` (Z·X·Y Euler, radians) per joint of the skin and \
+             `Joint.X/Y/Zposition` (metres) at the root and wherever a joint's translation is animated; frames on the keys' grid from t = 0. \
+             `body_of(m)` gives its body. Option `animation:` a name or an index (0 first; default the first). Meshes, scale and morph channels are ignored with a note.",
+            |path, a, ev| {
+                let which = match a.opt_named("animation") {
+                    None => crate::io::gltf::Which::First,
+                    Some(v) => match &v.value {
+                        Value::Str(s) => crate::io::gltf::Which::Name(s.to_string()),
+                        Value::Number(k) if *k >= 0.0 && k.fract() == 0.0 => crate::io::gltf::Which::Index(*k as usize),
+                        _ => return Err(a.type_error("animation", "an animation's name or its index (0 first)", &v)),
+                    },
+                };
+                let loaded = crate::io::gltf::load(path, which).map_err(|e| gltf_error(e, a.call_span()))?;
+                // Notes on stderr: stdout carries only `print` output.
+                for n in &loaded.notes {
+                    eprintln!("note: {}: {n}", path.display());
+                }
+                let clip = loaded.clip;
+                let source = Arc::new(ClipSource {
+                    skeleton: Arc::new(clip.skeleton),
+                    metres_per_unit: clip.units.metres_per_unit,
+                    frame_time: clip.frame_time,
+                });
+                ev.ctx.session.get::<LoadedClips>().remember(source.clone());
+                Ok(Motion::Mu(clip.mu).with_provenance(Provenance {
+                    clip: Some(source),
+                    ..Provenance::default()
+                }))
+            },
+        );
+        reg.saver(
+            ext,
+            "glTF 2.0 (.glb binary; .gltf one JSON file, its buffer embedded as base64): the body's joints as a skinned node hierarchy (y-up metres, names kept), \
+             each motion an animation of LINEAR rotation (quaternion) channels and the root's translation, keyed on its frames from 0 s. \
+             `save(m, \"x.glb\", body: b)`; several motions of one body: `save([a, b], \"x.glb\", body: b, names: [\"a\", \"b\"])`. \
+             `body:` defaults to the body of the clip m came from; `rate:` frames per second (default: the motion's own).",
+            |v, path, a, ev| {
+                let span = a.call_span();
+                let motions = motions_to_save(v, a)?;
+                let body = match a.opt_named("body") {
+                    Some(b) => body_of_arg(a, "body", &b)?.model.clone(),
+                    None => {
+                        let k = clip_of(v, &motions[0], ev).ok_or_else(|| no_skeleton(span))?;
+                        let (model, _) = mocap::body_of::body_of(&k.skeleton, 70.0, k.metres_per_unit).map_err(|e| mocap_error(e, span))?;
+                        Arc::new(model)
+                    }
+                };
+                let rate = match a.opt_named("rate") {
+                    Some(r) => match r.value {
+                        Value::Number(x) if x.is_finite() && x > 0.0 => Some(x),
+                        _ => return Err(a.type_error("rate", "a positive number of frames per second", &r)),
+                    },
+                    None => None,
+                };
+                let names: Vec<String> = match a.opt_named("names") {
+                    None if motions.len() == 1 => vec![path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "motion".into())],
+                    None => (1..=motions.len()).map(|k| format!("motion {k}")).collect(),
+                    Some(l) => {
+                        let bad = |a: &Args| a.type_error("names", &format!("a list of {} strings, one per motion", motions.len()), &l);
+                        let Value::List(items) = &l.value else { return Err(bad(a)) };
+                        if items.len() != motions.len() {
+                            return Err(bad(a));
+                        }
+                        items.iter().map(|v| match v { Value::Str(s) => Ok(s.to_string()), _ => Err(bad(a)) }).collect::<MxResult<_>>()?
+                    }
+                };
+                let clips: Vec<crate::io::gltf::Clip> =
+                    names.iter().zip(&motions).map(|(name, motion)| crate::io::gltf::Clip { name, motion }).collect();
+                crate::io::gltf::save(&body, &clips, rate, path).map_err(|e| gltf_error(e, span))
+            },
+        );
+    }
 }
 
 /// Bodies from clips: `body_of`, `human`, `fit`, `positions`.

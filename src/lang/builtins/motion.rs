@@ -1,6 +1,6 @@
 //! Motion built-ins: `interval`, `dof`, `mu`, the algebra (`& - +` as
 //! operators), `affine`, `clip`, `clip_in_place`, `concatenate`, `only`,
-//! `dofs`, `span`, `gaps`, `conflicts`, `sample`, and the `.csv`/`.json`
+//! `dofs`, `span`, `frames`, `frame_time`, `gaps`, `conflicts`, `sample`, and the `.csv`/`.json`
 //! formats of `save`/`load`. The work is done by `crate::motion` and
 //! `crate::io`; this file only converts values and errors.
 
@@ -263,7 +263,21 @@ fn timing(reg: &mut Registry) {
     );
 }
 
-/// What a motion is: `dofs`, `span`, `gaps`, `conflicts`, `sample`, `get`.
+/// The frame time and frame count of the argument `m`.
+fn clip_frames(a: &mut Args) -> MxResult<(f64, usize)> {
+    let (m, arg) = a.motion("m")?;
+    let mu = match m {
+        Motion::Mu(x) => x,
+        other => Mu::from_iter([("value".to_string(), other.as_dof().unwrap_or_default())]),
+    };
+    motion::frames(&mu).map_err(|e| motion_error(e, arg.span))?.ok_or_else(|| {
+        MxError::new(ErrorKind::Value, "this motion has no frames: none of its DOFs is sampled (made from a clip), or nothing is defined")
+            .at(arg.span)
+            .help("frames belong to loaded clips and what is made from them; a motion made of functions is sampled at `rate:` where it is saved")
+    })
+}
+
+/// What a motion is: `dofs`, `span`, `frames`, `frame_time`, `gaps`, `conflicts`, `sample`, `get`.
 fn queries(reg: &mut Registry) {
     reg.topic(Topic::Motion);
     reg.add(
@@ -281,6 +295,18 @@ fn queries(reg: &mut Registry) {
             let (m, _) = a.motion("m")?;
             Ok(span_value(m.span()))
         },
+    );
+    reg.add(
+        "frames(m)",
+        "How many frames m has: its span on the grid of its frame time (a loaded clip's frame count; what save and positions write).",
+        |a, _| {
+            Ok(Value::Number(clip_frames(a)?.1 as f64))
+        },
+    );
+    reg.add(
+        "frame_time(m)",
+        "Seconds per frame of m (a loaded clip's frame time; 1 / frame_time(m) is its frame rate).",
+        |a, _| Ok(Value::Number(clip_frames(a)?.0)),
     );
     reg.add(
         "gaps(m)",
