@@ -39,6 +39,7 @@ mod mocap_plot;
 mod motion_algebra;
 mod motion_compose;
 mod motion_io;
+mod motion_laws;
 mod motion_mocap;
 mod motion_props;
 mod opensim_couplers;
