@@ -13,6 +13,7 @@ mod cli;
 mod dynamics;
 mod dynamics_lang;
 mod dynamics_sim;
+mod first_hour;
 mod graph;
 #[cfg(feature = "report")]
 mod hard_cases;
