@@ -37,6 +37,33 @@ pub fn format_number(x: f64) -> String {
     Shortest(x).to_string()
 }
 
+/// `x` rounded to `digits` significant digits (at least 1, at most 17).
+pub fn round_significant(x: f64, digits: usize) -> f64 {
+    if !x.is_finite() || x == 0.0 {
+        return x;
+    }
+    // through decimal text: exact decimal rounding, no 10^k scaling error
+    format!("{:.*e}", digits.clamp(1, 17) - 1, x)
+        .parse()
+        .unwrap_or(x)
+}
+
+/// Summaries' numbers (spans, reports): 6 significant digits, written as
+/// [`Shortest`] writes them, so a span read from a 30 Hz file shows as
+/// `[0, 6.46667]`, not `[0, 6.466660200000001]` (the exact value stays with
+/// `repr`, `print` and the files).
+#[derive(Clone, Copy, Debug)]
+pub struct Rounded(pub f64);
+
+/// Significant digits of [`Rounded`]: µs on spans up to 10 s, ms to 1000 s.
+pub const SUMMARY_DIGITS: usize = 6;
+
+impl fmt::Display for Rounded {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        Shortest(round_significant(self.0, SUMMARY_DIGITS)).fmt(f)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -62,6 +89,23 @@ mod tests {
             assert_eq!(format_number(x), s);
             assert_eq!(s.parse::<f64>().ok(), Some(x), "{s} reads back");
         }
+    }
+
+    #[test]
+    fn rounded_keeps_six_significant_digits() {
+        for (x, s) in [
+            (6.466660200000001, "6.46666"),
+            (2.0, "2"),
+            (0.30000000000000004, "0.3"),
+            (1234567.0, "1234570"),
+            (-0.000123456789, "-0.000123457"),
+            (0.0, "0"),
+        ] {
+            assert_eq!(Rounded(x).to_string(), s);
+        }
+        assert_eq!(round_significant(6.466660200000001, 3), 6.47);
+        assert_eq!(round_significant(-1234.5, 2), -1200.0);
+        assert!(round_significant(f64::NAN, 3).is_nan());
     }
 
     #[test]

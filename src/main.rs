@@ -92,9 +92,13 @@ fn main() -> ExitCode {
                     return ExitCode::from(1);
                 }
             };
-            match mx.check_named(&file.display().to_string(), &text) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(d) => report(d),
+            let errors = mx.check_all_named(&file.display().to_string(), &text);
+            if errors.len() > 1 {
+                eprintln!("{} errors in {}:", errors.len(), file.display());
+            }
+            match errors.into_iter().map(report).last() {
+                Some(code) => code,
+                None => ExitCode::SUCCESS,
             }
         }
         Command::Eval { source } => match mx.eval_named("<eval>", &source) {

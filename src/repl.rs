@@ -182,6 +182,15 @@ fn command(mx: &mut mx::Interpreter, line: &str, n: usize) -> bool {
         Some((c, r)) => (c, r.trim()),
         None => (line, ""),
     };
+    // the words a newcomer types first, unless the session defined them
+    let bare = line.trim();
+    if matches!(bare, "exit" | "quit") && mx.get(bare).is_none() {
+        return false;
+    }
+    if cmd == "help" && mx.get("help").is_none() {
+        help(mx, rest);
+        return true;
+    }
     match cmd {
         ":quit" | ":q" | ":exit" => return false,
         ":help" | ":h" => help(mx, rest),
@@ -232,6 +241,9 @@ fn info(mx: &mut mx::Interpreter, expr: &str, n: usize) {
             mx::fmt_num::format_number((1000.0 / dt).round() / 1000.0),
             mx::fmt_num::format_number(dt)
         );
+    }
+    if let Some(c) = Interpreter::clip_text(&v) {
+        println!("clip {c}");
     }
     if let Some(r) = Interpreter::sp_report_text(&v) {
         print!("SP report:\n{r}");

@@ -107,9 +107,33 @@ fn describe_difference(a: &LibraryInfo, b: &LibraryInfo) -> String {
     } else if a.clips != b.clips {
         "the clip list differs".into()
     } else if a.settings != b.settings {
-        format!("settings {:?} there, {:?} now", a.settings, b.settings)
+        settings_difference(&a.settings, &b.settings)
     } else {
         "the frame time differs".into()
+    }
+}
+
+/// The settings that differ, one phrase each (`window 9 there, 11 now`), in
+/// words rather than as a Rust struct.
+fn settings_difference(a: &super::settings::Settings, b: &super::settings::Settings) -> String {
+    let fields = |s| match serde_json::to_value(s) {
+        Ok(serde_json::Value::Object(m)) => m,
+        _ => serde_json::Map::new(),
+    };
+    let (fa, fb) = (fields(a), fields(b));
+    let show = |v: Option<&serde_json::Value>| match v {
+        None | Some(serde_json::Value::Null) => "the default".to_string(),
+        Some(v) => v.to_string(),
+    };
+    let parts: Vec<String> = fa
+        .iter()
+        .filter(|(k, v)| fb.get(*k) != Some(*v))
+        .map(|(k, v)| format!("{k} {} there, {} now", show(Some(v)), show(fb.get(k))))
+        .collect();
+    if parts.is_empty() {
+        "the settings differ".into()
+    } else {
+        parts.join("; ")
     }
 }
 
@@ -309,4 +333,24 @@ pub fn read_graph(out: &Path) -> Result<Graph, GraphError> {
         )));
     }
     read_json(&p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::settings::Settings;
+    use super::settings_difference;
+
+    #[test]
+    fn a_settings_difference_reads_as_words() {
+        let a = Settings::default();
+        let b = Settings {
+            window: 11,
+            coefficients: Some(5),
+            ..Settings::default()
+        };
+        let d = settings_difference(&a, &b);
+        assert!(d.contains("window 9 there, 11 now"), "{d}");
+        assert!(d.contains("coefficients the default there, 5 now"), "{d}");
+        assert!(!d.contains("Settings") && !d.contains("threshold"), "{d}");
+    }
 }

@@ -125,6 +125,20 @@ impl Args {
     /// A required argument of any type.
     pub fn arg(&mut self, name: &str) -> MxResult<ArgValue> {
         self.opt(name).ok_or_else(|| {
+            // a misspelt named argument (`bdy:` for `body`) is the likely
+            // cause: point at it rather than at the whole call
+            let typo = self.named.iter().find(|(n, _, _, used)| {
+                !used && super::diagnostics::did_you_mean(n, [name]).is_some()
+            });
+            if let Some((n, s, _, _)) = typo {
+                return MxError::new(
+                    ErrorKind::Arity,
+                    format!("`{}` has no parameter named `{n}`", self.name()),
+                )
+                .at(*s)
+                .label("unknown parameter")
+                .help(format!("did you mean `{name}`? usage: {}", self.signature));
+            }
             MxError::new(
                 ErrorKind::Arity,
                 format!("`{}` is missing its argument `{name}`", self.name()),

@@ -275,7 +275,16 @@ pub fn did_you_mean<'a>(
         // Allow roughly one edit per three characters.
         let allowed = (name.chars().count().max(c.chars().count()) / 3).max(1);
         if d <= allowed {
-            let score = d as f64 + (c.len() as f64 - name.len() as f64).abs() * 0.01;
+            // A name that is the start of the candidate (or the reverse) was
+            // most likely cut short: `fil` means `fill` before `nil`, though
+            // both are one edit away.
+            let (n, l) = (name.to_lowercase(), c.to_lowercase());
+            let prefix = if l.starts_with(&n) || n.starts_with(&l) {
+                0.5
+            } else {
+                0.0
+            };
+            let score = d as f64 - prefix + (c.len() as f64 - name.len() as f64).abs() * 0.01;
             if best.is_none_or(|(b, _)| score < b) {
                 best = Some((score, c));
             }

@@ -86,6 +86,11 @@ pub struct Context {
     pub limits: Limits,
     /// When set, `load`/`save` may only touch files under this folder.
     pub file_root: Option<Arc<PathBuf>>,
+    /// The folder of the script being run: its relative paths resolve
+    /// against it, as a shell resolves a script's `source` (so
+    /// `cd examples && mx run tour.mx` and `mx run examples/tour.mx` read the
+    /// same files). `None` (the REPL, `mx eval`): the current folder.
+    pub script_dir: Option<Arc<PathBuf>>,
     pub out: Output,
     /// What built-ins remember for this interpreter (shared by its
     /// evaluators, never by two interpreters).
@@ -99,6 +104,7 @@ impl Context {
             cancel: CancelToken::new(),
             limits: Limits::default(),
             file_root: None,
+            script_dir: None,
             out: Arc::new(Mutex::new(std::io::stdout())),
             session: Arc::new(Session::new()),
         }
@@ -536,7 +542,9 @@ impl Evaluator {
     }
 
     /// Confine `path` to the file root (if any): no absolute paths and no
-    /// `..` escaping it. Returns the path to use.
+    /// `..` escaping it. Without a root a relative path is taken from the
+    /// running script's folder (else the current folder). Returns the path
+    /// to use.
     pub fn resolve_path(&self, path: &str, span: Span) -> MxResult<PathBuf> {
         let p = Path::new(path);
         if path.is_empty() {
@@ -545,7 +553,10 @@ impl Evaluator {
                 .help("give a file name such as \"out/walk.json\""));
         }
         let Some(root) = &self.ctx.file_root else {
-            return Ok(p.to_path_buf());
+            return Ok(match &self.ctx.script_dir {
+                Some(dir) if p.is_relative() => dir.join(p),
+                _ => p.to_path_buf(),
+            });
         };
         let denied = || {
             MxError::new(

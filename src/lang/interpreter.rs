@@ -183,7 +183,15 @@ impl Interpreter {
                 .help("check the file name and that the file is UTF-8 text"),
             )
         })?;
-        self.eval_named(&path.display().to_string(), &text)
+        // the script's relative paths are its folder's, for this run only
+        let dir = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map(|d| Arc::new(d.to_path_buf()));
+        let outer = std::mem::replace(&mut self.ctx.script_dir, dir);
+        let result = self.eval_named(&path.display().to_string(), &text);
+        self.ctx.script_dir = outer;
+        result
     }
 
     /// Evaluate source text under a display name (used in diagnostics).
@@ -213,6 +221,21 @@ impl Interpreter {
         let known = move |n: &str| globals.get(n).is_some() || registry.lookup(n).is_some();
         let mut r = Resolver::new(&known, self.names());
         r.program(&program).map_err(|e| self.diagnostic(e))
+    }
+
+    /// Like [`Self::check_named`], but every statement's error (`mx check`):
+    /// empty when the script resolves. A syntax error stops at the first.
+    pub fn check_all_named(&mut self, name: &str, src: &str) -> Vec<Diagnostic> {
+        let program = match self.parse_named(name, src) {
+            Ok(p) => p,
+            Err(d) => return vec![d],
+        };
+        let globals = self.globals.clone();
+        let registry = self.ctx.registry.clone();
+        let known = move |n: &str| globals.get(n).is_some() || registry.lookup(n).is_some();
+        let mut r = Resolver::new(&known, self.names());
+        let errors = r.program_all(&program);
+        errors.into_iter().map(|e| self.diagnostic(e)).collect()
     }
 
     /// Evaluate one expression and report its type (REPL `:type`) without
@@ -272,7 +295,22 @@ impl Interpreter {
         }
         match self.get(word) {
             Some(v) => Ok(format!("{word}: {} = {}\n", v.type_name(), v.repr())),
-            None => Err(format!("no built-in or name `{word}`")),
+            None => {
+                // the topics, `formats`, every documented name and every global
+                let mut words: Vec<String> = super::topic::Topic::ALL
+                    .iter()
+                    .map(|t| t.key().to_string())
+                    .collect();
+                words.push("formats".into());
+                words.extend(self.help_entries().into_iter().map(|e| e.name));
+                words.extend(self.names());
+                Err(
+                    match super::diagnostics::did_you_mean(word, words.iter().map(String::as_str)) {
+                        Some(s) => format!("no built-in or name `{word}`; did you mean `{s}`?"),
+                        None => format!("no built-in or name `{word}`"),
+                    },
+                )
+            }
         }
     }
 
@@ -284,6 +322,14 @@ impl Interpreter {
     /// The report SP attached to the motion it returned, as text (`:info`).
     pub fn sp_report_text(v: &Value) -> Option<String> {
         report_of(v).map(|r| r.to_string())
+    }
+
+    /// The clip a loaded motion came from, described (`:info`): file,
+    /// frames, rate, units, joints; `None` for a motion not read from a clip.
+    pub fn clip_text(v: &Value) -> Option<String> {
+        let clip = super::host::motion::provenance(v)?.clip.as_ref()?;
+        let mu = Self::motion_of(v)?;
+        Some(clip.describe(&mu))
     }
 
     /// A motion value as a motion unit (a DOF or interval as one DOF named

@@ -28,6 +28,23 @@ impl<'a> Resolver<'a> {
         self.stmts(&p.stmts)
     }
 
+    /// Every top-level statement resolved on its own, so `mx check` reports
+    /// each statement's first unknown name, not only the script's first. A
+    /// `let` whose value has an error still binds its name: its later uses
+    /// are not errors of their own.
+    pub fn program_all(&mut self, p: &Program) -> Vec<MxError> {
+        let mut errors = vec![];
+        for s in &p.stmts {
+            if let Err(e) = self.stmts(std::slice::from_ref(s)) {
+                errors.push(e);
+                if let Stmt::Let(n, _, _) = s {
+                    self.bind(n);
+                }
+            }
+        }
+        errors
+    }
+
     fn stmts(&mut self, stmts: &[Stmt]) -> MxResult<()> {
         for s in stmts {
             match s {

@@ -3,7 +3,7 @@
 
 use std::fmt;
 
-use crate::fmt_num::Shortest;
+use crate::fmt_num::Rounded;
 
 use super::dof::Dof;
 use super::interval::Interval;
@@ -23,8 +23,8 @@ impl fmt::Display for Interval {
         write!(
             f,
             "interval([{}, {}], {}",
-            Shortest(self.start),
-            Shortest(self.stop),
+            Rounded(self.start),
+            Rounded(self.stop),
             plural(self.funcs.len(), "function")
         )?;
         if self.is_conflict() {
@@ -44,8 +44,8 @@ impl fmt::Display for Dof {
                     f,
                     "dof({} over [{}, {}]",
                     plural(self.intervals.len(), "interval"),
-                    Shortest(a),
-                    Shortest(b)
+                    Rounded(a),
+                    Rounded(b)
                 )?;
                 summary_tail(f, self.gaps().len(), self.conflicts().len())
             }
@@ -60,7 +60,7 @@ impl fmt::Display for Mu {
         match self.span() {
             None => write!(f, "mu({n}, empty)"),
             Some((a, b)) => {
-                write!(f, "mu({n} over [{}, {}]", Shortest(a), Shortest(b))?;
+                write!(f, "mu({n} over [{}, {}]", Rounded(a), Rounded(b))?;
                 let gaps = self.dofs.values().map(|d| d.gaps().len()).sum();
                 let conflicts = self.dofs.values().map(|d| d.conflicts().len()).sum();
                 summary_tail(f, gaps, conflicts)

@@ -88,17 +88,41 @@ fn check_parses_and_resolves_without_running() {
     let o = mx(&["run", "missing.mx"], dir.path());
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o.stderr).contains("cannot read missing.mx"));
+    // every statement's error, not only the first; a broken `let` still
+    // binds its name, so `a` below is not reported again
+    std::fs::write(
+        dir.path().join("many.mx"),
+        "let a = wakl + 1
+print(a, runn)
+fn g(x) = x * jmp
+let ok = a
+",
+    )
+    .unwrap();
+    let o = mx(&["check", "many.mx"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    let err = text(&o.stderr);
+    assert!(err.contains("3 errors in many.mx"), "{err}");
+    for name in ["wakl", "runn", "jmp"] {
+        assert!(err.contains(&format!("unknown name `{name}`")), "{err}");
+    }
+    assert!(!err.contains("unknown name `a`"), "{err}");
 }
 
 #[test]
 fn the_tour_runs_and_its_outputs_are_right() {
+    // The tour and its data copied to a temporary folder and run there as a
+    // newcomer would (`cd examples && mx run tour.mx`): a script's paths are
+    // taken from its own folder, so it reads data/ and writes out/ beside it.
     let dir = tempfile::tempdir().unwrap();
     let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-    // The tour reads examples/data relative to where it runs (the repository root
-    // in the README); outputs go to out/ of the temporary folder.
-    std::os::unix::fs::symlink(&examples, dir.path().join("examples")).unwrap();
-    let tour = examples.join("tour.mx");
-    let o = mx(&["run", tour.to_str().unwrap()], dir.path());
+    std::fs::create_dir(dir.path().join("data")).unwrap();
+    for e in std::fs::read_dir(examples.join("data")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, dir.path().join("data").join(p.file_name().unwrap())).unwrap();
+    }
+    std::fs::copy(examples.join("tour.mx"), dir.path().join("tour.mx")).unwrap();
+    let o = mx(&["run", "tour.mx"], dir.path());
     assert!(o.status.success(), "{}", text(&o.stderr));
     let out = text(&o.stdout);
     for expected in [
@@ -143,8 +167,9 @@ fn every_example_script_runs() {
         if path.extension().and_then(|e| e.to_str()) != Some("mx") {
             continue;
         }
-        // From the repository root, as the README runs them (examples read
-        // files under examples/ and write under the git-ignored out/).
+        // From the repository root, as the README runs them: a script's
+        // paths are its folder's (it reads examples/data and writes the
+        // git-ignored examples/out/).
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
         let o = mx(&["run", path.to_str().unwrap()], root);
         assert!(

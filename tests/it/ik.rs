@@ -383,9 +383,7 @@ fn one_frame_reaches_a_reachable_pose_with_orientation_through_every_joint_kind(
 #[test]
 fn the_knee_example_keeps_the_spline_knee_on_its_curve() {
     let mut i = Interpreter::new();
-    let src = std::fs::read_to_string(repo("examples/ik_knee.mx")).unwrap();
-    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
-    i.eval_str(&src)
+    i.eval_file(repo("examples/ik_knee.mx"))
         .unwrap_or_else(|d| panic!("{}", d.render_plain()));
     let res = i
         .eval_str("[ik_report(solved).max, ik_report(solved).frames, knee_range[0], knee_range[1]]")

@@ -61,7 +61,7 @@ fn elliptic_joint_conserves_energy_and_swings_symmetrically() {
         (hi - 70f64.to_radians()).abs() < 1e-3 && (lo + hi).abs() < 2e-3,
         "{lo} {hi}"
     );
-    csv_is_finite("out/mech_elliptic.csv");
+    csv_is_finite("examples/out/mech_elliptic.csv");
 }
 
 #[test]
@@ -74,7 +74,7 @@ fn knee_pendulum_conserves_energy_and_slides() {
     // gait2392: the tibia origin is 395.8 mm below the femur straight and 410 mm or so at 60°.
     let slide = num(&mx, "slide");
     assert!(slide < -0.005 && slide > -0.03, "slide {slide}");
-    csv_is_finite("out/mech_knee_pendulum.csv");
+    csv_is_finite("examples/out/mech_knee_pendulum.csv");
 }
 
 #[test]
@@ -88,7 +88,7 @@ fn beads_stay_on_their_wires_with_100ms_explicit_euler() {
     let reach = num(&mx, "max_reach");
     assert!(reach > 0.3 && reach <= 0.8, "farthest bead {reach} m");
     assert!(num(&mx, "wire_error") < 1e-9);
-    csv_is_finite("out/mech_beads.csv");
+    csv_is_finite("examples/out/mech_beads.csv");
 }
 
 #[test]
@@ -97,7 +97,7 @@ fn airplanes_coast_on_the_globe() {
     assert!(num(&mx, "drift") < 1e-4, "drift {}", num(&mx, "drift"));
     let rs = nums(&mx, "rs");
     assert!(rs.iter().all(|r| *r > 0.95 && *r < 1.001), "{rs:?}");
-    csv_is_finite("out/mech_globe.csv");
+    csv_is_finite("examples/out/mech_globe.csv");
 }
 
 #[test]
@@ -105,7 +105,7 @@ fn letter_chain_falls_conserving_energy() {
     let mx = run("mech_letters.mx");
     assert!(num(&mx, "drift") < 1e-5, "drift {}", num(&mx, "drift"));
     assert!(num(&mx, "lowest").is_finite());
-    csv_is_finite("out/mech_letters.csv");
+    csv_is_finite("examples/out/mech_letters.csv");
 }
 
 #[test]
@@ -123,7 +123,7 @@ fn springs_settle_the_scapula_on_its_surface() {
         (0.15..=1.45).contains(&u) && (-0.55..=0.75).contains(&v),
         "({u}, {v})"
     );
-    csv_is_finite("out/mech_scapula.csv");
+    csv_is_finite("examples/out/mech_scapula.csv");
 }
 
 #[test]
@@ -138,7 +138,7 @@ fn deforming_surface_runs_on_its_clock() {
     }
     // A still surface driven by its clock does no work.
     assert!(num(&mx, "drift") < 1e-5, "drift {}", num(&mx, "drift"));
-    csv_is_finite("out/mech_deforming.csv");
+    csv_is_finite("examples/out/mech_deforming.csv");
 }
 
 #[test]

@@ -24,10 +24,17 @@ fn sp_on_a_mot_gait_of_gait2392_matches_hermite_on_effort() {
     let dir = tempfile::tempdir().unwrap();
     let example = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/osim_sp.mx");
     let src = std::fs::read_to_string(&example).unwrap();
+    // the shared folder the test found (the example reads $MX_SHARED)
+    let shared = model.parent().unwrap().parent().unwrap().parent().unwrap();
+    let line = "let shared = if env(\"MX_SHARED\") == nil { \"../../shared\" } else { env(\"MX_SHARED\") }";
+    assert!(
+        src.contains(line),
+        "the example's shared-folder line changed"
+    );
     let src = src
         .replace(
-            "\"../shared/data/opensim/gait2392_thelen2003muscle.osim\"",
-            &format!("{:?}", model.display().to_string()),
+            line,
+            &format!("let shared = {:?}", shared.display().to_string()),
         )
         .replace("\"out/", &format!("\"{}/", dir.path().display()));
     let mut mx = Interpreter::new();

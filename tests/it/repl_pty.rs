@@ -112,3 +112,38 @@ fn sp_in_the_repl_info_progress_bar_and_ctrl_c() {
     p.send_line(":quit").unwrap();
     p.expect(Eof).unwrap();
 }
+
+/// The words a newcomer types (issue 28): `help` and `help NAME` without the
+/// colon, `:help` with a misspelt topic suggests it, `:info` on a loaded clip
+/// says where it came from, and `exit` (or `quit`) leaves.
+#[test]
+fn repl_takes_help_and_exit_as_people_type_them() {
+    for leave in ["exit", "quit"] {
+        let data = tempfile::tempdir().unwrap();
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_mx"));
+        cmd.env("XDG_DATA_HOME", data.path())
+            .env("HOME", data.path())
+            .env("NO_COLOR", "1")
+            .env("TERM", "xterm");
+        let mut p = Session::spawn(cmd).expect("spawn mx in a pty");
+        p.set_expect_timeout(Some(Duration::from_secs(20)));
+        p.expect("mx> ").unwrap();
+        p.send_line("help sin").unwrap();
+        p.expect("Sine (radians).").unwrap();
+        p.send_line(":help motoin").unwrap();
+        p.expect("did you mean `motion`?").unwrap();
+        let walk = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/walk.bvh");
+        p.send_line(format!(
+            "let walk = load(\"{walk}\"); print(\"loaded\" + \"!\")"
+        ))
+        .unwrap();
+        p.expect("loaded!").unwrap();
+        p.send_line(":info walk").unwrap();
+        p.expect("clip from ").unwrap();
+        p.expect("walk.bvh: ").unwrap();
+        p.expect(" frames at ").unwrap();
+        p.expect(" joints").unwrap();
+        p.send_line(leave).unwrap();
+        p.expect(Eof).unwrap();
+    }
+}

@@ -22,14 +22,15 @@ fn mu(v: &Value) -> Mu {
     }
 }
 
-/// An interpreter confined to a fresh folder holding copies of `examples/data`.
+/// An interpreter confined to a fresh folder holding copies of `examples/data`
+/// as `data/` (where the examples, run from their own folder, find it).
 fn sandbox() -> (
     Interpreter,
     std::sync::Arc<std::sync::Mutex<Vec<u8>>>,
     tempfile::TempDir,
 ) {
     let dir = tempfile::tempdir().unwrap();
-    let data = dir.path().join("examples/data");
+    let data = dir.path().join("data");
     std::fs::create_dir_all(&data).unwrap();
     for e in std::fs::read_dir(repo().join("examples/data")).unwrap() {
         let p = e.unwrap().path();
@@ -69,18 +70,24 @@ fn jumps(m: &Mu) -> [f64; 3] {
     j
 }
 
-/// (SP, Hermite) from the line `torque energy: SP x … Hermite y`.
-fn energies(out: &str) -> (f64, f64) {
+/// (SP, Hermite, against SP's own start) from the line `torque energy: SP x
+/// … Hermite y` (a Hermite fill) or `torque energy over the gap: SP x its
+/// Hermite start y` (SP's report: the same root handling on both sides).
+fn energies(out: &str) -> (f64, f64, bool) {
     let line = out
         .lines()
-        .find(|l| l.starts_with("torque energy: SP"))
+        .find(|l| l.starts_with("torque energy: SP") || l.starts_with("torque energy over the gap"))
         .unwrap_or_else(|| panic!("no energy line in\n{out}"));
     let w: Vec<&str> = line.split_whitespace().collect();
     let after = |label: &str| -> f64 {
         let i = w.iter().position(|x| *x == label).unwrap();
         w[i + 1].parse().unwrap()
     };
-    (after("SP"), after("Hermite"))
+    if line.contains("its Hermite start") {
+        (after("SP"), after("start"), true)
+    } else {
+        (after("SP"), after("Hermite"), false)
+    }
 }
 
 /// The checks every transition example shares: no gap left, continuity at
@@ -91,8 +98,18 @@ fn check_transitions(mx: &Interpreter, out: &str, dir: &Path, file: &str) {
     let [jq, jv, _] = jumps(&filled);
     println!("transition ends: |Δq| {jq:.1e}, |Δq̇| {jv:.1e}");
     assert!(jq <= 1e-9 && jv <= 1e-6, "jumps {jq} {jv}");
-    let (sp, hermite) = energies(out);
-    assert!(sp < hermite, "SP {sp} must be below Hermite {hermite}");
+    let (sp, hermite, own_start) = energies(out);
+    if own_start {
+        // SP's continuation ends at its smallest prior: against its own
+        // start it is within a percent (0.04–0.55 % above on these clips,
+        // issue 28), not the 10–30× a baseline with the root left behind showed
+        assert!(
+            sp <= 1.01 * hermite,
+            "SP {sp} vs its Hermite start {hermite}"
+        );
+    } else {
+        assert!(sp < hermite, "SP {sp} must be below Hermite {hermite}");
+    }
     let len = std::fs::metadata(dir.join("out").join(file))
         .map(|m| m.len())
         .unwrap_or(0);
@@ -182,13 +199,25 @@ fn cyclic_walk_example_loops_with_c2_seams() {
 
 #[test]
 fn the_binary_runs_an_example_and_shows_no_progress_bar_off_a_terminal() {
+    // the example and its data copied to `ex/`, run from the folder above:
+    // the script's paths (data/…, out/…) are taken from its own folder
     let dir = tempfile::tempdir().unwrap();
-    std::os::unix::fs::symlink(repo().join("examples"), dir.path().join("examples")).unwrap();
+    let ex = dir.path().join("ex");
+    std::fs::create_dir_all(ex.join("data")).unwrap();
+    for name in ["walk.bvh", "wave.bvh"] {
+        std::fs::copy(
+            repo().join("examples/data").join(name),
+            ex.join("data").join(name),
+        )
+        .unwrap();
+    }
+    std::fs::copy(
+        repo().join("examples/fig6_wave.mx"),
+        ex.join("fig6_wave.mx"),
+    )
+    .unwrap();
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_mx"))
-        .args([
-            "run",
-            repo().join("examples/fig6_wave.mx").to_str().unwrap(),
-        ])
+        .args(["run", "ex/fig6_wave.mx"])
         .current_dir(dir.path())
         .output()
         .unwrap();
@@ -198,7 +227,8 @@ fn the_binary_runs_an_example_and_shows_no_progress_bar_off_a_terminal() {
         err.trim().is_empty(),
         "stderr is not a terminal: no bar, got {err}"
     );
-    assert!(dir.path().join("out/fig6_wave.bvh").exists());
+    assert!(ex.join("out/fig6_wave.bvh").exists());
+    assert!(!dir.path().join("out").exists());
 }
 
 // ---- Bandai motion capture ($MX_SHARED/data/mocap) --------------------------
@@ -246,7 +276,7 @@ fn bandai_composite(a: &str, b: &str, src: &str) {
     assert!(mx::motion::gaps(&filled).is_empty());
     let [jq, jv, _] = jumps(&filled);
     assert!(jq <= 1e-9 && jv <= 1e-6, "jumps {jq} {jv}");
-    let (sp, hermite) = energies(&text);
+    let (sp, hermite, _) = energies(&text);
     assert!(sp < hermite, "SP {sp} vs Hermite {hermite}");
 }
 
@@ -311,7 +341,7 @@ print(\"torque energy: SP\", torque_energy(filled, body), \"Hermite\", torque_en
 
 // ---- diagnostics and hard cases through the language ---------------------
 
-const WALK: &str = "let walk = load(\"examples/data/walk.bvh\")\nlet body = body_of(walk)\n";
+const WALK: &str = "let walk = load(\"data/walk.bvh\")\nlet body = body_of(walk)\n";
 
 /// The rendered diagnostic of a script that must fail (run in the sandbox).
 fn diagnose(src: &str) -> String {

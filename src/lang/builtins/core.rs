@@ -88,9 +88,41 @@ fn constants_and_output(reg: &mut Registry) {
     reg.add("str(x)", "The text `print` would show for x.", |a, _| {
         Ok(Value::str(a.value("x")?.display()))
     });
-    reg.add("repr(x)", "x as mx source (strings quoted).", |a, _| {
-        Ok(Value::str(a.value("x")?.repr()))
-    });
+    reg.add(
+        "repr(x)",
+        "x as mx source (strings quoted; numbers exact).",
+        |a, _| Ok(Value::str(a.value("x")?.repr())),
+    );
+    reg.add(
+        "fmt(x, digits: 4)",
+        "The number x as text rounded to `digits` significant digits (1–17): `fmt(6.4666602, 3)` is \"6.47\". Summaries (spans) show 6; `repr(x)` gives the exact value.",
+        |a, _| {
+            let x = a.number("x")?;
+            let d = a.number_or("digits", 4.0)?;
+            if !(d.fract() == 0.0 && (1.0..=17.0).contains(&d)) {
+                return Err(MxError::new(
+                    ErrorKind::Value,
+                    format!("digits must be a whole number from 1 to 17, got {}", crate::fmt_num::format_number(d)),
+                )
+                .at(a.call_span())
+                .help("e.g. fmt(x, 3)"));
+            }
+            Ok(Value::str(crate::fmt_num::format_number(
+                crate::fmt_num::round_significant(x, d as usize),
+            )))
+        },
+    );
+    reg.add(
+        "env(name)",
+        "The environment variable `name` as a string, nil when unset: `let shared = env(\"MX_SHARED\")`.",
+        |a, _| {
+            let n = a.string("name")?;
+            Ok(match std::env::var(&*n) {
+                Ok(v) => Value::str(v),
+                Err(_) => Value::Nil,
+            })
+        },
+    );
     reg.add(
         "type(x)",
         "The type name of x: number, bool, string, list, record, function, Mu, …",

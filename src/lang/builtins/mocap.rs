@@ -28,12 +28,26 @@ use crate::motion::{Curve, Dof, Interval, Mu};
 fn mocap_error(e: MocapError, span: Span) -> MxError {
     match e {
         MocapError::Motion(m) => motion_error(m, span),
+        // the help says what to do about this error, not about BVH files
+        MocapError::Bvh(b @ mocap::bvh::BvhError::Io { .. }) => {
+            MxError::new(ErrorKind::Io, b.to_string())
+                .at(span)
+                .help(MISSING_FILE_HELP)
+        }
+        MocapError::Bvh(b @ mocap::bvh::BvhError::Parse { .. }) => {
+            MxError::new(ErrorKind::Io, b.to_string())
+                .at(span)
+                .help("the BVH file is malformed at the line named; fix or re-export it")
+        }
         MocapError::Bvh(b) => MxError::new(ErrorKind::Io, b.to_string())
             .at(span)
-            .help("the BVH file is malformed at the line named; fix or re-export it"),
+            .help("the BVH file's skeleton or motion is inconsistent as said; fix or re-export it"),
         other => MxError::new(ErrorKind::Value, other.to_string()).at(span),
     }
 }
+
+/// The help under a file that cannot be read.
+pub(crate) const MISSING_FILE_HELP: &str = "check the file name: a script's relative paths are taken from the script's own folder, the REPL's from the current folder";
 
 fn mu_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Mu> {
     a.mu_of(name, arg)
@@ -102,6 +116,7 @@ fn clips(reg: &mut Registry) {
                 skeleton: Arc::new(clip.skeleton),
                 metres_per_unit: clip.units.metres_per_unit,
                 frame_time: clip.frame_time,
+                path: path.display().to_string(),
             });
             ev.ctx.session.get::<LoadedClips>().remember(source.clone());
             Ok(Motion::Mu(clip.mu).with_provenance(Provenance {

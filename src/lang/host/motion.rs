@@ -5,8 +5,9 @@
 
 use std::sync::{Arc, Mutex};
 
+use crate::fmt_num::Rounded;
 use crate::lang::ast::BinOp;
-use crate::lang::value::{HostObject, Value, format_number};
+use crate::lang::value::{HostObject, Value};
 use crate::mocap::bvh::Skeleton;
 use crate::motion::{self, Dof, Interval, Mu};
 use crate::spacetime::SpReport;
@@ -39,7 +40,7 @@ impl Motion {
 
 fn fmt_span(s: Option<(f64, f64)>) -> String {
     match s {
-        Some((a, b)) => format!("[{}, {}]", format_number(a), format_number(b)),
+        Some((a, b)) => format!("[{}, {}]", Rounded(a), Rounded(b)),
         None => "nothing defined".into(),
     }
 }
@@ -159,9 +160,27 @@ pub struct ClipSource {
     pub metres_per_unit: f64,
     /// Seconds per frame in the file.
     pub frame_time: f64,
+    /// The file it was read from, as the script named it.
+    pub path: String,
 }
 
 impl ClipSource {
+    /// What the REPL's `:info` says of a clip: where it came from, its
+    /// frames and rate, units and joints (`mu`: the motion shown).
+    pub fn describe(&self, mu: &Mu) -> String {
+        let frames = mu
+            .span()
+            .map(|(a, b)| ((b - a) / self.frame_time).round() as usize + 1)
+            .unwrap_or(0);
+        format!(
+            "from {}: {frames} frames at {} Hz, {} m per file unit, {} joints",
+            self.path,
+            Rounded(1.0 / self.frame_time),
+            Rounded(self.metres_per_unit),
+            self.skeleton.joints.len()
+        )
+    }
+
     /// Whether the skeleton has a channel for every DOF of `mu`.
     pub fn covers(&self, mu: &Mu) -> bool {
         let names = self.skeleton.channel_names();
