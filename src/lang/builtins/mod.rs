@@ -19,6 +19,7 @@ pub mod core;
 pub mod dynamics;
 pub mod ik;
 pub mod joints;
+pub mod library;
 pub mod links;
 pub mod mechanics;
 pub mod mocap;
@@ -49,6 +50,7 @@ impl Registry {
         mocap::register(&mut r);
         opensim::register(&mut r);
         spacetime::register(&mut r);
+        library::register(&mut r);
         // Functions an embedder registers later are listed with the language.
         r.topic(crate::lang::topic::Topic::Language);
         r
