@@ -2,7 +2,7 @@
 //! engine with spline joints.
 //!
 //! Layers, each using only the ones listed before it (see ARCHITECTURE.md):
-//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `ik` → `ground` → `spacetime` → `io` → `graph` → `report` → `lang`.
+//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `ik` → `ground` → `library` → `spacetime` → `io` → `graph` → `report` → `lang`.
 //! Everything up to `io` is a library that knows nothing of the language.
 //! The report generator and the fixtures only it, the benches and tests use
 //! (`spacetime::fig8`, `spacetime::planar2`, `mocap::synth`) are behind the
@@ -17,6 +17,7 @@ pub mod ground;
 pub mod ik;
 pub mod io;
 pub mod lang;
+pub mod library;
 pub mod lie;
 pub mod mocap;
 pub mod model;

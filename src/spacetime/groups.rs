@@ -208,9 +208,17 @@ fn continuation<M: TorqueModel>(
         let mut obj = problem
             .objective(dofs.to_vec(), settings)?
             .with_prior(&scaled)?;
-        if let Some(ex) = &example
-            && !obj.with_example(problem.inputs, ex.shift, &ex.follow, ex.trust())?
-        {
+        let follows = match example.as_ref().map(|ex| (ex, &ex.clip)) {
+            None => true,
+            Some((ex, None)) => {
+                obj.with_example(problem.inputs, ex.shift, &ex.follow, ex.trust())?
+            }
+            // a library stretch: its own motion, already on the gap's clock
+            Some((ex, Some(clip))) => {
+                obj.with_example(&clip.inputs(), 0.0, &ex.follow, ex.trust())?
+            }
+        };
+        if !follows {
             example = None;
         }
         let above = x.clone();

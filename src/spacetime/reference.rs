@@ -12,8 +12,13 @@
 
 use super::error::SpError;
 use super::objective::GapDof;
-use crate::motion::Mu;
+use crate::library::Library;
+use crate::library::features::{KeyJoints, key_positions};
+use crate::mocap::bvh::Skeleton;
+use crate::motion::{Curve, Dof, Interval, Mu};
+use nalgebra::Vector3;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// Grid step (s) the motion is compared on: a capture's usual frame time.
 const STEP: f64 = 1.0 / 30.0;
@@ -72,6 +77,8 @@ pub struct Example {
     pub follow: Vec<usize>,
     /// The group's gap coordinates (followers or not).
     pub of: usize,
+    /// A library stretch (`example: lib`) instead of the motion `shift` away.
+    pub clip: Option<ClipStretch>,
 }
 
 impl Example {
@@ -235,13 +242,425 @@ pub fn find(
         mismatch: rho,
         follow,
         of: coords.len(),
+        clip: None,
     }))
+}
+
+/// `SP(…, example: lib)`: a clip library the example may come from, and the
+/// skeleton the motion drives (the gap's features are read through it).
+#[derive(Clone)]
+pub struct LibrarySource {
+    pub library: Arc<Library>,
+    pub skeleton: Arc<Skeleton>,
+    pub metres_per_unit: f64,
+}
+
+impl std::fmt::Debug for LibrarySource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LibrarySource({} clips)", self.library.clips.len())
+    }
+}
+
+/// Library stretches tried per gap: the index ranks them by their features,
+/// and the best of these by ρ (the same measure as the motion's own
+/// example's) is the one followed.
+const LIBRARY_CANDIDATES: usize = 5;
+
+/// Sampling step (s) of a library example on the gap's clock: fine enough
+/// that its cubic reproduces the clip's own 30–120 Hz curves.
+const EXAMPLE_STEP: f64 = 1.0 / 240.0;
+
+/// The library stretch an example is, laid on the gap's clock.
+#[derive(Clone, Debug)]
+pub struct ClipStretch {
+    pub name: String,
+    /// Clip time (s) at the gap's start.
+    pub time: f64,
+    /// Clip time per gap time.
+    pub warp: f64,
+    /// The index's feature mismatch ([`crate::library::Match::mismatch`]).
+    pub features: f64,
+    /// The stretch (with the context either side) on the gap's clock, its
+    /// root turned and moved in the floor plane to where the motion is at t0,
+    /// DOFs named as the body's coordinates.
+    pub motion: Arc<Mu>,
+    names: Arc<Vec<String>>,
+}
+
+impl PartialEq for ClipStretch {
+    fn eq(&self, o: &Self) -> bool {
+        (&self.name, self.time, self.warp, self.features) == (&o.name, o.time, o.warp, o.features)
+    }
+}
+
+impl ClipStretch {
+    /// q, q̇, q̈ of the body's coordinates at gap time t (those it has).
+    pub fn inputs(
+        &self,
+    ) -> impl Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + '_ {
+        move |t, q, v, a| {
+            for (i, n) in self.names.iter().enumerate() {
+                if let Some([x, dx, ddx]) = self
+                    .motion
+                    .sample(n, t)
+                    .map_err(|e| SpError::Evaluation(e.to_string()))?
+                {
+                    q[i] = x;
+                    v[i] = dx;
+                    a[i] = ddx;
+                }
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The example for a group of gaps from the motion itself (`self`), a
+/// library, or both (the lower ρ kept).
+pub fn choose(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    gaps: &[GapDof],
+    own: bool,
+    library: Option<&LibrarySource>,
+) -> Result<Option<Example>, SpError> {
+    let mine = if own {
+        find(m, names, rotation, gaps)?
+    } else {
+        None
+    };
+    let theirs = match library {
+        Some(l) => from_library(m, names, rotation, gaps, l)?,
+        None => None,
+    };
+    Ok(match (mine, theirs) {
+        (Some(a), Some(b)) => Some(if b.mismatch < a.mismatch { b } else { a }),
+        (a, b) => a.or(b),
+    })
+}
+
+/// The floor-plane map (rotation about the vertical, then translation) that
+/// takes a clip's pelvis at one frame onto the motion's at another.
+struct FloorMap {
+    cos: f64,
+    sin: f64,
+    from: Vector3<f64>,
+    to: Vector3<f64>,
+}
+
+impl FloorMap {
+    fn between(a: &[Vector3<f64>; 6], b: &[Vector3<f64>; 6]) -> FloorMap {
+        let flat = |p: &[Vector3<f64>; 6]| {
+            let c = (p[4] + p[5]) / 2.0;
+            let mut across = p[4] - p[5];
+            across.y = 0.0;
+            let n = across.norm().max(1e-12);
+            (Vector3::new(c.x, 0.0, c.z), across / n)
+        };
+        let (ca, ua) = flat(a);
+        let (cb, ub) = flat(b);
+        // (x, z) as x + i z: the turn taking ua to ub
+        FloorMap {
+            cos: ua.x * ub.x + ua.z * ub.z,
+            sin: ua.x * ub.z - ua.z * ub.x,
+            from: ca,
+            to: cb,
+        }
+    }
+    fn apply(&self, x: f64, z: f64) -> (f64, f64) {
+        let (dx, dz) = (x - self.from.x, z - self.from.z);
+        (
+            self.to.x + dx * self.cos - dz * self.sin,
+            self.to.z + dx * self.sin + dz * self.cos,
+        )
+    }
+}
+
+/// The best library stretch for `gaps`, scored like the motion's own
+/// example (ρ over the context, angles), or `None` when the motion has no
+/// context to match, its skeleton no key joints, or nothing matches within
+/// [`MAX_MISMATCH`].
+pub fn from_library(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    gaps: &[GapDof],
+    src: &LibrarySource,
+) -> Result<Option<Example>, SpError> {
+    let (Some(t0), Some(t1)) = (
+        gaps.iter().map(|g| g.t0).reduce(f64::min),
+        gaps.iter().map(|g| g.t1).reduce(f64::max),
+    ) else {
+        return Ok(None);
+    };
+    if !(t1 - t0 > 1e-9 && t1 - t0 <= MAX_GAP) {
+        return Ok(None);
+    }
+    let lib = &src.library;
+    let Ok(query) = lib.query(m, &src.skeleton, src.metres_per_unit, t0, t1) else {
+        return Ok(None);
+    };
+    let Ok(my_keys) = KeyJoints::find(&src.skeleton) else {
+        return Ok(None);
+    };
+    let Some(Some(mine)) =
+        key_positions(m, &src.skeleton, src.metres_per_unit, &my_keys, &[t0]).pop()
+    else {
+        return Ok(None);
+    };
+    let mut coords: Vec<usize> = gaps.iter().map(|g| g.coord).collect();
+    coords.sort_unstable();
+    coords.dedup();
+    let angles: Vec<usize> = coords.iter().copied().filter(|&c| rotation(c)).collect();
+    if angles.is_empty() {
+        return Ok(None);
+    }
+    let err = |e: String| SpError::Evaluation(e);
+    // the context: CONTEXT either side on the STEP grid, where m is defined
+    let reach = (CONTEXT / STEP).round() as i64;
+    let value = |n: &str, t: f64| m.sample_value(n, t).ok().flatten();
+    let context: Vec<f64> = (0..=reach)
+        .map(|k| t0 - k as f64 * STEP)
+        .chain((0..=reach).map(|k| t1 + k as f64 * STEP))
+        .filter(|&t| angles.iter().all(|&c| value(&names[c], t).is_some()))
+        .collect();
+    if context.len() < MIN_CONTEXT_SAMPLES {
+        return Ok(None);
+    }
+    let wrap = |d: f64| (d + PI).rem_euclid(2.0 * PI) - PI;
+    let mut spread = 0.0;
+    for &c in &angles {
+        let first = value(&names[c], context[0]).unwrap_or(0.0);
+        let rel: Vec<f64> = context
+            .iter()
+            .map(|&t| wrap(value(&names[c], t).unwrap_or(0.0) - first))
+            .collect();
+        let mean = rel.iter().sum::<f64>() / rel.len() as f64;
+        spread += rel.iter().map(|r| (r - mean) * (r - mean)).sum::<f64>();
+    }
+    if spread <= 0.0 {
+        return Ok(None);
+    }
+    let names_arc = Arc::new(names.to_vec());
+    let mut best: Option<Example> = None;
+    for cand in lib.match_gap(&query, LIBRARY_CANDIDATES) {
+        let entry = &lib.clips[cand.clip];
+        let clip = entry.motion().map_err(|e| err(e.0))?;
+        let Some(Some(theirs)) = key_positions(
+            &clip.mu,
+            &clip.skeleton,
+            clip.units.metres_per_unit,
+            &entry.keys,
+            &[cand.time],
+        )
+        .pop() else {
+            continue;
+        };
+        let map = FloorMap::between(&theirs, &mine);
+        let motion = laid_on_gap(&clip, &entry.keys, &cand, &map, m, names, &coords, (t0, t1))?;
+        let at = |c: usize, t: f64| motion.sample_value(&names[c], t).ok().flatten();
+        let mut e = 0.0;
+        for &c in &angles {
+            for &t in &context {
+                if let (Some(x), Some(y)) = (at(c, t), value(&names[c], t)) {
+                    let d = wrap(x - y);
+                    e += d * d;
+                } else {
+                    e = f64::INFINITY;
+                }
+            }
+        }
+        let rho = e / spread;
+        if !(rho <= MAX_MISMATCH) || best.as_ref().is_some_and(|b| b.mismatch <= rho) {
+            continue;
+        }
+        let joint = |c: usize| {
+            names[c]
+                .rsplit_once('.')
+                .map_or(names[c].as_str(), |(j, _)| j)
+        };
+        let close: Vec<bool> = coords
+            .iter()
+            .map(|&c| {
+                [t0, t1]
+                    .iter()
+                    .all(|&t| match (at(c, t), value(&names[c], t)) {
+                        (Some(x), Some(y)) => {
+                            let d = if rotation(c) { wrap(x - y) } else { x - y };
+                            d.abs() <= MAX_END_DIFFERENCE
+                        }
+                        _ => false,
+                    })
+            })
+            .collect();
+        let follow: Vec<usize> = coords
+            .iter()
+            .filter(|&&c| {
+                coords
+                    .iter()
+                    .zip(&close)
+                    .all(|(&o, &ok)| ok || joint(o) != joint(c))
+            })
+            .copied()
+            .collect();
+        if follow.is_empty() {
+            continue;
+        }
+        best = Some(Example {
+            shift: 0.0,
+            mismatch: rho,
+            follow,
+            of: coords.len(),
+            clip: Some(ClipStretch {
+                name: cand.name.clone(),
+                time: cand.time,
+                warp: cand.warp,
+                features: cand.mismatch,
+                motion: Arc::new(motion),
+                names: names_arc.clone(),
+            }),
+        });
+    }
+    Ok(best)
+}
+
+/// The joint that carries the body through the world: the first joint from
+/// the skeleton's root down to the hips with position channels that move
+/// (Bandai's all-zero `joint_Root` is skipped for its `Hips`).
+fn moving_root(clip: &crate::mocap::Clip, keys: &KeyJoints) -> Option<usize> {
+    let sk = &clip.skeleton;
+    let mut chain = vec![];
+    let mut j = Some(keys.hips[0]);
+    while let Some(i) = j {
+        chain.push(i);
+        j = sk.joints[i].parent;
+    }
+    let (lo, hi) = clip.mu.span()?;
+    chain.into_iter().rev().find(|&i| {
+        let jt = &sk.joints[i];
+        jt.channels.iter().any(|c| !c.is_rotation())
+            && jt.channels.iter().any(|c| {
+                let name = format!("{}.{}", jt.name, c.name());
+                let at = |k: usize| {
+                    clip.mu
+                        .sample_value(&name, lo + (hi - lo) * k as f64 / 8.0)
+                        .ok()
+                        .flatten()
+                };
+                (1..=8).any(|k| match (at(0), at(k)) {
+                    (Some(a), Some(b)) => (a - b).abs() > 1e-9,
+                    _ => false,
+                })
+            })
+    })
+}
+
+/// The stretch of `clip` a match names, resampled on the gap's clock over
+/// the gap and its context (clip time s + w (t − t0)), its moving root turned
+/// about the vertical and moved in the floor plane by `map`; only the gap
+/// coordinates. `m` gives the angles the root's turned Euler angles are
+/// taken nearest to.
+#[allow(clippy::too_many_arguments)]
+fn laid_on_gap(
+    clip: &crate::mocap::Clip,
+    keys: &KeyJoints,
+    cand: &crate::library::Match,
+    map: &FloorMap,
+    m: &Mu,
+    names: &[String],
+    coords: &[usize],
+    (t0, t1): (f64, f64),
+) -> Result<Mu, SpError> {
+    use crate::motion::rotation::{euler_joints, from_euler, to_euler_near};
+    use nalgebra::UnitQuaternion;
+    let ev = |e: crate::motion::MotionError| SpError::Evaluation(e.to_string());
+    let (lo, hi) = clip.mu.span().unwrap_or((0.0, 0.0));
+    let from = t0 - CONTEXT - 2.0 * STEP;
+    let n = ((t1 + CONTEXT + 2.0 * STEP - from) / EXAMPLE_STEP).ceil() as usize + 1;
+    let clock = |k: usize| {
+        let t = from + k as f64 * EXAMPLE_STEP;
+        (cand.time + cand.warp * (t - t0)).clamp(lo, hi)
+    };
+    let sample = |name: &str, k: usize| -> Result<f64, SpError> {
+        clip.mu
+            .sample_value(name, clock(k))
+            .map_err(ev)
+            .map(|v| v.unwrap_or(f64::NAN))
+    };
+    let series =
+        |name: &str| -> Result<Vec<f64>, SpError> { (0..n).map(|k| sample(name, k)).collect() };
+    let root = moving_root(clip, keys).map(|i| clip.skeleton.joints[i].name.clone());
+    let mut aligned: std::collections::HashMap<String, Vec<f64>> = Default::default();
+    if let Some(root) = &root {
+        let (xn, zn) = (format!("{root}.Xposition"), format!("{root}.Zposition"));
+        if let (Ok(xs), Ok(zs)) = (series(&xn), series(&zn)) {
+            let (xs, zs): (Vec<f64>, Vec<f64>) =
+                xs.iter().zip(&zs).map(|(&x, &z)| map.apply(x, z)).unzip();
+            aligned.insert(xn, xs);
+            aligned.insert(zn, zs);
+        }
+        // the root's orientation turned by the same angle about the vertical
+        let dofs: Vec<String> = clip.mu.names().map(String::from).collect();
+        let turn = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -map.sin.atan2(map.cos));
+        if let Some(ej) = euler_joints(dofs.iter().map(String::as_str))
+            .into_iter()
+            .find(|e| &e.joint == root)
+        {
+            let cols: Vec<Vec<f64>> = ej
+                .dofs
+                .iter()
+                .map(|d| series(d))
+                .collect::<Result<_, _>>()?;
+            let mut near: [f64; 3] = std::array::from_fn(|i| {
+                m.sample_value(&ej.dofs[i], t0)
+                    .ok()
+                    .flatten()
+                    .unwrap_or(cols[i][0])
+            });
+            // start at t0 (nearest m's own angles there), then outwards
+            let k0 = ((t0 - from) / EXAMPLE_STEP).round() as usize;
+            let mut out = vec![[f64::NAN; 3]; n];
+            let mut turned = |k: usize, near: &mut [f64; 3]| {
+                let q = turn * from_euler(ej.axes, [cols[0][k], cols[1][k], cols[2][k]]);
+                let e = to_euler_near(ej.axes, &q, *near);
+                *near = e;
+                out[k] = e;
+            };
+            let start = near;
+            for k in k0..n {
+                turned(k, &mut near);
+            }
+            near = start;
+            for k in (0..k0).rev() {
+                turned(k, &mut near);
+            }
+            for (i, d) in ej.dofs.iter().enumerate() {
+                aligned.insert(d.clone(), out.iter().map(|e| e[i]).collect());
+            }
+        }
+    }
+    let mut out = Mu::new();
+    for &c in coords {
+        let name = &names[c];
+        let v = match aligned.remove(name) {
+            Some(v) => v,
+            None => series(name)?,
+        };
+        if v.iter().any(|x| !x.is_finite()) {
+            continue;
+        }
+        let stop = from + (n - 1) as f64 * EXAMPLE_STEP;
+        let curve = Curve::samples(from, EXAMPLE_STEP, v).map_err(ev)?;
+        let iv = Interval::curve(curve, from, stop).map_err(ev)?;
+        out.insert(name.to_string(), Dof::new(vec![iv]).map_err(ev)?);
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::motion::{Curve, Dof, Interval};
     use crate::spacetime::EndState;
 
     /// A motion of `f` sampled at 30 Hz over [0, 6] s with a gap (2, 3).

@@ -32,6 +32,8 @@ pub struct SpOptions {
     pub root: RootFill,
     /// The kinematic prior added to ∫Στ² (`smoothness:`, `time_constant:`).
     pub prior: Prior,
+    /// A clip library the prior's example may come from (`example: lib`).
+    pub library: Option<super::reference::LibrarySource>,
 }
 
 /// The kinematic prior SP adds to Rose's ∫Στ² (see [`prior_weights`]):
@@ -204,6 +206,16 @@ impl fmt::Display for SpReport {
                     String::new()
                 },
                 match &g.example {
+                    Some(ex @ Example { clip: Some(c), .. }) => format!(
+                        "; prior follows clip `{}` from {:.3} s (warp {}) on {} of {} DOFs (mismatch {:.3}, features {:.3})",
+                        c.name,
+                        c.time,
+                        c.warp,
+                        ex.follow.len(),
+                        ex.of,
+                        ex.mismatch,
+                        c.features
+                    ),
                     Some(ex) => format!(
                         "; prior follows the motion {:+.3} s away on {} of {} DOFs (mismatch {:.3})",
                         ex.shift,
@@ -525,10 +537,14 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     };
     let rotation = |c: usize| !is_translation(model, c);
     let example = |group: &[GapDof]| -> Result<Option<Example>, SpError> {
-        if !opts.prior.example {
-            return Ok(None);
-        }
-        super::reference::find(&out, names, &rotation, group)
+        super::reference::choose(
+            &out,
+            names,
+            &rotation,
+            group,
+            opts.prior.example,
+            opts.library.as_ref(),
+        )
     };
     let prior = PriorTerm {
         weights: prior_weights(model, &out, &gaps, &opts.prior)?,

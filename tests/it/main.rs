@@ -30,6 +30,7 @@ mod lang_fuzz;
 mod lang_isolation;
 mod lang_motion;
 mod layers;
+mod library;
 mod lie;
 mod mechanisms;
 mod mocap_body;

@@ -20,6 +20,7 @@ pub mod dynamics;
 pub mod ground;
 pub mod ik;
 pub mod joints;
+pub mod library;
 pub mod links;
 pub mod mechanics;
 pub mod mocap;
@@ -51,6 +52,7 @@ impl Registry {
         ground::register(&mut r);
         opensim::register(&mut r);
         spacetime::register(&mut r);
+        library::register(&mut r);
         // Functions an embedder registers later are listed with the language.
         r.topic(crate::lang::topic::Topic::Language);
         r

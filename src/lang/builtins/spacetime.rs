@@ -12,15 +12,17 @@ use crate::lang::ast::Span;
 use crate::lang::busy::Busy;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult, did_you_mean};
 use crate::lang::eval::Evaluator;
-use crate::lang::host::motion::{Provenance, provenance};
+use crate::lang::host::motion::{Provenance, provenance, skeleton_of};
 use crate::lang::host::sp_report::report_of;
-use crate::lang::host::{Motion, SpReportValue};
+use crate::lang::host::{LibraryValue, Motion, SpReportValue};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::{Value, format_number};
+use crate::library::Library;
 use crate::model::Model;
 use crate::motion::Mu;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
+use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::{
     Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
     fill_hermite, sp, torque_energy,
@@ -180,7 +182,23 @@ fn root_fill(a: &mut Args) -> MxResult<RootFill> {
 
 /// `objective: "effort"` (default: ∫Στ² plus the kinematic prior) or `"torque"`
 /// (Rose's ∫Στ² alone), with `smoothness:` (λ) and `time_constant:` (T) of the prior.
-fn prior(a: &mut Args) -> MxResult<Prior> {
+/// The clip library in `example: lib` or `example: [lib, "self"]`.
+fn library_in(v: &Value) -> Option<Arc<Library>> {
+    let is_lib = |v: &Value| v.as_object::<LibraryValue>().map(|l| l.0.clone());
+    match v.as_list() {
+        Some(l)
+            if l.iter()
+                .all(|v| v.as_str() == Some("self") || is_lib(v).is_some()) =>
+        {
+            let libs: Vec<_> = l.iter().filter_map(is_lib).collect();
+            (libs.len() == 1).then(|| libs[0].clone())
+        }
+        Some(_) => None,
+        None => is_lib(v),
+    }
+}
+
+fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
     let mut p = Prior::default();
     if let Some(arg) = a.opt_named("objective") {
         match arg.value.as_str() {
@@ -245,16 +263,25 @@ fn prior(a: &mut Args) -> MxResult<Prior> {
         match arg.value.as_str() {
             Some("self") => p.example = true,
             Some("none") => p.example = false,
+            // a library (`example: lib`, `[lib, "self"]`): `library_option` reads it
+            _ if let Some(lib) = library_in(&arg.value) => {
+                p.example = arg
+                    .value
+                    .as_list()
+                    .is_some_and(|l| l.iter().any(|v| v.as_str() == Some("self")));
+                *library = Some(lib);
+            }
             _ => {
                 return Err(bad_option(
                     a,
                     &arg,
                     format!(
-                        "`example:` must be \"self\" or \"none\", found {}",
+                        "`example:` must be \"self\", \"none\", a clip library or [library, \"self\"], found {}",
                         arg.value.repr()
                     ),
                     "\"self\" (default): where the motion repeats (a walk, a run), the prior follows the stretch of it \
-                     whose frames around it best match the frames around the gap; \"none\": the plain prior",
+                     whose frames around it best match the frames around the gap; \"none\": the plain prior; a library (library(\"clips/\")): \
+                     the best stretch of its clips; [lib, \"self\"]: the better of the two",
                 ));
             }
         }
@@ -262,7 +289,12 @@ fn prior(a: &mut Args) -> MxResult<Prior> {
     Ok(p)
 }
 
-fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions> {
+fn sp_options(
+    a: &mut Args,
+    ev: &Evaluator,
+    model: &Model,
+    (m, marg): (&Mu, &ArgValue),
+) -> MxResult<SpOptions> {
     let mut o = SpOptions::default();
     let continuity = continuity(a)?;
     // Fewer free coefficients than are fixed at one end leave the optimiser
@@ -320,7 +352,24 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
     }
     o.support = support(a, model)?;
     o.root = root_fill(a)?;
-    o.prior = prior(a)?;
+    let mut library = None;
+    o.prior = prior(a, &mut library)?;
+    if let Some(library) = library {
+        // the gap's features are read through the skeleton m drives
+        let clip = skeleton_of(&marg.value, m, ev).ok_or_else(|| {
+            MxError::new(
+                ErrorKind::Value,
+                "`example: lib` needs the skeleton m drives, and no loaded clip's skeleton names all its DOFs",
+            )
+            .at(marg.span)
+            .help("load the .bvh the motion came from first")
+        })?;
+        o.library = Some(LibrarySource {
+            library,
+            skeleton: clip.skeleton.clone(),
+            metres_per_unit: clip.metres_per_unit,
+        });
+    }
     o.solve.cancel = ev.ctx.cancel.clone();
     Ok(o)
 }
@@ -328,7 +377,7 @@ fn sp_options(a: &mut Args, ev: &Evaluator, model: &Model) -> MxResult<SpOptions
 fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let (m, marg) = mu_arg(a, "m")?;
     let model = body_arg(a)?;
-    let mut opts = sp_options(a, ev, &model)?;
+    let mut opts = sp_options(a, ev, &model, (&m, &marg))?;
     let busy = Busy::start(
         "SP",
         "{spinner} {prefix} [{elapsed}] {bar:30} {pos}/{len} gap groups, {msg} (Ctrl-C cancels)",

@@ -248,6 +248,19 @@ impl Motion {
 }
 
 /// The provenance of a motion value, if it has one.
+/// The skeleton a motion value drives: the clip it was loaded from, or the
+/// last loaded clip that names all its DOFs (`match`, SP's `example: lib`).
+pub fn skeleton_of(
+    value: &Value,
+    mu: &Mu,
+    ev: &crate::lang::eval::Evaluator,
+) -> Option<Arc<ClipSource>> {
+    provenance(value)
+        .and_then(|p| p.clip.clone())
+        .filter(|c| c.covers(mu))
+        .or_else(|| ev.ctx.session.get::<LoadedClips>().find_for(mu))
+}
+
 pub fn provenance(v: &Value) -> Option<&Provenance> {
     v.attachment::<Provenance>()
 }

@@ -82,6 +82,14 @@ impl SpReportValue {
                                     ("shift", num(ex.shift)),
                                     ("mismatch", num(ex.mismatch)),
                                     (
+                                        "clip",
+                                        ex.clip
+                                            .as_ref()
+                                            .map_or(Value::Nil, |c| Value::str(&c.name)),
+                                    ),
+                                    ("time", ex.clip.as_ref().map_or(Value::Nil, |c| num(c.time))),
+                                    ("warp", ex.clip.as_ref().map_or(Value::Nil, |c| num(c.warp))),
+                                    (
                                         "dofs",
                                         Value::list(
                                             g.coords

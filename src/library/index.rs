@@ -1,0 +1,543 @@
+//! The library: its clips, every grid frame's features (normalised), and a
+//! k-d tree over the *before* vectors that answers a gap's query exactly.
+//!
+//! A stretch of clip c from grid frame s, L frames long, fills a gap
+//! [t0, t1] with mismatch (|b(s) − q_b|² + |a(s+L) − q_a|²) / (2·DIM): b
+//! and a the clip's normalised before and after vectors, q_b and q_a the
+//! gap's (at t0 and t1). The tree yields frames in order of the first term,
+//! a lower bound of the whole, so the search stops as soon as that bound
+//! passes the k-th best total: exact, and it reads only the frames whose
+//! arrival looks like the gap's (branch and bound over the tree's answer).
+
+use super::LibraryError;
+use super::features::{self, DIM, GROUPS, KeyJoints};
+use crate::mocap::bvh::{BvhFile, Units};
+use crate::mocap::{self, Clip};
+use kiddo::SquaredEuclidean;
+use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::num::NonZero;
+use std::path::PathBuf;
+
+/// What an index is built with; a saved index is refused by a `load` that
+/// asks for other settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// Grid rate (Hz) every clip is sampled on: a capture's usual 30 frames a
+    /// second, the in-betweening protocol's.
+    pub rate: f64,
+    /// Time warps a stretch may take: a stretch of w × the gap's length is
+    /// played in the gap (1: as captured).
+    pub warps: Vec<f64>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            rate: 30.0,
+            warps: vec![1.0],
+        }
+    }
+}
+
+impl Settings {
+    pub fn check(&self) -> Result<(), LibraryError> {
+        if !(self.rate.is_finite() && self.rate >= 1.0 && self.rate <= 1000.0) {
+            return Err(LibraryError::new(format!(
+                "rate must be between 1 and 1000 Hz, found {}",
+                self.rate
+            )));
+        }
+        if self.warps.is_empty()
+            || self
+                .warps
+                .iter()
+                .any(|w| !(w.is_finite() && (0.25..=4.0).contains(w)))
+        {
+            return Err(LibraryError::new(format!(
+                "warps must be a non-empty list of factors between 0.25 and 4, found {:?}",
+                self.warps
+            )));
+        }
+        Ok(())
+    }
+
+    /// Grid frames of trajectory the features look back or ahead.
+    pub fn horizon(&self) -> usize {
+        ((features::HORIZON * self.rate).round() as usize).max(1)
+    }
+}
+
+/// A clip handed to [`Library::build`].
+#[derive(Clone, Debug)]
+pub struct ClipInput {
+    pub name: String,
+    pub file: BvhFile,
+    pub metres_per_unit: f64,
+    /// The file it was read from, and a fingerprint of its bytes: a saved
+    /// index whose sources changed since is refused as stale.
+    pub source: Option<(PathBuf, u64)>,
+}
+
+/// One indexed clip.
+#[derive(Clone, Debug)]
+pub struct LibClip {
+    pub input: ClipInput,
+    pub keys: KeyJoints,
+    /// Time (s) of grid frame 0 (the clip's first frame).
+    pub start: f64,
+    /// Grid frames.
+    pub frames: usize,
+    /// Index of its frame 0 in the library's feature arrays.
+    pub offset: usize,
+}
+
+impl LibClip {
+    pub fn name(&self) -> &str {
+        &self.input.name
+    }
+    /// The clip as a motion (radians, metres), for SP's example.
+    pub fn motion(&self) -> Result<Clip, LibraryError> {
+        mocap::from_bvh(
+            &self.input.file,
+            Units::MetresPerUnit(self.input.metres_per_unit),
+        )
+        .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", self.input.name)))
+    }
+}
+
+/// A clip that was not indexed, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Skipped {
+    pub clip: String,
+    pub reason: String,
+}
+
+/// One library stretch for a gap.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Match {
+    /// Index of the clip in [`Library::clips`].
+    pub clip: usize,
+    pub name: String,
+    /// Clip time (s) where the stretch starts: its frame at the gap's start.
+    pub time: f64,
+    /// Its length (s) in clip time: warp × the gap's.
+    pub duration: f64,
+    /// Clip time per gap time (1: as captured).
+    pub warp: f64,
+    /// Mean squared normalised feature difference over both sides (0: the
+    /// clip arrives and leaves exactly as the gap's context does).
+    pub mismatch: f64,
+    /// Grid frame of the start in the clip.
+    pub frame: usize,
+}
+
+type Tree = ImmutableKdTree<f32, u32, DIM, 32>;
+
+/// The built index.
+pub struct Library {
+    pub settings: Settings,
+    pub clips: Vec<LibClip>,
+    pub skipped: Vec<Skipped>,
+    /// Per dimension: the mean subtracted and the group scale divided by.
+    pub mean: [f32; DIM],
+    pub scale: [f32; DIM],
+    /// Normalised before/after vectors of every grid frame (NaN: undefined,
+    /// too near the clip's start or end).
+    pub before: Vec<[f32; DIM]>,
+    pub after: Vec<[f32; DIM]>,
+    tree: Tree,
+    /// Global frame of each tree item.
+    tree_frames: Vec<u32>,
+}
+
+/// The gap's side of a match: its normalised before vector at t0 and after
+/// vector at t1, and its length.
+#[derive(Clone, Debug)]
+pub struct Query {
+    pub before: [f32; DIM],
+    pub after: [f32; DIM],
+    /// t1 − t0 (s).
+    pub duration: f64,
+}
+
+fn valid(v: &[f32; DIM]) -> bool {
+    v[0].is_finite()
+}
+
+fn dist2(a: &[f32; DIM], b: &[f32; DIM]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            let d = (*x as f64) - (*y as f64);
+            d * d
+        })
+        .sum()
+}
+
+/// Raw (unnormalised) features of a clip's grid, NaN where undefined.
+fn clip_features(
+    clip: &Clip,
+    keys: &KeyJoints,
+    settings: &Settings,
+) -> (f64, Vec<[f32; DIM]>, Vec<[f32; DIM]>) {
+    let (t0, t1) = clip.mu.span().unwrap_or((0.0, 0.0));
+    let n = ((t1 - t0) * settings.rate + 1e-6).floor() as usize + 1;
+    let times: Vec<f64> = (0..n)
+        .map(|k| (t0 + k as f64 / settings.rate).min(t1))
+        .collect();
+    let pos = features::key_positions(
+        &clip.mu,
+        &clip.skeleton,
+        clip.units.metres_per_unit,
+        keys,
+        &times,
+    );
+    let h = settings.horizon();
+    let nan = [f32::NAN; DIM];
+    let side = |dir: i64| -> Vec<[f32; DIM]> {
+        (0..n)
+            .map(|f| features::frame_features(&pos, f, dir, h, settings.rate).unwrap_or(nan))
+            .collect()
+    };
+    (t0, side(-1), side(1))
+}
+
+impl Library {
+    /// Indexes `clips`. Clips that cannot be matched (no key joints, too
+    /// short, unreadable) go to [`Library::skipped`] with the reason, beside
+    /// those the caller already skipped; an index with no clip is an error.
+    pub fn build(
+        clips: Vec<ClipInput>,
+        mut skipped: Vec<Skipped>,
+        settings: Settings,
+    ) -> Result<Library, LibraryError> {
+        settings.check()?;
+        if clips.is_empty() && skipped.is_empty() {
+            return Err(LibraryError::new(
+                "no clips: a library needs at least one clip (a folder of .bvh files or a list of motions)",
+            ));
+        }
+        let min_frames = 2 * settings.horizon() + 2;
+        let done: Vec<Result<(LibClip, Vec<[f32; DIM]>, Vec<[f32; DIM]>), Skipped>> = clips
+            .into_par_iter()
+            .map(|input| {
+                let skip = |reason: String| Skipped {
+                    clip: input.name.clone(),
+                    reason,
+                };
+                let keys = KeyJoints::find(&input.file.skeleton).map_err(skip)?;
+                let clip = mocap::from_bvh(&input.file, Units::MetresPerUnit(input.metres_per_unit))
+                    .map_err(|e| skip(e.to_string()))?;
+                let (start, b, a) = clip_features(&clip, &keys, &settings);
+                if b.len() < min_frames {
+                    return Err(skip(format!(
+                        "too short: {} frames at {} Hz, a clip needs {min_frames} (the features look {} s back and ahead)",
+                        b.len(),
+                        settings.rate,
+                        features::HORIZON
+                    )));
+                }
+                let frames = b.len();
+                Ok((
+                    LibClip {
+                        input,
+                        keys,
+                        start,
+                        frames,
+                        offset: 0,
+                    },
+                    b,
+                    a,
+                ))
+            })
+            .collect();
+        let mut kept = vec![];
+        let (mut before, mut after) = (vec![], vec![]);
+        for r in done {
+            match r {
+                Ok((mut c, b, a)) => {
+                    c.offset = before.len();
+                    before.extend(b);
+                    after.extend(a);
+                    kept.push(c);
+                }
+                Err(s) => skipped.push(s),
+            }
+        }
+        if kept.is_empty() {
+            let why: Vec<String> = skipped
+                .iter()
+                .take(5)
+                .map(|s| format!("`{}`: {}", s.clip, s.reason))
+                .collect();
+            return Err(LibraryError::new(format!(
+                "no clip could be indexed ({} skipped): {}",
+                skipped.len(),
+                why.join("; ")
+            )));
+        }
+        let (mean, scale) = normalisation(&before, &after);
+        let norm = |v: &mut [f32; DIM]| {
+            for d in 0..DIM {
+                v[d] = (v[d] - mean[d]) / scale[d];
+            }
+        };
+        before.par_iter_mut().for_each(norm);
+        after.par_iter_mut().for_each(norm);
+        Ok(Library::assemble(
+            settings, kept, skipped, mean, scale, before, after,
+        ))
+    }
+
+    /// The library from its parts, the tree built over the valid before
+    /// vectors (what `load` does after reading them).
+    pub(super) fn assemble(
+        settings: Settings,
+        clips: Vec<LibClip>,
+        skipped: Vec<Skipped>,
+        mean: [f32; DIM],
+        scale: [f32; DIM],
+        before: Vec<[f32; DIM]>,
+        after: Vec<[f32; DIM]>,
+    ) -> Library {
+        let tree_frames: Vec<u32> = (0..before.len() as u32)
+            .filter(|&f| valid(&before[f as usize]))
+            .collect();
+        let points: Vec<[f32; DIM]> = tree_frames.iter().map(|&f| before[f as usize]).collect();
+        let tree = Tree::new_from_slice(&points);
+        Library {
+            settings,
+            clips,
+            skipped,
+            mean,
+            scale,
+            before,
+            after,
+            tree,
+            tree_frames,
+        }
+    }
+
+    /// Grid frames indexed (all clips).
+    pub fn frames(&self) -> usize {
+        self.before.len()
+    }
+
+    /// Bytes the index holds in memory (features, tree, clip data), roughly.
+    pub fn memory_bytes(&self) -> usize {
+        let features = 2 * self.before.len() * DIM * 4;
+        let tree = self.tree_frames.len() * (DIM * 4 + 4 + 4);
+        let clips: usize = self
+            .clips
+            .iter()
+            .map(|c| c.input.file.values.len() * 8 + c.input.file.skeleton.joints.len() * 96)
+            .sum();
+        features + tree + clips
+    }
+
+    /// The gap's query, from `mu` driving `skeleton` around [t0, t1]: the
+    /// motion must be defined over the feature horizon before t0 and after t1.
+    pub fn query(
+        &self,
+        mu: &crate::motion::Mu,
+        skeleton: &crate::mocap::bvh::Skeleton,
+        metres_per_unit: f64,
+        t0: f64,
+        t1: f64,
+    ) -> Result<Query, LibraryError> {
+        if !(t0.is_finite() && t1.is_finite() && t1 > t0) {
+            return Err(LibraryError::new(format!(
+                "the gap must have t1 > t0, found [{t0}, {t1}]"
+            )));
+        }
+        let keys = KeyJoints::find(skeleton).map_err(|e| {
+            LibraryError::new(format!("the motion's skeleton cannot be matched: {e}"))
+        })?;
+        let h = self.settings.horizon();
+        let rate = self.settings.rate;
+        let grid = |from: f64| -> Vec<f64> { (0..=h).map(|k| from + k as f64 / rate).collect() };
+        let pos_b = features::key_positions(
+            mu,
+            skeleton,
+            metres_per_unit,
+            &keys,
+            &grid(t0 - h as f64 / rate),
+        );
+        let pos_a = features::key_positions(mu, skeleton, metres_per_unit, &keys, &grid(t1));
+        let side = |pos, f, dir, what: &str, at: f64| {
+            features::frame_features(pos, f, dir, h, rate).ok_or_else(|| {
+                LibraryError::new(format!(
+                    "the motion is not defined over the {:.3} s {what} {at} s: a match compares that much context",
+                    h as f64 / rate
+                ))
+            })
+        };
+        let mut before = side(&pos_b, h, -1, "before", t0)?;
+        let mut after = side(&pos_a, 0, 1, "after", t1)?;
+        for v in [&mut before, &mut after] {
+            for d in 0..DIM {
+                v[d] = (v[d] - self.mean[d]) / self.scale[d];
+            }
+        }
+        Ok(Query {
+            before,
+            after,
+            duration: t1 - t0,
+        })
+    }
+
+    /// Every (warp, stretch frames) the settings allow for a gap.
+    fn lengths(&self, q: &Query) -> Vec<(f64, usize)> {
+        self.settings
+            .warps
+            .iter()
+            .map(|&w| {
+                (
+                    w,
+                    (q.duration * w * self.settings.rate).round().max(1.0) as usize,
+                )
+            })
+            .collect()
+    }
+
+    /// The candidates starting at global frame `g` (one per warp), with
+    /// their totals, given its before distance `db`.
+    fn candidates_at(
+        &self,
+        q: &Query,
+        lengths: &[(f64, usize)],
+        g: usize,
+        db: f64,
+        out: &mut Vec<(f64, usize, usize)>,
+    ) {
+        let c = self.clip_of(g);
+        let end = self.clips[c].offset + self.clips[c].frames;
+        for (wi, &(_, len)) in lengths.iter().enumerate() {
+            let e = g + len;
+            if e < end && valid(&self.after[e]) {
+                out.push((db + dist2(&self.after[e], &q.after), g, wi));
+            }
+        }
+    }
+
+    fn clip_of(&self, g: usize) -> usize {
+        self.clips.partition_point(|c| c.offset <= g) - 1
+    }
+
+    /// The k best stretches, best first, by the k-d tree (exact: the same as
+    /// [`Library::match_brute`]). Stretches of one clip closer than the
+    /// feature horizon to a better one are left out (the same stretch a
+    /// frame later).
+    pub fn match_gap(&self, q: &Query, k: usize) -> Vec<Match> {
+        if k == 0 || self.tree_frames.is_empty() {
+            return vec![];
+        }
+        let lengths = self.lengths(q);
+        let mut n = (16 * k).max(64);
+        loop {
+            let n_ask = n.min(self.tree_frames.len());
+            let nn = self
+                .tree
+                .nearest_n::<SquaredEuclidean>(&q.before, NonZero::new(n_ask).unwrap());
+            let mut cands = vec![];
+            let mut bound = 0.0f64;
+            for x in &nn {
+                let g = self.tree_frames[x.item as usize] as usize;
+                let db = dist2(&self.before[g], &q.before);
+                bound = bound.max(db);
+                self.candidates_at(q, &lengths, g, db, &mut cands);
+            }
+            let chosen = self.select(cands, &lengths, k);
+            let exhausted = n_ask >= self.tree_frames.len();
+            // every frame not yet read has a before distance at least the
+            // tree's last one (up to f32 rounding), hence a total above it
+            let last = nn.last().map_or(0.0, |x| x.distance as f64);
+            let kth = chosen.last().map(|m| m.mismatch * (2 * DIM) as f64);
+            if exhausted
+                || (chosen.len() == k
+                    && kth.is_some_and(|kth| last.min(bound) > kth * (1.0 + 1e-4) + 1e-6))
+            {
+                return chosen;
+            }
+            n *= 4;
+        }
+    }
+
+    /// The k best stretches by reading every frame: the reference the tree
+    /// search is tested against.
+    pub fn match_brute(&self, q: &Query, k: usize) -> Vec<Match> {
+        let lengths = self.lengths(q);
+        let mut cands = vec![];
+        for g in 0..self.before.len() {
+            if valid(&self.before[g]) {
+                let db = dist2(&self.before[g], &q.before);
+                self.candidates_at(q, &lengths, g, db, &mut cands);
+            }
+        }
+        self.select(cands, &lengths, k)
+    }
+
+    fn select(
+        &self,
+        mut cands: Vec<(f64, usize, usize)>,
+        lengths: &[(f64, usize)],
+        k: usize,
+    ) -> Vec<Match> {
+        cands.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+        let h = self.settings.horizon();
+        let mut out: Vec<Match> = vec![];
+        for (total, g, wi) in cands {
+            if out.len() == k {
+                break;
+            }
+            let c = self.clip_of(g);
+            let frame = g - self.clips[c].offset;
+            if out
+                .iter()
+                .any(|m| m.clip == c && m.frame.abs_diff(frame) <= h)
+            {
+                continue;
+            }
+            let (warp, len) = lengths[wi];
+            out.push(Match {
+                clip: c,
+                name: self.clips[c].input.name.clone(),
+                time: self.clips[c].start + frame as f64 / self.settings.rate,
+                duration: len as f64 / self.settings.rate,
+                warp,
+                mismatch: total / (2 * DIM) as f64,
+                frame,
+            });
+        }
+        out
+    }
+}
+
+/// Per dimension, the mean over every valid vector, and per group the root
+/// mean variance of its dimensions (1 where a group never varies).
+fn normalisation(before: &[[f32; DIM]], after: &[[f32; DIM]]) -> ([f32; DIM], [f32; DIM]) {
+    let all = || before.iter().chain(after).filter(|v| valid(v));
+    let n = all().count().max(1) as f64;
+    let mut mean = [0f64; DIM];
+    for v in all() {
+        for d in 0..DIM {
+            mean[d] += v[d] as f64 / n;
+        }
+    }
+    let mut var = [0f64; DIM];
+    for v in all() {
+        for d in 0..DIM {
+            var[d] += (v[d] as f64 - mean[d]).powi(2) / n;
+        }
+    }
+    let mut scale = [1f32; DIM];
+    for (first, len) in GROUPS {
+        let s = (var[first..first + len].iter().sum::<f64>() / len as f64).sqrt();
+        for d in first..first + len {
+            scale[d] = if s > 1e-9 { s as f32 } else { 1.0 };
+        }
+    }
+    (mean.map(|m| m as f32), scale)
+}

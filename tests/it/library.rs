@@ -1,0 +1,516 @@
+//! The clip library (`mx::library`): the k-d tree search against brute
+//! force, a gap whose continuation is in the library, bad input, and
+//! `.mxlib` files.
+
+use crate::common;
+use mx::library::{self, ClipInput, Library, Settings, file};
+use mx::mocap::bvh::{self, BvhFile, Units};
+use std::path::{Path, PathBuf};
+
+fn mocap_dir() -> Option<PathBuf> {
+    common::shared_dir().map(|d| d.join("data").join("mocap"))
+}
+
+fn real_library(settings: Settings) -> Option<Library> {
+    let dir = mocap_dir()?;
+    let (clips, skipped) = library::clips_in_folder(&dir).unwrap();
+    Some(Library::build(clips, skipped, settings).unwrap())
+}
+
+/// A query for the gap [t0, t1] of clip `c` of the library itself.
+fn self_query(lib: &Library, c: usize, t0: f64, t1: f64) -> library::Query {
+    let clip = lib.clips[c].motion().unwrap();
+    lib.query(&clip.mu, &clip.skeleton, clip.units.metres_per_unit, t0, t1)
+        .unwrap()
+}
+
+fn assert_same(tree: &[library::Match], brute: &[library::Match], what: &str) {
+    assert_eq!(tree.len(), brute.len(), "{what}");
+    for (a, b) in tree.iter().zip(brute) {
+        assert_eq!(
+            (a.clip, a.frame, a.warp),
+            (b.clip, b.frame, b.warp),
+            "{what}"
+        );
+        assert!(
+            (a.mismatch - b.mismatch).abs() <= 1e-12 * (1.0 + b.mismatch),
+            "{what}"
+        );
+    }
+}
+
+#[test]
+fn the_tree_finds_what_brute_force_finds_on_the_shared_clips() {
+    let settings = Settings {
+        rate: 30.0,
+        warps: vec![0.8, 1.0, 1.25],
+    };
+    let Some(lib) = real_library(settings) else {
+        return;
+    };
+    // every shared clip is indexed (they all have feet and hands)
+    assert!(lib.skipped.is_empty(), "{:?}", lib.skipped);
+    let files = common::shared_files("mocap", ".bvh");
+    assert_eq!(lib.clips.len(), files.len());
+    for c in 0..lib.clips.len() {
+        let frames = lib.clips[c].frames;
+        for (at, len) in [(0.3, 0.5), (0.55, 1.0)] {
+            // on the library's 30 Hz grid, where the clip matches itself exactly
+            let t0 = lib.clips[c].start + (at * frames as f64).round() / 30.0;
+            if t0 + len + 0.5 > lib.clips[c].start + frames as f64 / 30.0 {
+                continue;
+            }
+            let q = self_query(&lib, c, t0, t0 + len);
+            let tree = lib.match_gap(&q, 5);
+            let brute = lib.match_brute(&q, 5);
+            let what = format!("{} at {t0:.2} s", lib.clips[c].name());
+            assert_same(&tree, &brute, &what);
+            // the clip itself, where the gap was cut, is the best match
+            assert_eq!(
+                (tree[0].clip, tree[0].warp),
+                (c, 1.0),
+                "{what}: {:?}",
+                tree[0]
+            );
+            assert!((tree[0].time - t0).abs() < 1e-4, "{what}: {:?}", tree[0]);
+            assert!(tree[0].mismatch < 1e-6, "{what}: {:?}", tree[0]);
+        }
+    }
+}
+
+/// Clips on the skeleton of `template` whose channels are smooth random
+/// curves (a few sines each), deterministic in `seed`.
+fn random_clips(template: &BvhFile, n: usize, seed: u64) -> Vec<ClipInput> {
+    let mut s = seed;
+    let mut rnd = move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((s >> 11) as f64) / ((1u64 << 53) as f64)
+    };
+    let nch = template.skeleton.channel_count();
+    (0..n)
+        .map(|i| {
+            let frames = 60 + (rnd() * 120.0) as usize;
+            let waves: Vec<[f64; 3]> = (0..nch)
+                .map(|_| [rnd() * 40.0, 0.5 + rnd() * 2.0, rnd() * 6.3])
+                .collect();
+            let rest = template.frame(0).to_vec();
+            let mut values = vec![0.0; frames * nch];
+            for f in 0..frames {
+                let t = f as f64 / 30.0;
+                for c in 0..nch {
+                    let [a, w, p] = waves[c];
+                    values[f * nch + c] = rest[c] + a * (w * t * std::f64::consts::TAU + p).sin();
+                }
+            }
+            ClipInput {
+                name: format!("random{i:03}"),
+                file: BvhFile {
+                    skeleton: template.skeleton.clone(),
+                    frame_time: 1.0 / 30.0,
+                    values,
+                },
+                metres_per_unit: 0.01,
+                source: None,
+            }
+        })
+        .collect()
+}
+
+fn template() -> Option<BvhFile> {
+    let p = common::shared_files("mocap", ".bvh").into_iter().next()?;
+    Some(bvh::read_file(&p).unwrap())
+}
+
+#[test]
+fn the_tree_finds_what_brute_force_finds_on_random_libraries() {
+    let Some(t) = template() else { return };
+    for seed in 1..4 {
+        let lib = Library::build(
+            random_clips(&t, 40, seed),
+            vec![],
+            Settings {
+                rate: 30.0,
+                warps: vec![0.9, 1.0, 1.1],
+            },
+        )
+        .unwrap();
+        // queries from other random clips: no exact answer anywhere
+        for (i, q) in random_clips(&t, 6, seed + 100).into_iter().enumerate() {
+            let clip = mx::mocap::from_bvh(&q.file, Units::MetresPerUnit(0.01)).unwrap();
+            let q = lib
+                .query(&clip.mu, &clip.skeleton, 0.01, 0.7, 1.2 + 0.1 * i as f64)
+                .unwrap();
+            for k in [1, 5, 20] {
+                assert_same(
+                    &lib.match_gap(&q, k),
+                    &lib.match_brute(&q, k),
+                    &format!("seed {seed} query {i} k {k}"),
+                );
+            }
+        }
+    }
+}
+
+/// A folder holding the given BVH files (name, text).
+fn folder(files: &[(&str, String)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (n, text) in files {
+        std::fs::write(dir.path().join(n), text).unwrap();
+    }
+    dir
+}
+
+const UNRELATED: &str = "HIERARCHY\nROOT Base\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation Xrotation Yrotation\n JOINT Arm\n {\n  OFFSET 0 10 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 10 0\n  }\n }\n}\nMOTION\nFrames: 2\nFrame Time: 0.0333333\n0 0 0 0 0 0\n0 0 0 0 0 0\n";
+
+#[test]
+fn bad_input_is_a_clear_error_or_a_reported_skip() {
+    let empty = tempfile::tempdir().unwrap();
+    let e = library::clips_in_folder(empty.path()).unwrap_err();
+    assert!(e.0.contains("no .bvh clips"), "{e}");
+    let e = Library::build(vec![], vec![], Settings::default())
+        .err()
+        .unwrap();
+    assert!(e.0.contains("no clips"), "{e}");
+    // an unrelated skeleton alone: nothing to index, and it says why
+    let d = folder(&[
+        ("arm.bvh", UNRELATED.into()),
+        ("junk.bvh", "not a bvh".into()),
+    ]);
+    let (clips, skipped) = library::clips_in_folder(d.path()).unwrap();
+    assert_eq!(skipped.len(), 1, "{skipped:?}");
+    let e = Library::build(clips, skipped, Settings::default())
+        .err()
+        .unwrap();
+    assert!(e.0.contains("`arm`") && e.0.contains("left foot"), "{e}");
+    assert!(e.0.contains("`junk`"), "{e}");
+    // beside a real clip: indexed, the others reported
+    let Some(t) = template() else { return };
+    let real = bvh::to_string(&t).unwrap();
+    let d = folder(&[
+        ("arm.bvh", UNRELATED.into()),
+        ("real.bvh", real),
+        ("junk.bvh", "not a bvh".into()),
+    ]);
+    let (clips, skipped) = library::clips_in_folder(d.path()).unwrap();
+    let lib = Library::build(clips, skipped, Settings::default()).unwrap();
+    assert_eq!(lib.clips.len(), 1);
+    let mut names: Vec<&str> = lib.skipped.iter().map(|s| s.clip.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["arm", "junk"]);
+    // bad settings, a query on an unrelated skeleton, a gap without context
+    for warps in [vec![], vec![0.0], vec![f64::NAN]] {
+        let s = Settings { rate: 30.0, warps };
+        assert!(Library::build(vec![], vec![], s).is_err());
+    }
+    let arm = bvh::parse(UNRELATED).unwrap();
+    let arm_clip = mx::mocap::from_bvh(&arm, Units::MetresPerUnit(0.01)).unwrap();
+    let e = lib
+        .query(&arm_clip.mu, &arm.skeleton, 0.01, 0.01, 0.02)
+        .unwrap_err();
+    assert!(e.0.contains("skeleton cannot be matched"), "{e}");
+    let clip = lib.clips[0].motion().unwrap();
+    let e = lib
+        .query(&clip.mu, &clip.skeleton, 0.01, 0.1, 0.5)
+        .unwrap_err();
+    assert!(e.0.contains("not defined over"), "{e}");
+    let e = lib
+        .query(&clip.mu, &clip.skeleton, 0.01, 1.0, 1.0)
+        .unwrap_err();
+    assert!(e.0.contains("t1 > t0"), "{e}");
+}
+
+fn saved(lib: &Library, dir: &Path) -> PathBuf {
+    let p = dir.join("x.mxlib");
+    file::save(lib, &p).unwrap();
+    p
+}
+
+#[test]
+fn a_saved_index_loads_back_and_answers_the_same() {
+    let Some(lib) = real_library(Settings::default()) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let p = saved(&lib, dir.path());
+    let back = file::load(&p, Some(&Settings::default())).unwrap();
+    assert_eq!(back.clips.len(), lib.clips.len());
+    assert_eq!(
+        (back.before.len(), back.mean, back.scale),
+        (lib.before.len(), lib.mean, lib.scale)
+    );
+    for c in [0, lib.clips.len() / 2] {
+        let t0 = lib.clips[c].start + 1.0;
+        let q = self_query(&lib, c, t0, t0 + 0.6);
+        let qb = self_query(&back, c, t0, t0 + 0.6);
+        assert_same(&back.match_gap(&qb, 5), &lib.match_gap(&q, 5), "loaded");
+    }
+    // the file is the same bytes written again
+    assert_eq!(file::to_bytes(&back).unwrap(), std::fs::read(&p).unwrap());
+}
+
+#[test]
+fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
+    let Some(t) = template() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("clips");
+    std::fs::create_dir(&src).unwrap();
+    let clip_path = src.join("walk.bvh");
+    std::fs::write(&clip_path, bvh::to_string(&t).unwrap()).unwrap();
+    let (clips, skipped) = library::clips_in_folder(&src).unwrap();
+    let lib = Library::build(clips, skipped, Settings::default()).unwrap();
+    let p = saved(&lib, dir.path());
+    let good = std::fs::read(&p).unwrap();
+    let load_bytes = |b: &[u8]| {
+        std::fs::write(&p, b).unwrap();
+        file::load(&p, None).err().map(|e| e.0).unwrap_or_default()
+    };
+    // one byte changed anywhere, or the file cut short
+    for at in [20, good.len() / 2, good.len() - 20] {
+        let mut b = good.clone();
+        b[at] ^= 0x40;
+        assert!(load_bytes(&b).contains("damaged"), "byte {at}");
+    }
+    assert!(load_bytes(&good[..good.len() - 100]).contains("damaged"));
+    assert!(load_bytes(b"MXLIB\n").contains("damaged"));
+    assert!(load_bytes(b"HIERARCHY").contains("not an mx clip library"));
+    let mut b = good.clone();
+    b[6] = 99;
+    assert!(load_bytes(&b).contains("version 99"));
+    std::fs::write(&p, &good).unwrap();
+    let other = Settings {
+        rate: 60.0,
+        warps: vec![1.0],
+    };
+    let e = file::load(&p, Some(&other)).err().unwrap();
+    assert!(e.0.contains("other settings"), "{e}");
+    assert!(file::load(&p, Some(&Settings::default())).is_ok());
+    // the source changed since: stale; gone: the index stands alone
+    let mut changed = t.clone();
+    changed.values[5] += 1.0;
+    std::fs::write(&clip_path, bvh::to_string(&changed).unwrap()).unwrap();
+    let e = file::load(&p, None).err().unwrap();
+    assert!(e.0.contains("stale") && e.0.contains("`walk`"), "{e}");
+    std::fs::remove_file(&clip_path).unwrap();
+    assert_eq!(file::load(&p, None).unwrap().clips.len(), 1);
+}
+
+/// Runs `script` with `mx run` in `dir`.
+fn mx_run(dir: &Path, script: &str) -> std::process::Output {
+    std::fs::write(dir.join("main.mx"), script).unwrap();
+    std::process::Command::new(env!("CARGO_BIN_EXE_mx"))
+        .args(["run", "main.mx"])
+        .current_dir(dir)
+        .output()
+        .expect("runs mx")
+}
+
+fn script_ok(dir: &Path, script: &str) -> String {
+    let o = mx_run(dir, script);
+    assert!(
+        o.status.success(),
+        "script failed:\n{script}\n--- stderr:\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn a_killed_save_leaves_the_old_file() {
+    let Some(mocap) = mocap_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let src = mocap.display().to_string();
+    // the old file: a one-clip library
+    let one = common::shared_files("mocap", ".bvh")[0]
+        .display()
+        .to_string();
+    script_ok(
+        dir.path(),
+        &format!("save(library([\"{one}\"]), \"x.mxlib\")"),
+    );
+    let old = std::fs::read(dir.path().join("x.mxlib")).unwrap();
+    // saves of the whole folder, killed at different moments: the file is
+    // always the old one or a whole new one, never a part
+    std::fs::write(
+        dir.path().join("main.mx"),
+        format!("let lib = library(\"{src}\")\nsave(lib, \"x.mxlib\")\nsave(lib, \"x.mxlib\")\nsave(lib, \"x.mxlib\")"),
+    )
+    .unwrap();
+    let mut saw_old = false;
+    for ms in [50, 300, 800, 1500, 3000] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_mx"))
+            .args(["run", "main.mx"])
+            .current_dir(dir.path())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+        child.kill().ok();
+        child.wait().unwrap();
+        let now = std::fs::read(dir.path().join("x.mxlib")).unwrap();
+        saw_old |= now == old;
+        let lib = file::load(&dir.path().join("x.mxlib"), None)
+            .unwrap_or_else(|e| panic!("killed after {ms} ms: {e}"));
+        assert!(lib.clips.len() == 1 || now != old);
+    }
+    assert!(saw_old, "no kill landed before the first save finished");
+}
+
+#[test]
+fn the_language_forms_work_as_written() {
+    let Some(mocap) = mocap_dir() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let src = mocap.display().to_string();
+    let walk = mocap
+        .join("bandai1_walk_normal_001.bvh")
+        .display()
+        .to_string();
+    let run = mocap
+        .join("bandai1_run_normal_001.bvh")
+        .display()
+        .to_string();
+    let out = script_ok(
+        dir.path(),
+        &format!(
+            "let lib = library(\"{src}\")\n\
+             print(lib)\n\
+             let walk = load(\"{walk}\")\n\
+             let found = match(lib, walk, 1s, 1.5s)\n\
+             print(len(found), found[0].clip, found[0].time, found[0].warp, found[0].mismatch)\n\
+             save(lib, \"x.mxlib\")\n\
+             let back = load(\"x.mxlib\")\n\
+             print(match(back, walk, 1s, 1.5s, k: 2)[0].clip)\n\
+             let run = load(\"{run}\")\n\
+             let two = library([walk, run], warps: [0.9, 1, 1.1])\n\
+             print(two.clips, two.warps)\n\
+             let gapped = clip(0s, 1s, walk) + clip(1.5s, 3s, walk)\n\
+             let b = body_of(walk)\n\
+             let filled = SP(gapped, body: b, example: two, samples: 8, iterations: 30)\n\
+             print(sp_report(filled).groups[0].example.clip)\n\
+             let both = SP(gapped, body: b, example: [two, \"self\"], samples: 8, iterations: 30)\n\
+             print(sp_report(both).groups[0].example != nil)"
+        ),
+    );
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].starts_with("Library: 14 clips"), "{out}");
+    assert!(
+        lines[1].starts_with("5 bandai1_walk_normal_001 1 1 0"),
+        "{out}"
+    );
+    assert_eq!(lines[2], "bandai1_walk_normal_001", "{out}");
+    assert_eq!(lines[3], "[\"clip1\", \"clip2\"] [0.9, 1, 1.1]", "{out}");
+    assert_eq!(lines[4], "clip1", "{out}");
+    assert_eq!(lines[5], "true", "{out}");
+    // bad input: a clear error, no panic
+    for (script, says) in [
+        (
+            "library(\"nowhere\")".to_string(),
+            "cannot read the clip folder",
+        ),
+        (format!("library(\"{src}\", warps: [])"), "warps must be"),
+        ("load(\"x.bvh.mxlib\")".into(), "cannot read"),
+        (
+            format!("let w = load(\"{walk}\")\nmatch(load(\"x.mxlib\"), w, 0.1s, 0.5s)"),
+            "not defined over",
+        ),
+        ("save(1, \"y.mxlib\")".into(), "holds a clip library"),
+        ("load(\"x.mxlib\", rate: 60)".into(), "other settings"),
+    ] {
+        let o = mx_run(dir.path(), &script);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(says), "{script}: {err}");
+        assert!(!err.contains("panicked"), "{script}: {err}");
+    }
+}
+
+/// A gap whose true continuation is in the library, as another clip's name,
+/// is filled from it: within 1 cm of the capture at every joint and frame.
+#[cfg(feature = "report")]
+#[test]
+fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
+    use mx::report::inbetween::{Case, RootMode};
+    use mx::spacetime::reference::LibrarySource;
+    use mx::spacetime::{Prior, SpOptions, sp};
+    use std::sync::Arc;
+    for path in common::shared_files("mocap", ".bvh") {
+        let case = Case::load(&path).unwrap();
+        let file = bvh::read_file(&path).unwrap();
+        let mpu = bvh::resolve_units(Units::Auto, &file.skeleton)
+            .unwrap()
+            .metres_per_unit;
+        // the library: this clip under another name, beside the others
+        let (mut clips, skipped) = library::clips_in_folder(&path.parent().unwrap()).unwrap();
+        clips.retain(|c| c.name != case.name);
+        clips.push(ClipInput {
+            name: "the same, renamed".into(),
+            file: file.clone(),
+            metres_per_unit: mpu,
+            source: None,
+        });
+        let lib = Arc::new(Library::build(clips, skipped, Settings::default()).unwrap());
+        // a half-second gap in the middle, with a second of context
+        let per_s = (1.0 / case.frame_time).round() as usize;
+        let (context, gap) = (per_s, per_s / 2);
+        if case.frames < 2 * context + gap + 2 * per_s {
+            continue;
+        }
+        // the gap starts on the library's 30 Hz grid (120 Hz clips: every 4th frame)
+        let step = (per_s / 30).max(1);
+        let start = (case.frames / 2 - context - gap / 2) / step * step;
+        let m = case.cut(start, context, gap, RootMode::Given).unwrap();
+        let opts = SpOptions {
+            library: Some(LibrarySource {
+                library: lib,
+                skeleton: Arc::new(file.skeleton.clone()),
+                metres_per_unit: mpu,
+            }),
+            prior: Prior {
+                example: false,
+                ..Prior::default()
+            },
+            ..Default::default()
+        };
+        let (filled, report) = sp(&m, &case.body, &opts).unwrap();
+        let ex = report.groups[0].example.as_ref().expect("an example");
+        let c = ex.clip.as_ref().expect("from the library");
+        assert_eq!(c.name, "the same, renamed", "{}", case.name);
+        let t0 = (start + context) as f64 * case.frame_time;
+        assert!(
+            (c.time - t0).abs() < 1e-4 && c.warp == 1.0,
+            "{}: {c:?}",
+            case.name
+        );
+        let times: Vec<f64> = (start + context..start + context + gap)
+            .map(|k| k as f64 * case.frame_time)
+            .collect();
+        let got = mx::mocap::positions_at(
+            &filled,
+            &case.body,
+            times.clone(),
+            mx::mocap::Missing::Error,
+        )
+        .unwrap();
+        let want =
+            mx::mocap::positions_at(&case.capture, &case.body, times, mx::mocap::Missing::Error)
+                .unwrap();
+        let worst = got
+            .points
+            .iter()
+            .zip(&want.points)
+            .flat_map(|(a, b)| a.iter().zip(b).map(|(p, q)| (p - q).norm()))
+            .fold(0.0f64, f64::max);
+        println!(
+            "{}: worst {:.2} mm, mismatch {:.2e}",
+            case.name,
+            worst * 1e3,
+            ex.mismatch
+        );
+        assert!(
+            worst < 0.01,
+            "{}: {:.2} cm from the capture",
+            case.name,
+            worst * 100.0
+        );
+    }
+}
