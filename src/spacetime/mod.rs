@@ -35,7 +35,9 @@ pub mod reference;
 pub use progress::{Progress, ProgressEvent};
 pub mod sp;
 pub mod support;
-pub use sp::{Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp, torque_energy};
+pub use sp::{
+    PinnedRoot, Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp, torque_energy,
+};
 pub use support::HeldFrame;
 pub mod cyclify;
 pub use cyclify::{CyclifyOptions, CyclifyReport, cyclify, loop_motion};

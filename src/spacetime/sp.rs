@@ -98,9 +98,16 @@ impl Prior {
 /// `SP(…, root: …)`: how a gap in the root's horizontal position is filled.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum RootFill {
+    /// Per gap, [`RootFill::Pinned`] when the two sides look like one
+    /// recording (the recorded x–z displacement across the gap is within
+    /// [`root_tolerance`] of what the end velocities predict), otherwise
+    /// [`RootFill::Shift`] (`"auto"`, the default): a hole cut inside one
+    /// recording keeps the frames after it where they were recorded, two
+    /// recordings joined are made to continue each other.
+    #[default]
+    Auto,
     /// Rose §3.2.1: x–z from the interpolated velocities, and the motion after
     /// the gap translated to continue from where that path ends (`"shift"`).
-    #[default]
     Shift,
     /// The motion after the gap stays where it was; the root's x–z is the
     /// cubic Hermite curve between the two sides (`"pinned"`: in-betweening,
@@ -136,6 +143,37 @@ pub struct RootShift {
     pub shift: Vec<(String, f64)>,
 }
 
+/// A gap whose root x–z was pinned: the motion after it stays where it was.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PinnedRoot {
+    pub t0: f64,
+    pub t1: f64,
+    /// `true` when `root: "auto"` chose it (one recording), `false` when asked for.
+    pub auto: bool,
+    /// How far (m) the recorded x–z displacement across the gap is from the
+    /// one the end velocities predict, T (v₀ + v₁)/2 (Rose's path).
+    pub mismatch: f64,
+    /// The largest mismatch `"auto"` pins ([`root_tolerance`]).
+    pub tolerance: f64,
+}
+
+/// Fixed part (m) of the largest mismatch [`RootFill::Auto`] pins.
+pub const ROOT_TOLERANCE_FIXED: f64 = 0.5;
+/// Part of the predicted displacement added to [`ROOT_TOLERANCE_FIXED`].
+pub const ROOT_TOLERANCE_RELATIVE: f64 = 0.5;
+
+/// The largest mismatch between the recorded and the predicted x–z
+/// displacement across a gap (both in m) that [`RootFill::Auto`] takes for one
+/// recording: 0.5 m + half the predicted displacement. Why: inside one
+/// recording the velocities at the ends mispredict a walk's displacement by
+/// 21 cm over 0.5 s and 38 cm over 1 s (a step changes speed within the gap;
+/// Bandai walks, issue 25); two recordings joined start wherever each was
+/// captured in the room, metres apart, unless an animator lined them up, in
+/// which case keeping them where they are is what was asked.
+pub fn root_tolerance(predicted: f64) -> f64 {
+    ROOT_TOLERANCE_FIXED + ROOT_TOLERANCE_RELATIVE * predicted
+}
+
 /// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Undefined {
@@ -154,6 +192,8 @@ pub struct SpReport {
     pub undefined: Vec<Undefined>,
     /// Support frames held by IK (Rose §3.2.2), one entry per frame and gap.
     pub support: Vec<HeldFrame>,
+    /// Gaps whose root x–z was pinned (the motion after them not moved).
+    pub pinned: Vec<PinnedRoot>,
     /// Translation DOFs constant on both sides of their gap (bone offsets),
     /// held at that constant rather than optimised.
     pub constant: Vec<Undefined>,
@@ -228,6 +268,25 @@ impl fmt::Display for SpReport {
                 r.t0,
                 r.t1,
                 s.join(", ")
+            )?;
+        }
+        for p in &self.pinned {
+            writeln!(
+                f,
+                "root over [{:.4}, {:.4}] s: pinned, the motion after the gap stays where it was ({}; recorded x–z displacement {:.3} m from the end velocities' prediction{})",
+                p.t0,
+                p.t1,
+                if p.auto {
+                    "root: \"auto\" took both sides for one recording"
+                } else {
+                    "root: \"pinned\""
+                },
+                p.mismatch,
+                if p.auto {
+                    format!(", at most {:.3} m", p.tolerance)
+                } else {
+                    String::new()
+                }
             )?;
         }
         for h in &self.support {
@@ -385,6 +444,14 @@ fn fill_root(
     report: &mut SpReport,
 ) -> Result<(), SpError> {
     let names = model.coordinate_names();
+    let pinned = pinned_gaps(m, model, root, how)?;
+    let is_pinned = |t0: f64, t1: f64| {
+        pinned.iter().any(|p| {
+            (p.t0 - t0).abs() <= crate::motion::time_tol(t0)
+                && (p.t1 - t1).abs() <= crate::motion::time_tol(t1)
+        })
+    };
+    report.pinned.extend(pinned.iter().cloned());
     for &c in &root.all {
         let name = &names[c];
         let Some(dof) = m.get(name) else { continue };
@@ -393,7 +460,7 @@ fn fill_root(
             let a = end_state(m, name, t0)?;
             let b = end_state(m, name, t1)?;
             let curve;
-            if root.horizontal.contains(&c) && how == RootFill::Shift {
+            if root.horizontal.contains(&c) && !is_pinned(t0, t1) {
                 // one horizontal component of p(t); y of RootTransition is unused here
                 let rt = RootTransition::new(t0, t1, [a.q, 0.0], [a.v, 0.0], [b.v, 0.0], a, b)?;
                 let shift = rt.end_xz()[0] - b.q;
@@ -432,6 +499,62 @@ fn fill_root(
         }
     }
     Ok(())
+}
+
+/// The gaps of the root's horizontal coordinates that keep the motion after
+/// them in place: all of them for [`RootFill::Pinned`], none for
+/// [`RootFill::Shift`], and for [`RootFill::Auto`] those whose recorded x–z
+/// displacement is within [`root_tolerance`] of T (v₀ + v₁)/2. Horizontal
+/// coordinates gapped over the same span are judged together (their vector).
+fn pinned_gaps(
+    m: &Mu,
+    model: &Model,
+    root: &RootCoords,
+    how: RootFill,
+) -> Result<Vec<PinnedRoot>, SpError> {
+    let names = model.coordinate_names();
+    // per gap span: (squared mismatch, squared predicted displacement)
+    let mut spans: Vec<(f64, f64, f64, f64)> = vec![];
+    for &c in &root.horizontal {
+        let Some(dof) = m.get(&names[c]) else {
+            continue;
+        };
+        for (t0, t1) in dof.gaps() {
+            let a = end_state(m, &names[c], t0)?;
+            let b = end_state(m, &names[c], t1)?;
+            let predicted = (t1 - t0) * (a.v + b.v) / 2.0;
+            let off = (b.q - a.q) - predicted;
+            let same = |s: &&mut (f64, f64, f64, f64)| {
+                (s.0 - t0).abs() <= crate::motion::time_tol(t0)
+                    && (s.1 - t1).abs() <= crate::motion::time_tol(t1)
+            };
+            match spans.iter_mut().find(same) {
+                Some(s) => {
+                    s.2 += off * off;
+                    s.3 += predicted * predicted;
+                }
+                None => spans.push((t0, t1, off * off, predicted * predicted)),
+            }
+        }
+    }
+    Ok(spans
+        .into_iter()
+        .filter_map(|(t0, t1, off2, pred2)| {
+            let (mismatch, tolerance) = (off2.sqrt(), root_tolerance(pred2.sqrt()));
+            let p = |auto| PinnedRoot {
+                t0,
+                t1,
+                auto,
+                mismatch,
+                tolerance,
+            };
+            match how {
+                RootFill::Shift => None,
+                RootFill::Pinned => Some(p(false)),
+                RootFill::Auto => (mismatch <= tolerance).then(|| p(true)),
+            }
+        })
+        .collect())
 }
 
 /// Inputs of the objective from a motion: every body coordinate sampled at t,
