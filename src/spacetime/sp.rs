@@ -4,6 +4,7 @@
 //! write the curves back into the motion. Also the Hermite baseline
 //! (`fill(m, "hermite")`) and the torque energy of a motion.
 
+use super::contact::{Contact, ContactPhase};
 use super::error::{SpError, invalid};
 use super::groups::{PriorTerm, Problem, solve_all};
 use super::objective::{GapDof, Inputs, TransitionSettings};
@@ -32,6 +33,12 @@ pub struct SpOptions {
     pub root: RootFill,
     /// The kinematic prior added to ∫Στ² (`smoothness:`, `time_constant:`).
     pub prior: Prior,
+    /// Foot contact planned per gap (`contact:`); used with `support: "auto"`,
+    /// which it replaces (see [`super::contact`]).
+    pub contact: Contact,
+    /// The floor's height along −gravity (`floor:`); `None`: the lowest
+    /// contact point of the motion's recorded part.
+    pub floor: Option<f64>,
 }
 
 /// The kinematic prior SP adds to Rose's ∫Στ² (see [`prior_weights`]):
@@ -174,6 +181,17 @@ pub fn root_tolerance(predicted: f64) -> f64 {
     ROOT_TOLERANCE_FIXED + ROOT_TOLERANCE_RELATIVE * predicted
 }
 
+/// The contact schedule of one gap (`contact:`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GapContacts {
+    pub t0: f64,
+    pub t1: f64,
+    /// The floor's height along −gravity (m).
+    pub floor: f64,
+    /// Every contact frame near the floor around the gap, planted or not.
+    pub phases: Vec<ContactPhase>,
+}
+
 /// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Undefined {
@@ -194,6 +212,8 @@ pub struct SpReport {
     pub support: Vec<HeldFrame>,
     /// Gaps whose root x–z was pinned (the motion after them not moved).
     pub pinned: Vec<PinnedRoot>,
+    /// Per gap, the contact schedule (`contact:` other than `"none"`).
+    pub contacts: Vec<GapContacts>,
     /// Translation DOFs constant on both sides of their gap (bone offsets),
     /// held at that constant rather than optimised.
     pub constant: Vec<Undefined>,
@@ -301,6 +321,36 @@ impl fmt::Display for SpReport {
                 h.moved,
                 h.moved_before
             )?;
+        }
+        for g in &self.contacts {
+            for c in &g.phases {
+                if c.plants.is_empty() {
+                    writeln!(
+                        f,
+                        "contact {} over [{:.4}, {:.4}] s: not planted (kept above the floor at {:.4} m)",
+                        c.frame, g.t0, g.t1, g.floor
+                    )?;
+                }
+                for p in &c.plants {
+                    writeln!(
+                        f,
+                        "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){}",
+                        c.frame,
+                        g.t0,
+                        g.t1,
+                        p.t0,
+                        p.t1,
+                        p.p0.x,
+                        p.p0.y,
+                        p.p0.z,
+                        if (p.p1 - p.p0).norm() > 0.0 {
+                            format!(" to ({:.3}, {:.3}, {:.3})", p.p1.x, p.p1.y, p.p1.z)
+                        } else {
+                            String::new()
+                        }
+                    )?;
+                }
+            }
         }
         for h in &self.hermite {
             writeln!(
@@ -848,6 +898,9 @@ fn hold_supports(
     report: &mut SpReport,
 ) -> Result<Vec<GapDof>, SpError> {
     use super::support::{self, SupportObjective};
+    if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
+        return hold_contacts(m, model, gravity, opts, gaps, report);
+    }
     let named = match &opts.support {
         Support::Off => return Ok(gaps),
         Support::Named(names) => Some(support::named(model, names)?),
@@ -953,6 +1006,155 @@ fn hold_supports(
                 .dofs
                 .get_mut(&names[gap.coord])
                 .ok_or_else(|| invalid("support DOF vanished"))?;
+            insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
+        }
+    }
+    Ok(left)
+}
+
+/// Every coordinate at t (NaN where undefined).
+fn configuration_at(m: &Mu, names: &[String], t: f64) -> Result<Vec<f64>, SpError> {
+    let mut q = vec![f64::NAN; names.len()];
+    for (i, n) in names.iter().enumerate() {
+        if let Some([x, _, _]) = m.sample(n, t).map_err(motion_err)? {
+            q[i] = x;
+        }
+    }
+    Ok(q)
+}
+
+/// Seconds between the poses the default floor is read from.
+const FLOOR_STEP: f64 = 1.0 / 30.0;
+
+/// Foot contact (`contact:`, see [`super::contact`]): per group of
+/// overlapping gaps, plan each contact frame's plants from the motion around
+/// it, solve the gap DOFs on the chains of the planted frames by IK (planted
+/// frames held, every contact frame on those chains kept at or above the
+/// floor) and write those curves into `m`. Returns the gaps left for the
+/// spacetime solve.
+fn hold_contacts(
+    m: &mut Mu,
+    model: &Model,
+    gravity: &Vector3<f64>,
+    opts: &SpOptions,
+    gaps: Vec<GapDof>,
+    report: &mut SpReport,
+) -> Result<Vec<GapDof>, SpError> {
+    use super::contact::{self, Context};
+    use super::support::{self, HeldFrame, SupportObjective};
+    if gravity.norm() == 0.0 {
+        return Ok(gaps); // no gravity, no floor: nothing stands on anything
+    }
+    let up = -gravity / gravity.norm();
+    let names = model.coordinate_names();
+    let (candidates, named) = match &opts.contact {
+        Contact::Named(n) => (support::named(model, n)?, true),
+        _ => (support::candidates(model), false),
+    };
+    let height = match opts.floor {
+        Some(h) => h,
+        None => {
+            // the recorded part: every pose where the whole body is defined
+            let Some((s, e)) = m.span() else {
+                return Ok(gaps);
+            };
+            let n = ((e - s) / FLOOR_STEP).ceil() as usize;
+            let mut qs = vec![];
+            for k in 0..=n {
+                let q = configuration_at(m, names, (s + k as f64 * FLOOR_STEP).min(e))?;
+                if q.iter().all(|v| v.is_finite()) {
+                    qs.push(q);
+                }
+            }
+            match contact::floor_of(model, &candidates, &up, &qs)? {
+                Some(h) => h,
+                None => return Ok(gaps), // never fully defined: nothing to stand on
+            }
+        }
+    };
+    let floor = contact::floor(gravity, height)?;
+    let mut left = vec![];
+    for group in super::groups::group_overlapping(gaps) {
+        let t0 = group.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
+        let t1 = group.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
+        let snapshot = m.clone();
+        let configuration = |t: f64| configuration_at(&snapshot, names, t);
+        let ctx = Context::new(
+            model,
+            up,
+            &candidates,
+            named,
+            height,
+            (t0, t1),
+            &configuration,
+        )?;
+        let plants = ctx.plan();
+        report.contacts.push(GapContacts {
+            t0,
+            t1,
+            floor: height,
+            phases: ctx.phases(&plants),
+        });
+        let moves =
+            |f: usize, c: usize| support::owner(model, c).is_some_and(|o| model.is_ancestor(o, f));
+        // the chains of the planted frames are solved by IK
+        let planted: Vec<usize> = ctx
+            .frames()
+            .iter()
+            .zip(&plants)
+            .filter(|(_, p)| !p.is_empty())
+            .map(|(&f, _)| f)
+            .collect();
+        let on_chain = |c: usize| planted.iter().any(|&f| moves(f, c));
+        let (ik, rest): (Vec<GapDof>, Vec<GapDof>) =
+            group.into_iter().partition(|d| on_chain(d.coord));
+        left.extend(rest);
+        if ik.is_empty() {
+            continue;
+        }
+        // every contact frame those DOFs move: planted ones held, all above the floor
+        let (frames, frame_plants): (Vec<usize>, Vec<_>) = ctx
+            .frames()
+            .iter()
+            .zip(plants)
+            .filter(|(f, _)| ik.iter().any(|d| moves(**f, d.coord)))
+            .map(|(&f, p)| (f, p))
+            .unzip();
+        let obj = SupportObjective::planned(
+            model,
+            frames.clone(),
+            frame_plants,
+            floor,
+            ik,
+            &opts.settings,
+            &configuration,
+        )?;
+        let x = obj.solve(&opts.solve.cancel)?;
+        let before = obj.largest_drift(&obj.hermite_start())?;
+        let after = obj.largest_drift(&x)?;
+        let dof_names: Vec<String> = obj.dofs().iter().map(|d| names[d.coord].clone()).collect();
+        for (i, &f) in frames.iter().enumerate() {
+            report.support.push(HeldFrame {
+                frame: model.link(f).name.clone(),
+                t0,
+                t1,
+                detected: true,
+                dofs: dof_names.clone(),
+                moved_before: before[i],
+                moved: after[i],
+            });
+        }
+        for ((gap, coefs), curve) in obj
+            .dofs()
+            .iter()
+            .zip(obj.coefficients(&x))
+            .zip(obj.curves())
+        {
+            let c = curve.to_curve(coefs)?;
+            let dof = m
+                .dofs
+                .get_mut(&names[gap.coord])
+                .ok_or_else(|| invalid("contact DOF vanished"))?;
             insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
         }
     }
