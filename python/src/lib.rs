@@ -91,7 +91,7 @@ fn _sp(
     // The report reads like a record in mx; in Python it is a plain dict.
     let dict = pyo3::types::PyDict::new(py);
     if let mx::Value::Object(o) = &report {
-        for key in ["groups", "root", "hermite", "undefined", "text"] {
+        for key in ["groups", "root", "pinned", "hermite", "undefined", "text"] {
             if let Some(v) = o.field(key) {
                 dict.set_item(key, to_py(py, &v)?)?;
             }

@@ -35,7 +35,12 @@ pub mod precond;
 pub mod progress;
 pub mod reference;
 pub use progress::{Progress, ProgressEvent};
+pub mod contact;
 pub mod sp;
 pub mod support;
-pub use sp::{Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp, torque_energy};
+pub use contact::{Contact, ContactPhase};
+pub use sp::{
+    GapContacts, PinnedRoot, Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp,
+    torque_energy,
+};
 pub use support::HeldFrame;

@@ -4,6 +4,7 @@
 //! write the curves back into the motion. Also the Hermite baseline
 //! (`fill(m, "hermite")`) and the torque energy of a motion.
 
+use super::contact::{Contact, ContactPhase};
 use super::error::{SpError, invalid};
 use super::groups::{PriorTerm, Problem, solve_all};
 use super::objective::{GapDof, Inputs, TransitionSettings};
@@ -34,6 +35,12 @@ pub struct SpOptions {
     pub prior: Prior,
     /// A clip library the prior's example may come from (`example: lib`).
     pub library: Option<super::reference::LibrarySource>,
+    /// Foot contact planned per gap (`contact:`); used with `support: "auto"`,
+    /// which it replaces (see [`super::contact`]).
+    pub contact: Contact,
+    /// The floor's height along −gravity (`floor:`); `None`: the lowest
+    /// contact point of the motion's recorded part.
+    pub floor: Option<f64>,
 }
 
 /// The kinematic prior SP adds to Rose's ∫Στ² (see [`prior_weights`]):
@@ -100,9 +107,16 @@ impl Prior {
 /// `SP(…, root: …)`: how a gap in the root's horizontal position is filled.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum RootFill {
+    /// Per gap, [`RootFill::Pinned`] when the two sides look like one
+    /// recording (the recorded x–z displacement across the gap is within
+    /// [`root_tolerance`] of what the end velocities predict), otherwise
+    /// [`RootFill::Shift`] (`"auto"`, the default): a hole cut inside one
+    /// recording keeps the frames after it where they were recorded, two
+    /// recordings joined are made to continue each other.
+    #[default]
+    Auto,
     /// Rose §3.2.1: x–z from the interpolated velocities, and the motion after
     /// the gap translated to continue from where that path ends (`"shift"`).
-    #[default]
     Shift,
     /// The motion after the gap stays where it was; the root's x–z is the
     /// cubic Hermite curve between the two sides (`"pinned"`: in-betweening,
@@ -138,6 +152,48 @@ pub struct RootShift {
     pub shift: Vec<(String, f64)>,
 }
 
+/// A gap whose root x–z was pinned: the motion after it stays where it was.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PinnedRoot {
+    pub t0: f64,
+    pub t1: f64,
+    /// `true` when `root: "auto"` chose it (one recording), `false` when asked for.
+    pub auto: bool,
+    /// How far (m) the recorded x–z displacement across the gap is from the
+    /// one the end velocities predict, T (v₀ + v₁)/2 (Rose's path).
+    pub mismatch: f64,
+    /// The largest mismatch `"auto"` pins ([`root_tolerance`]).
+    pub tolerance: f64,
+}
+
+/// Fixed part (m) of the largest mismatch [`RootFill::Auto`] pins.
+pub const ROOT_TOLERANCE_FIXED: f64 = 0.5;
+/// Part of the predicted displacement added to [`ROOT_TOLERANCE_FIXED`].
+pub const ROOT_TOLERANCE_RELATIVE: f64 = 0.5;
+
+/// The largest mismatch between the recorded and the predicted x–z
+/// displacement across a gap (both in m) that [`RootFill::Auto`] takes for one
+/// recording: 0.5 m + half the predicted displacement. Why: inside one
+/// recording the velocities at the ends mispredict a walk's displacement by
+/// 21 cm over 0.5 s and 38 cm over 1 s (a step changes speed within the gap;
+/// Bandai walks, issue 25); two recordings joined start wherever each was
+/// captured in the room, metres apart, unless an animator lined them up, in
+/// which case keeping them where they are is what was asked.
+pub fn root_tolerance(predicted: f64) -> f64 {
+    ROOT_TOLERANCE_FIXED + ROOT_TOLERANCE_RELATIVE * predicted
+}
+
+/// The contact schedule of one gap (`contact:`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GapContacts {
+    pub t0: f64,
+    pub t1: f64,
+    /// The floor's height along −gravity (m).
+    pub floor: f64,
+    /// Every contact frame near the floor around the gap, planted or not.
+    pub phases: Vec<ContactPhase>,
+}
+
 /// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Undefined {
@@ -156,6 +212,10 @@ pub struct SpReport {
     pub undefined: Vec<Undefined>,
     /// Support frames held by IK (Rose §3.2.2), one entry per frame and gap.
     pub support: Vec<HeldFrame>,
+    /// Gaps whose root x–z was pinned (the motion after them not moved).
+    pub pinned: Vec<PinnedRoot>,
+    /// Per gap, the contact schedule (`contact:` other than `"none"`).
+    pub contacts: Vec<GapContacts>,
     /// Translation DOFs constant on both sides of their gap (bone offsets),
     /// held at that constant rather than optimised.
     pub constant: Vec<Undefined>,
@@ -242,6 +302,25 @@ impl fmt::Display for SpReport {
                 s.join(", ")
             )?;
         }
+        for p in &self.pinned {
+            writeln!(
+                f,
+                "root over [{:.4}, {:.4}] s: pinned, the motion after the gap stays where it was ({}; recorded x–z displacement {:.3} m from the end velocities' prediction{})",
+                p.t0,
+                p.t1,
+                if p.auto {
+                    "root: \"auto\" took both sides for one recording"
+                } else {
+                    "root: \"pinned\""
+                },
+                p.mismatch,
+                if p.auto {
+                    format!(", at most {:.3} m", p.tolerance)
+                } else {
+                    String::new()
+                }
+            )?;
+        }
         for h in &self.support {
             writeln!(
                 f,
@@ -254,6 +333,36 @@ impl fmt::Display for SpReport {
                 h.moved,
                 h.moved_before
             )?;
+        }
+        for g in &self.contacts {
+            for c in &g.phases {
+                if c.plants.is_empty() {
+                    writeln!(
+                        f,
+                        "contact {} over [{:.4}, {:.4}] s: not planted (kept above the floor at {:.4} m)",
+                        c.frame, g.t0, g.t1, g.floor
+                    )?;
+                }
+                for p in &c.plants {
+                    writeln!(
+                        f,
+                        "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){}",
+                        c.frame,
+                        g.t0,
+                        g.t1,
+                        p.t0,
+                        p.t1,
+                        p.p0.x,
+                        p.p0.y,
+                        p.p0.z,
+                        if (p.p1 - p.p0).norm() > 0.0 {
+                            format!(" to ({:.3}, {:.3}, {:.3})", p.p1.x, p.p1.y, p.p1.z)
+                        } else {
+                            String::new()
+                        }
+                    )?;
+                }
+            }
         }
         for h in &self.hermite {
             writeln!(
@@ -397,6 +506,14 @@ fn fill_root(
     report: &mut SpReport,
 ) -> Result<(), SpError> {
     let names = model.coordinate_names();
+    let pinned = pinned_gaps(m, model, root, how)?;
+    let is_pinned = |t0: f64, t1: f64| {
+        pinned.iter().any(|p| {
+            (p.t0 - t0).abs() <= crate::motion::time_tol(t0)
+                && (p.t1 - t1).abs() <= crate::motion::time_tol(t1)
+        })
+    };
+    report.pinned.extend(pinned.iter().cloned());
     for &c in &root.all {
         let name = &names[c];
         let Some(dof) = m.get(name) else { continue };
@@ -405,7 +522,7 @@ fn fill_root(
             let a = end_state(m, name, t0)?;
             let b = end_state(m, name, t1)?;
             let curve;
-            if root.horizontal.contains(&c) && how == RootFill::Shift {
+            if root.horizontal.contains(&c) && !is_pinned(t0, t1) {
                 // one horizontal component of p(t); y of RootTransition is unused here
                 let rt = RootTransition::new(t0, t1, [a.q, 0.0], [a.v, 0.0], [b.v, 0.0], a, b)?;
                 let shift = rt.end_xz()[0] - b.q;
@@ -444,6 +561,62 @@ fn fill_root(
         }
     }
     Ok(())
+}
+
+/// The gaps of the root's horizontal coordinates that keep the motion after
+/// them in place: all of them for [`RootFill::Pinned`], none for
+/// [`RootFill::Shift`], and for [`RootFill::Auto`] those whose recorded x–z
+/// displacement is within [`root_tolerance`] of T (v₀ + v₁)/2. Horizontal
+/// coordinates gapped over the same span are judged together (their vector).
+fn pinned_gaps(
+    m: &Mu,
+    model: &Model,
+    root: &RootCoords,
+    how: RootFill,
+) -> Result<Vec<PinnedRoot>, SpError> {
+    let names = model.coordinate_names();
+    // per gap span: (squared mismatch, squared predicted displacement)
+    let mut spans: Vec<(f64, f64, f64, f64)> = vec![];
+    for &c in &root.horizontal {
+        let Some(dof) = m.get(&names[c]) else {
+            continue;
+        };
+        for (t0, t1) in dof.gaps() {
+            let a = end_state(m, &names[c], t0)?;
+            let b = end_state(m, &names[c], t1)?;
+            let predicted = (t1 - t0) * (a.v + b.v) / 2.0;
+            let off = (b.q - a.q) - predicted;
+            let same = |s: &&mut (f64, f64, f64, f64)| {
+                (s.0 - t0).abs() <= crate::motion::time_tol(t0)
+                    && (s.1 - t1).abs() <= crate::motion::time_tol(t1)
+            };
+            match spans.iter_mut().find(same) {
+                Some(s) => {
+                    s.2 += off * off;
+                    s.3 += predicted * predicted;
+                }
+                None => spans.push((t0, t1, off * off, predicted * predicted)),
+            }
+        }
+    }
+    Ok(spans
+        .into_iter()
+        .filter_map(|(t0, t1, off2, pred2)| {
+            let (mismatch, tolerance) = (off2.sqrt(), root_tolerance(pred2.sqrt()));
+            let p = |auto| PinnedRoot {
+                t0,
+                t1,
+                auto,
+                mismatch,
+                tolerance,
+            };
+            match how {
+                RootFill::Shift => None,
+                RootFill::Pinned => Some(p(false)),
+                RootFill::Auto => (mismatch <= tolerance).then(|| p(true)),
+            }
+        })
+        .collect())
 }
 
 /// Inputs of the objective from a motion: every body coordinate sampled at t,
@@ -741,6 +914,9 @@ fn hold_supports(
     report: &mut SpReport,
 ) -> Result<Vec<GapDof>, SpError> {
     use super::support::{self, SupportObjective};
+    if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
+        return hold_contacts(m, model, gravity, opts, gaps, report);
+    }
     let named = match &opts.support {
         Support::Off => return Ok(gaps),
         Support::Named(names) => Some(support::named(model, names)?),
@@ -846,6 +1022,155 @@ fn hold_supports(
                 .dofs
                 .get_mut(&names[gap.coord])
                 .ok_or_else(|| invalid("support DOF vanished"))?;
+            insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
+        }
+    }
+    Ok(left)
+}
+
+/// Every coordinate at t (NaN where undefined).
+fn configuration_at(m: &Mu, names: &[String], t: f64) -> Result<Vec<f64>, SpError> {
+    let mut q = vec![f64::NAN; names.len()];
+    for (i, n) in names.iter().enumerate() {
+        if let Some([x, _, _]) = m.sample(n, t).map_err(motion_err)? {
+            q[i] = x;
+        }
+    }
+    Ok(q)
+}
+
+/// Seconds between the poses the default floor is read from.
+const FLOOR_STEP: f64 = 1.0 / 30.0;
+
+/// Foot contact (`contact:`, see [`super::contact`]): per group of
+/// overlapping gaps, plan each contact frame's plants from the motion around
+/// it, solve the gap DOFs on the chains of the planted frames by IK (planted
+/// frames held, every contact frame on those chains kept at or above the
+/// floor) and write those curves into `m`. Returns the gaps left for the
+/// spacetime solve.
+fn hold_contacts(
+    m: &mut Mu,
+    model: &Model,
+    gravity: &Vector3<f64>,
+    opts: &SpOptions,
+    gaps: Vec<GapDof>,
+    report: &mut SpReport,
+) -> Result<Vec<GapDof>, SpError> {
+    use super::contact::{self, Context};
+    use super::support::{self, HeldFrame, SupportObjective};
+    if gravity.norm() == 0.0 {
+        return Ok(gaps); // no gravity, no floor: nothing stands on anything
+    }
+    let up = -gravity / gravity.norm();
+    let names = model.coordinate_names();
+    let (candidates, named) = match &opts.contact {
+        Contact::Named(n) => (support::named(model, n)?, true),
+        _ => (support::candidates(model), false),
+    };
+    let height = match opts.floor {
+        Some(h) => h,
+        None => {
+            // the recorded part: every pose where the whole body is defined
+            let Some((s, e)) = m.span() else {
+                return Ok(gaps);
+            };
+            let n = ((e - s) / FLOOR_STEP).ceil() as usize;
+            let mut qs = vec![];
+            for k in 0..=n {
+                let q = configuration_at(m, names, (s + k as f64 * FLOOR_STEP).min(e))?;
+                if q.iter().all(|v| v.is_finite()) {
+                    qs.push(q);
+                }
+            }
+            match contact::floor_of(model, &candidates, &up, &qs)? {
+                Some(h) => h,
+                None => return Ok(gaps), // never fully defined: nothing to stand on
+            }
+        }
+    };
+    let floor = contact::floor(gravity, height)?;
+    let mut left = vec![];
+    for group in super::groups::group_overlapping(gaps) {
+        let t0 = group.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
+        let t1 = group.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
+        let snapshot = m.clone();
+        let configuration = |t: f64| configuration_at(&snapshot, names, t);
+        let ctx = Context::new(
+            model,
+            up,
+            &candidates,
+            named,
+            height,
+            (t0, t1),
+            &configuration,
+        )?;
+        let plants = ctx.plan();
+        report.contacts.push(GapContacts {
+            t0,
+            t1,
+            floor: height,
+            phases: ctx.phases(&plants),
+        });
+        let moves =
+            |f: usize, c: usize| support::owner(model, c).is_some_and(|o| model.is_ancestor(o, f));
+        // the chains of the planted frames are solved by IK
+        let planted: Vec<usize> = ctx
+            .frames()
+            .iter()
+            .zip(&plants)
+            .filter(|(_, p)| !p.is_empty())
+            .map(|(&f, _)| f)
+            .collect();
+        let on_chain = |c: usize| planted.iter().any(|&f| moves(f, c));
+        let (ik, rest): (Vec<GapDof>, Vec<GapDof>) =
+            group.into_iter().partition(|d| on_chain(d.coord));
+        left.extend(rest);
+        if ik.is_empty() {
+            continue;
+        }
+        // every contact frame those DOFs move: planted ones held, all above the floor
+        let (frames, frame_plants): (Vec<usize>, Vec<_>) = ctx
+            .frames()
+            .iter()
+            .zip(plants)
+            .filter(|(f, _)| ik.iter().any(|d| moves(**f, d.coord)))
+            .map(|(&f, p)| (f, p))
+            .unzip();
+        let obj = SupportObjective::planned(
+            model,
+            frames.clone(),
+            frame_plants,
+            floor,
+            ik,
+            &opts.settings,
+            &configuration,
+        )?;
+        let x = obj.solve(&opts.solve.cancel)?;
+        let before = obj.largest_drift(&obj.hermite_start())?;
+        let after = obj.largest_drift(&x)?;
+        let dof_names: Vec<String> = obj.dofs().iter().map(|d| names[d.coord].clone()).collect();
+        for (i, &f) in frames.iter().enumerate() {
+            report.support.push(HeldFrame {
+                frame: model.link(f).name.clone(),
+                t0,
+                t1,
+                detected: true,
+                dofs: dof_names.clone(),
+                moved_before: before[i],
+                moved: after[i],
+            });
+        }
+        for ((gap, coefs), curve) in obj
+            .dofs()
+            .iter()
+            .zip(obj.coefficients(&x))
+            .zip(obj.curves())
+        {
+            let c = curve.to_curve(coefs)?;
+            let dof = m
+                .dofs
+                .get_mut(&names[gap.coord])
+                .ok_or_else(|| invalid("contact DOF vanished"))?;
             insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
         }
     }

@@ -70,6 +70,24 @@ fn link_positions(model: &Model, q: &[f64], poses: &mut Vec<Se3>) -> Result<(), 
         .map_err(|e| SpError::Evaluation(format!("forward kinematics: {e}")))
 }
 
+/// The world positions of `frames` at time t of a fully defined configuration.
+fn frame_positions(
+    model: &Model,
+    frames: &[usize],
+    configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
+    t: f64,
+) -> Result<Vec<Vector3<f64>>, SpError> {
+    let q = configuration(t)?;
+    if q.iter().any(|v| !v.is_finite()) {
+        return Err(SpError::Evaluation(format!(
+            "support IK: the body is not fully defined at the gap end t = {t}"
+        )));
+    }
+    let mut poses = vec![];
+    link_positions(model, &q, &mut poses)?;
+    Ok(frames.iter().map(|&f| poses[f].p).collect())
+}
+
 /// The link that owns coordinate c.
 pub(crate) fn owner(model: &Model, c: usize) -> Option<usize> {
     model
@@ -80,7 +98,7 @@ pub(crate) fn owner(model: &Model, c: usize) -> Option<usize> {
 
 /// Candidate support frames: every link that is not an intermediate link of a
 /// multi-DOF joint (those coincide with the next link).
-fn candidates(model: &Model) -> Vec<usize> {
+pub(crate) fn candidates(model: &Model) -> Vec<usize> {
     crate::model::joint_points(model).0
 }
 
@@ -172,8 +190,13 @@ type NodeRow = (f64, usize, Vec<f64>);
 pub struct SupportObjective<'a> {
     model: &'a Model,
     frames: Vec<usize>,
-    /// Planted positions at the span's start and end.
-    ends: Vec<[Vector3<f64>; 2]>,
+    /// Per frame, where it is held: one plant over the whole span (Rose's
+    /// support, [`SupportObjective::new`]) or a contact schedule's
+    /// ([`SupportObjective::planned`]).
+    plants: Vec<Vec<Plant>>,
+    /// Nothing goes below it: outside its plants a frame lower than this is
+    /// pulled up to it (one-sided), `None` for Rose's support.
+    floor: Option<Floor>,
     t0: f64,
     t1: f64,
     dofs: Vec<GapDof>,
@@ -196,6 +219,45 @@ pub struct SupportObjective<'a> {
     start: Vec<f64>,
 }
 
+/// Where a held frame must be over part of a gap: on the straight path from
+/// `p0` at `t0` to `p1` at `t1` (a planted foot: `p0 == p1`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plant {
+    pub t0: f64,
+    pub t1: f64,
+    pub p0: Vector3<f64>,
+    pub p1: Vector3<f64>,
+}
+
+impl Plant {
+    fn covers(&self, t: f64) -> bool {
+        t >= self.t0 && t <= self.t1
+    }
+
+    fn at(&self, t: f64) -> Vector3<f64> {
+        let s = ((t - self.t0) / (self.t1 - self.t0)).clamp(0.0, 1.0);
+        self.p0 * (1.0 - s) + self.p1 * s
+    }
+}
+
+/// The floor of a contact schedule: the plane of points p with `up · p = height`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Floor {
+    /// Unit vector against gravity.
+    pub up: Vector3<f64>,
+    pub height: f64,
+}
+
+/// How a frame is held at one node: r = P (p − target), ∂r/∂q = P ∂p/∂q.
+enum Hold {
+    /// On its plant: P = I.
+    Planted(Vector3<f64>),
+    /// Below the floor and not planted: P = up upᵀ, target on the floor.
+    Floor(Vector3<f64>),
+    /// Free: P = 0.
+    Free,
+}
+
 /// μ² per second of gap of the IK's pull toward the Hermite curves (m² per
 /// rad² of free coefficient): holding a foot inside its box must not twist a
 /// knee half a radian about its long axis, which a pure drift objective
@@ -203,9 +265,62 @@ pub struct SupportObjective<'a> {
 pub const IK_STIFFNESS: f64 = 1e-3;
 
 impl<'a> SupportObjective<'a> {
-    /// `configuration(t)` gives every coordinate at t (gap DOFs may be NaN
-    /// inside their gaps); `dofs` are the IK unknowns.
+    /// Rose's support: each frame held over the whole span on the straight
+    /// path between where it is at the span's ends. `configuration(t)` gives
+    /// every coordinate at t (gap DOFs may be NaN inside their gaps); `dofs`
+    /// are the IK unknowns.
     pub fn new(
+        model: &'a Model,
+        frames: Vec<usize>,
+        dofs: Vec<GapDof>,
+        settings: &TransitionSettings,
+        configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
+    ) -> Result<Self, SpError> {
+        let mut o = Self::layout(model, frames, dofs, settings, configuration)?;
+        // planted positions: where the frames are at the span's ends
+        let (a, b) = (
+            frame_positions(model, &o.frames, configuration, o.t0)?,
+            frame_positions(model, &o.frames, configuration, o.t1)?,
+        );
+        o.plants = a
+            .into_iter()
+            .zip(b)
+            .map(|(p0, p1)| {
+                vec![Plant {
+                    t0: o.t0,
+                    t1: o.t1,
+                    p0,
+                    p1,
+                }]
+            })
+            .collect();
+        o.start = o.hermite_start();
+        Ok(o)
+    }
+
+    /// A contact schedule's IK: frame k held on `plants[k]` (none: free) and
+    /// every frame kept at or above `floor` where it is not planted.
+    pub fn planned(
+        model: &'a Model,
+        frames: Vec<usize>,
+        plants: Vec<Vec<Plant>>,
+        floor: Floor,
+        dofs: Vec<GapDof>,
+        settings: &TransitionSettings,
+        configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
+    ) -> Result<Self, SpError> {
+        if plants.len() != frames.len() {
+            return Err(invalid("support IK: one plant list per frame"));
+        }
+        let mut o = Self::layout(model, frames, dofs, settings, configuration)?;
+        o.plants = plants;
+        o.floor = Some(floor);
+        o.start = o.hermite_start();
+        Ok(o)
+    }
+
+    /// Everything but where the frames are held.
+    fn layout(
         model: &'a Model,
         frames: Vec<usize>,
         dofs: Vec<GapDof>,
@@ -263,24 +378,11 @@ impl<'a> SupportObjective<'a> {
                     .collect()
             })
             .collect();
-        // planted positions: where the frames are at the span's ends
-        let mut poses = vec![];
-        let mut at = |t: f64| -> Result<Vec<Vector3<f64>>, SpError> {
-            let q = configuration(t)?;
-            if q.iter().any(|v| !v.is_finite()) {
-                return Err(SpError::Evaluation(format!(
-                    "support IK: the body is not fully defined at the gap end t = {t}"
-                )));
-            }
-            link_positions(model, &q, &mut poses)?;
-            Ok(frames.iter().map(|&f| poses[f].p).collect())
-        };
-        let (a, b) = (at(t0)?, at(t1)?);
-        let ends = a.into_iter().zip(b).map(|(a, b)| [a, b]).collect();
         Ok(SupportObjective {
             model,
             frames,
-            ends,
+            plants: vec![],
+            floor: None,
             t0,
             t1,
             dofs,
@@ -297,7 +399,6 @@ impl<'a> SupportObjective<'a> {
         })
         .map(|mut o: SupportObjective<'a>| {
             o.stiffness = IK_STIFFNESS * (o.t1 - o.t0);
-            o.start = o.hermite_start();
             o
         })
     }
@@ -314,10 +415,22 @@ impl<'a> SupportObjective<'a> {
         &self.curves
     }
 
-    /// The planted path of frame f at t.
-    fn target(&self, f: usize, t: f64) -> Vector3<f64> {
-        let s = ((t - self.t0) / (self.t1 - self.t0)).clamp(0.0, 1.0);
-        self.ends[f][0] * (1.0 - s) + self.ends[f][1] * s
+    /// How frame f (at world position p) is held at t.
+    fn hold(&self, f: usize, t: f64, p: &Vector3<f64>) -> Hold {
+        if let Some(plant) = self.plants[f].iter().find(|pl| pl.covers(t)) {
+            return Hold::Planted(plant.at(t));
+        }
+        match self.floor {
+            Some(fl) if fl.up.dot(p) < fl.height => {
+                Hold::Floor(p - fl.up * (fl.up.dot(p) - fl.height))
+            }
+            _ => Hold::Free,
+        }
+    }
+
+    /// The plants of each frame.
+    pub fn plants(&self) -> &[Vec<Plant>] {
+        &self.plants
     }
 
     /// The starting point: the Hermite curves (as the spacetime solve's).
@@ -349,11 +462,20 @@ impl<'a> SupportObjective<'a> {
         let mut poses = vec![];
         link_positions(self.model, &q, &mut poses)?;
         let t = self.nodes[k];
-        let r = self
+        let holds: Vec<Hold> = self
             .frames
             .iter()
             .enumerate()
-            .map(|(f, &l)| poses[l].p - self.target(f, t))
+            .map(|(f, &l)| self.hold(f, t, &poses[l].p))
+            .collect();
+        let r = self
+            .frames
+            .iter()
+            .zip(&holds)
+            .map(|(&l, h)| match h {
+                Hold::Planted(target) | Hold::Floor(target) => poses[l].p - target,
+                Hold::Free => Vector3::zeros(),
+            })
             .collect();
         if let Some(jac) = jac {
             jac.fill(0.0);
@@ -374,7 +496,14 @@ impl<'a> SupportObjective<'a> {
                     if !self.moves[f][d] {
                         continue;
                     }
-                    let dp = point_velocity(pose, &s, &poses[fl].p);
+                    let dp = match &holds[f] {
+                        Hold::Planted(_) => point_velocity(pose, &s, &poses[fl].p),
+                        Hold::Floor(_) => {
+                            let up = self.floor.map_or(Vector3::zeros(), |fl| fl.up);
+                            up * up.dot(&point_velocity(pose, &s, &poses[fl].p))
+                        }
+                        Hold::Free => Vector3::zeros(),
+                    };
                     for i in 0..3 {
                         jac[(3 * f + i, d)] = dp[i];
                     }

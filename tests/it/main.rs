@@ -61,6 +61,8 @@ mod reference;
 mod repl_pty;
 #[cfg(feature = "report")]
 mod report_smoke;
+#[cfg(feature = "report")]
+mod spacetime_contact;
 mod spacetime_cyclify;
 mod spacetime_human44;
 mod spacetime_lang;

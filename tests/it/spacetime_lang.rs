@@ -557,6 +557,41 @@ fn the_report_reads_like_a_record_and_prints_as_text() {
 /// (named in the report), its path is C¹ through the gap, and the run after
 /// the gap is translated to continue from where that path ends.
 #[test]
+fn bandai_natural_cut_keeps_the_frames_after_the_hole_where_they_were_recorded() {
+    // every DOF cut, root included, inside one recording (issue 25's headline case)
+    let src = "
+let w = load(\"$a\")
+let cut = w - clip_in_place(1s, 1.5s, w)
+let filled = SP(cut, body: body_of(w), coefficients: 3, samples: 8)
+print(sp_report(filled))
+";
+    let Some((mx, text)) = run_bandai("1_walk_normal", "1_walk_normal", src) else {
+        return;
+    };
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("root over") && l.contains("pinned") && l.contains("auto")),
+        "{text}"
+    );
+    assert!(!text.contains("translated by"), "{text}");
+    let w = mu(&mx.get("w").unwrap());
+    let filled = mu(&mx.get("filled").unwrap());
+    assert!(mx::motion::gaps(&filled).is_empty());
+    let [jq, jv, _] = jumps(&filled);
+    assert!(jq <= 1e-9 && jv <= 1e-6, "jumps {jq} {jv}");
+    let (_, end) = w.span().unwrap();
+    let mut t = 1.5;
+    while t <= end {
+        for name in w.dofs.keys() {
+            let a = w.sample(name, t).unwrap().unwrap()[0];
+            let b = filled.sample(name, t).unwrap().unwrap()[0];
+            assert!((a - b).abs() <= 1e-9, "{name} at {t}: {b} vs recorded {a}");
+        }
+        t += 0.25;
+    }
+}
+
+#[test]
 fn bandai_walk_to_run_root_is_the_hips() {
     let src = format!(
         "{BANDAI_PRELUDE}

@@ -6,7 +6,7 @@ use crate::common::{self, jumps};
 
 use mx::model::Model;
 use mx::motion::{Curve, Dof, Interval, Mu};
-use mx::spacetime::{SpError, SpOptions, fill_hermite, sp, torque_energy};
+use mx::spacetime::{RootFill, SpError, SpOptions, fill_hermite, sp, torque_energy};
 
 fn human44() -> Option<Model> {
     let dir = common::shared_dir()?;
@@ -78,6 +78,8 @@ fn sp_fills_a_whole_body_gap_continuously_below_hermite_and_shifts_the_root() {
         .1;
     let expect = (1.2 + 0.6 * 1.2) - (1.2 * 1.6 + 3.0);
     assert!((shift - expect).abs() < 1e-6, "shift {shift} vs {expect}");
+    // 3 m from where the velocities lead: two recordings, so root: "auto" shifts
+    assert!(report.pinned.is_empty(), "{:?}", report.pinned);
     let after = filled.sample("root_tx", 2.0).unwrap().unwrap()[0];
     assert!(
         (after - 1.2 * 2.0).abs() < 1e-6,
@@ -87,6 +89,43 @@ fn sp_fills_a_whole_body_gap_continuously_below_hermite_and_shifts_the_root() {
     let e_h = torque_energy(&fill_hermite(&m).unwrap(), &model, None).unwrap();
     println!("torque energy over the motion: SP {e_sp:.3} < Hermite {e_h:.3}");
     assert!(e_sp < e_h);
+}
+
+/// Every DOF of `m` agrees with `filled` at `t` to 1e-9.
+fn unchanged_at(m: &Mu, filled: &Mu, t: f64) {
+    for (name, _) in &m.dofs {
+        let want = m.sample(name, t).unwrap().unwrap()[0];
+        let got = filled.sample(name, t).unwrap().unwrap()[0];
+        assert!((got - want).abs() <= 1e-9, "{name} at {t}: {got} vs {want}");
+    }
+}
+
+#[test]
+fn a_hole_inside_one_recording_keeps_the_frames_after_it_where_they_were() {
+    let Some(model) = human44() else { return };
+    let all: Vec<usize> = (0..44).collect();
+    // the root walks 1.2 m/s straight through the hole: one recording
+    let m = motion(&model, &all, 1.0, 1.6, 0.0);
+    let (filled, report) = sp(&m, &model, &fast()).unwrap();
+    print!("{report}");
+    assert!(report.root.is_empty(), "{:?}", report.root);
+    assert_eq!(report.pinned.len(), 1, "{:?}", report.pinned);
+    let p = &report.pinned[0];
+    assert!(p.auto && p.mismatch < 0.01 && p.tolerance > 0.5, "{p:?}");
+    assert!(report.to_string().contains("pinned"), "{report}");
+    for t in [1.6, 1.7, 2.0, 2.5, 3.0] {
+        unchanged_at(&m, &filled, t);
+    }
+    let (jq, jv) = jumps(&filled);
+    assert!(jq <= 1e-9 && jv <= 1e-6, "{jq} {jv}");
+    // Rose's shift on the same motion, asked for, still moves what follows
+    let shift = SpOptions {
+        root: RootFill::Shift,
+        ..fast()
+    };
+    let (_, rose) = sp(&m, &model, &shift).unwrap();
+    assert_eq!(rose.root.len(), 1);
+    assert!(rose.pinned.is_empty());
 }
 
 #[test]

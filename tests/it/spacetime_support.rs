@@ -297,3 +297,112 @@ fn ik_gradient_matches_central_differences() {
     // millimetres for joints that stay near the curves: held inside the 2 cm box
     assert!(d1 < 0.25 * d0 && d1 <= 0.02, "{d0} → {d1}");
 }
+
+#[test]
+fn planned_ik_gradient_with_the_floor_matches_central_differences() {
+    use mx::spacetime::support::{Floor, Plant};
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/walk.bvh");
+    let mut f = bvh::read_file(&p).unwrap();
+    let (model, m) = fitted(&mut f, 40);
+    let names = model.coordinate_names().to_vec();
+    let (g0, g1) = (0.5, 0.8);
+    let foot = model.link_index("foot_L").unwrap();
+    let toes = model.link_index("toes_L").unwrap();
+    let chain: Vec<usize> = names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| {
+            n.ends_with("_L.Xrotation") || n.starts_with("hip_L") || n.starts_with("ankle_L")
+        })
+        .map(|(c, _)| c)
+        .collect();
+    let state = |c: usize, t: f64| {
+        let [q, v, a] = m.sample(&names[c], t).unwrap().unwrap();
+        EndState { q, v, a }
+    };
+    let gaps: Vec<GapDof> = chain
+        .iter()
+        .map(|&c| GapDof {
+            coord: c,
+            t0: g0,
+            t1: g1,
+            start: state(c, g0),
+            end: state(c, g1),
+        })
+        .collect();
+    let configuration = |t: f64| {
+        Ok(names
+            .iter()
+            .map(|n| m.sample(n, t).unwrap().unwrap()[0])
+            .collect())
+    };
+    let g = model.default_gravity;
+    let up = -g / g.norm();
+    let toes_start = frame_at(&model, &m, toes, g0);
+    let foot_start = frame_at(&model, &m, foot, g0);
+    // the foot planted for the first third; the floor 5 cm above the toes'
+    // start, so it holds the toes up wherever they are not planted
+    let plants = vec![
+        vec![Plant {
+            t0: g0,
+            t1: g0 + 0.1,
+            p0: foot_start,
+            p1: foot_start,
+        }],
+        vec![],
+    ];
+    let floor = Floor {
+        up,
+        height: up.dot(&toes_start) + 0.05,
+    };
+    let settings = TransitionSettings {
+        coefficients: 5,
+        samples: 12,
+        ..Default::default()
+    };
+    let obj = SupportObjective::planned(
+        &model,
+        vec![foot, toes],
+        plants,
+        floor,
+        gaps,
+        &settings,
+        &configuration,
+    )
+    .unwrap();
+    let x: Vec<f64> = obj
+        .hermite_start()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v + 0.1 * (1.7 * i as f64).sin())
+        .collect();
+    let mut gr = vec![0.0; x.len()];
+    let e = obj.eval(&x, Some(&mut gr)).unwrap();
+    assert!(e > 0.0);
+    let gmax = gr.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut worst = 0.0f64;
+    for i in 0..x.len() {
+        let h = 1e-6;
+        let (mut xp, mut xm) = (x.clone(), x.clone());
+        xp[i] += h;
+        xm[i] -= h;
+        let fd = (obj.eval(&xp, None).unwrap() - obj.eval(&xm, None).unwrap()) / (2.0 * h);
+        worst = worst.max((fd - gr[i]).abs() / gmax);
+    }
+    println!(
+        "planned IK gradient: {} unknowns, max |fd − g| / max|g| = {worst:.2e}",
+        x.len()
+    );
+    assert!(worst <= 1e-6, "{worst}");
+    // the solve lifts the toes toward the floor and keeps the foot planted
+    let xs = obj.solve(&Default::default()).unwrap();
+    let (d0, d1) = (
+        obj.largest_drift(&obj.hermite_start()).unwrap(),
+        obj.largest_drift(&xs).unwrap(),
+    );
+    println!(
+        "planned IK: foot {:.3e} → {:.3e} m, toes below the floor {:.3e} → {:.3e} m",
+        d0[0], d1[0], d0[1], d1[1]
+    );
+    assert!(d1[1] < d0[1], "{d0:?} → {d1:?}");
+}

@@ -243,6 +243,7 @@ fn gltf_files(reg: &mut Registry) {
                 }
                 let clip = loaded.clip;
                 let source = Arc::new(ClipSource {
+                    path: path.display().to_string(),
                     skeleton: Arc::new(clip.skeleton),
                     metres_per_unit: clip.units.metres_per_unit,
                     frame_time: clip.frame_time,

@@ -159,22 +159,25 @@ fn support(a: &mut Args, model: &Model) -> MxResult<Support> {
     }
 }
 
-/// `root: "shift"` (Rose's, the default) or `"pinned"` (the frames after the gap stay put).
+/// `root: "auto"` (the default: pinned inside one recording, shifted between
+/// two), `"shift"` (Rose's) or `"pinned"` (the frames after the gap stay put).
 fn root_fill(a: &mut Args) -> MxResult<RootFill> {
     let Some(arg) = a.opt_named("root") else {
         return Ok(RootFill::default());
     };
     match arg.value.as_str() {
+        Some("auto") => Ok(RootFill::Auto),
         Some("shift") => Ok(RootFill::Shift),
         Some("pinned") => Ok(RootFill::Pinned),
         _ => Err(bad_option(
             a,
             &arg,
             format!(
-                "`root:` must be \"shift\" or \"pinned\", found {}",
+                "`root:` must be \"auto\", \"shift\" or \"pinned\", found {}",
                 arg.value.repr()
             ),
-            "\"shift\": the root's x–z follows interpolated velocities and what follows the gap moves to continue it \
+            "\"auto\" (default): pinned where both sides look like one recording, shifted otherwise; \
+             \"shift\": the root's x–z follows interpolated velocities and what follows the gap moves to continue it \
              (Rose); \"pinned\": the motion after the gap stays where it is and the root's x–z is a Hermite curve",
         )),
     }
@@ -479,7 +482,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 pub fn register(reg: &mut Registry) {
     reg.topic(Topic::Spacetime);
     reg.add(
-        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"shift\")",
+        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"auto\")",
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
@@ -491,7 +494,9 @@ pub fn register(reg: &mut Registry) {
          example: \"self\" (default): where the motion repeats (a walk, a run), the prior follows the velocities of the stretch of m \
          whose 0.3 s on each side best match those around the gap, λ Σ M_dd² ∫ (q̈ − r̈)² + (q̇ − ṙ)²/T², if it matches better than \
          the context's own mean pose; \"none\": the plain prior. \
-         root: \"shift\" (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays). \
+         root: \"auto\" (default: per gap, \"pinned\" when the recorded x–z displacement across it is within 0.5 m + half the \
+         displacement T (v₀ + v₁)/2 the end velocities predict, i.e. a hole inside one recording, else \"shift\"), \"shift\" \
+         (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays where it was recorded). \
          Translation DOFs constant on both sides (bone offsets) stay constant. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
         run_sp,
@@ -501,7 +506,8 @@ pub fn register(reg: &mut Registry) {
         "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \
          initial_energy (∫Στ² of the Hermite start), energy (∫Στ² of the result), grad_norm, stop = why the solver \
          stopped, converged (false: stopped short, also warned on stderr), prior_scale (the factor the prior ended at), example (the stretch the prior followed: shift in s and mismatch, or none), \
-         solves, seconds), `root` (t0, t1, shift applied to the motion after each gap), `hermite` (root DOFs filled by \
+         solves, seconds), `root` (t0, t1, shift applied to the motion after each gap), `pinned` (gaps whose root x–z was pinned: t0, t1, auto, \
+         mismatch in m between the recorded and the predicted displacement, tolerance), `hermite` (root DOFs filled by \
          Hermite curves), `constant` (bone-offset DOFs held constant: dof, start, stop), `undefined` \
          (DOFs left undefined at the start/end: dof, start, stop), `text`. print shows it as text. Only the motion SP \
          returned has a report (an operation on it makes a new motion).",

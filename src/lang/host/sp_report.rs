@@ -131,7 +131,15 @@ impl SpReportValue {
 }
 
 /// The fields `sp_report(m)` has, in the order `keys` would show them.
-pub const FIELDS: [&str; 6] = ["groups", "root", "hermite", "constant", "undefined", "text"];
+pub const FIELDS: [&str; 7] = [
+    "groups",
+    "root",
+    "pinned",
+    "hermite",
+    "constant",
+    "undefined",
+    "text",
+];
 
 impl HostObject for SpReportValue {
     fn type_name(&self) -> &'static str {
@@ -147,6 +155,21 @@ impl HostObject for SpReportValue {
         match name {
             "groups" => Some(self.groups()),
             "root" => Some(self.root()),
+            "pinned" => Some(Value::list(
+                self.0
+                    .pinned
+                    .iter()
+                    .map(|p| {
+                        record(vec![
+                            ("t0", num(p.t0)),
+                            ("t1", num(p.t1)),
+                            ("auto", Value::Bool(p.auto)),
+                            ("mismatch", num(p.mismatch)),
+                            ("tolerance", num(p.tolerance)),
+                        ])
+                    })
+                    .collect(),
+            )),
             "hermite" => Some(spans(&self.0.hermite)),
             "constant" => Some(spans(&self.0.constant)),
             "undefined" => Some(spans(&self.0.undefined)),

@@ -1,0 +1,198 @@
+//! Foot contact in SP (`SpOptions::contact`, issue 25) on the walks of
+//! `$MX_SHARED/data/inbetween`: one 30-frame window per walk, every DOF cut
+//! (root filled, pinned). Checked: a contact schedule is planned in every
+//! gap, the transition joins its context continuously, the frames after the
+//! gap stay where they were captured, and `Contact::None` is SP as it was.
+//! Printed, not yet asserted (the goals are not met): ground skate and the
+//! deepest foot point. Measured (debug run, 8 walks): skate capture 13.6,
+//! `Contact::None` 88.5, `Contact::Auto` 87.4 cm/s; deepest 0 / 6.2 / 6.2 cm.
+//! The planted IK holds the feet only to 1.5–7 cm of their plants with the
+//! Hermite root, and a foot not planted in a gap is on no IK chain, so the
+//! floor does not reach it. The planned IK's gradient (floor active) is
+//! checked in `spacetime_support`.
+
+use crate::common;
+
+use mx::model::Model;
+use mx::motion::Mu;
+use mx::report::inbetween::{Case, Protocol, RootMode};
+use mx::spacetime::{Contact, RootFill, SpOptions, sp};
+use nalgebra::Vector3;
+
+/// The foot points of the protocol: `Foot_*` and `Toes_*` joints.
+fn feet(body: &Model) -> Vec<usize> {
+    body.links()
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| {
+            (l.name.starts_with("Foot_") || l.name.starts_with("Toes_")) && !l.name.contains('.')
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// Heights above the floor (m) and positions of `links` at t.
+fn points(body: &Model, m: &Mu, links: &[usize], t: f64) -> Vec<Vector3<f64>> {
+    let q: Vec<f64> = body
+        .coordinate_names()
+        .iter()
+        .map(|n| m.sample(n, t).unwrap().unwrap()[0])
+        .collect();
+    let mut poses = vec![];
+    body.forward_kinematics(&q, &mut poses).unwrap();
+    links.iter().map(|&l| poses[l].p).collect()
+}
+
+/// (skate cm/s summed, frames counted, deepest cm below the floor) over frames
+/// `k0..=k1`: horizontal speed of a foot point between consecutive frames
+/// while within 2 cm of the floor.
+fn ground(
+    case: &Case,
+    m: &Mu,
+    up: &Vector3<f64>,
+    floor: f64,
+    k0: usize,
+    k1: usize,
+) -> (f64, usize, f64) {
+    let links = feet(&case.body);
+    let dt = case.frame_time;
+    let ps: Vec<_> = (k0..=k1)
+        .map(|k| points(&case.body, m, &links, k as f64 * dt))
+        .collect();
+    let (mut sum, mut n, mut deepest) = (0.0, 0, 0.0f64);
+    for w in ps.windows(2) {
+        for (a, b) in w[0].iter().zip(&w[1]) {
+            let h = up.dot(a) - floor;
+            deepest = deepest.max(-h);
+            if h <= 0.02 {
+                let d = b - a;
+                sum += (d - up * up.dot(&d)).norm() / dt * 100.0;
+                n += 1;
+            }
+        }
+    }
+    for b in &ps[ps.len() - 1] {
+        deepest = deepest.max(floor - up.dot(b));
+    }
+    (sum, n, deepest.max(0.0) * 100.0)
+}
+
+#[test]
+fn walk_gaps_get_a_contact_schedule_and_keep_their_context() {
+    let files = common::shared_files("inbetween", ".bvh");
+    if files.is_empty() {
+        return; // no shared data on a developer machine (fails in CI)
+    }
+    let walks: Vec<_> = files
+        .iter()
+        .filter(|p| p.file_name().unwrap().to_string_lossy().contains("_walk_"))
+        .collect();
+    assert!(!walks.is_empty(), "no walk in data/inbetween");
+    let p = Protocol {
+        gaps: vec![30],
+        windows_per_clip: Some(1),
+        ..Protocol::default()
+    };
+    let (mut capture, mut none, mut auto) = ([0.0, 0.0], [0.0, 0.0], [0.0, 0.0]);
+    let mut worst_depth = [0.0f64; 3];
+    for path in walks {
+        let case = Case::load(path).unwrap();
+        let links = feet(&case.body);
+        assert!(links.len() >= 4, "{}: foot points {links:?}", case.name);
+        let g = case.body.default_gravity;
+        let up = -g / g.norm();
+        let floor = (0..case.frames)
+            .flat_map(|k| {
+                points(
+                    &case.body,
+                    &case.capture,
+                    &links,
+                    k as f64 * case.frame_time,
+                )
+            })
+            .map(|p| up.dot(&p))
+            .fold(f64::INFINITY, f64::min);
+        let start = case.windows(&p, 30)[0];
+        let cut = case.cut(start, p.context, 30, RootMode::Filled).unwrap();
+        // the gap's frames and the context frame on each side
+        let (k0, k1) = (start + p.context - 1, start + p.context + 30);
+        let opts = |contact: Contact| SpOptions {
+            root: RootFill::Pinned,
+            contact,
+            ..Default::default()
+        };
+        let (with_none, _) = sp(&cut, &case.body, &opts(Contact::None)).unwrap();
+        let (with_auto, report) = sp(&cut, &case.body, &opts(Contact::Auto)).unwrap();
+        print!("{report}");
+        assert!(
+            !report.contacts.is_empty(),
+            "{}: no contact schedule",
+            case.name
+        );
+        // contact: "none" is SP as it was (the default options)
+        let (default, _) = sp(
+            &cut,
+            &case.body,
+            &SpOptions {
+                root: RootFill::Pinned,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let t_mid = (k0 + 15) as f64 * case.frame_time;
+        for name in case.body.coordinate_names() {
+            assert_eq!(
+                default.sample(name, t_mid).unwrap(),
+                with_none.sample(name, t_mid).unwrap(),
+                "{name}"
+            );
+        }
+        // continuity at the gap ends, and the frames after the gap untouched
+        let mx_jumps = crate::common::jumps(&with_auto);
+        assert!(
+            mx_jumps.0 <= 1e-9 && mx_jumps.1 <= 1e-6,
+            "{}: {mx_jumps:?}",
+            case.name
+        );
+        for k in [k1, k1 + 5] {
+            let t = k as f64 * case.frame_time;
+            for name in case.body.coordinate_names() {
+                let a = cut.sample(name, t).unwrap().unwrap()[0];
+                let b = with_auto.sample(name, t).unwrap().unwrap()[0];
+                assert!((a - b).abs() <= 1e-9, "{}: {name} at {t}", case.name);
+            }
+        }
+        for (i, (m, acc)) in [
+            (&case.capture, &mut capture),
+            (&with_none, &mut none),
+            (&with_auto, &mut auto),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let (s, n, d) = ground(&case, m, &up, floor, k0, k1);
+            acc[0] += s;
+            acc[1] += n as f64;
+            worst_depth[i] = worst_depth[i].max(d);
+            println!(
+                "{} [{}]: skate {:.1} cm/s over {n} foot-frames, deepest {d:.2} cm",
+                case.name,
+                ["capture", "contact none", "contact auto"][i],
+                s / (n.max(1) as f64)
+            );
+        }
+    }
+    let mean = |a: [f64; 2]| a[0] / a[1].max(1.0);
+    println!(
+        "walks, 30-frame gap, root filled: skate capture {:.1}, contact none {:.1}, contact auto {:.1} cm/s; \
+         deepest capture {:.2}, none {:.2}, auto {:.2} cm",
+        mean(capture),
+        mean(none),
+        mean(auto),
+        worst_depth[0],
+        worst_depth[1],
+        worst_depth[2]
+    );
+    // the capture itself is on the floor it defines
+    assert!(worst_depth[0] <= 1e-9, "{}", worst_depth[0]);
+}
