@@ -10,6 +10,10 @@
 //! - `MX_INBETWEEN_METHODS=a,b`: only these method labels (plus Hermite);
 //! - `MX_INBETWEEN_GAPS=15,30`, `MX_INBETWEEN_ROOTS=given|filled`;
 //! - `MX_INBETWEEN_CSV=PATH`: every window's result as CSV;
+//!
+//! Beside the main table it prints the ground measures (skate within 2 cm of
+//! the capture's floor, penetration, ground residual; the capture as the
+//! reference row), for all clips and for the locomotion clips alone.
 //! - `MX_INBETWEEN_VIEW=PATH`: where the HTML page of the worst SP window goes
 //!   (capture, SP and Hermite overlaid; default `target/inbetween_worst.html`).
 
@@ -95,6 +99,16 @@ fn main() {
     })
     .unwrap_or_else(|e| panic!("{e}"));
     println!("{}", inbetween::table(&inbetween::summarise(&results)));
+    // standing on the ground: skate, penetration, residual beside L2P, capture the reference;
+    // all clips, then the locomotion clips (walk*, run*, dash*) alone
+    println!(
+        "\nground, all clips:\n{}",
+        inbetween::ground_table(&inbetween::summarise(&results))
+    );
+    println!(
+        "\nground, locomotion (walk*, run*, dash*):\n{}",
+        inbetween::ground_table(&inbetween::summarise_locomotion(&results))
+    );
     // the worst SP window (largest worst-joint error, root given) as one page:
     // the capture, SP and the Hermite fill overlaid on one clock
     let sp_label = "SP defaults";

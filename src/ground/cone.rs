@@ -83,10 +83,9 @@ pub fn best_contact_forces(
         let rl = r / length;
         for c in 0..3 {
             a[(c, 3 * j + c)] = 1.0;
-            let e = Vector3::ith(c, 1.0);
-            let m = rl.cross(&e);
-            for row in 0..3 {
-                a[(3 + row, 3 * j + c)] = m[row];
+            let m = rl.cross(&Vector3::ith(c, 1.0));
+            for (row, v) in m.iter().enumerate() {
+                a[(3 + row, 3 * j + c)] = *v;
             }
         }
     }
@@ -117,11 +116,11 @@ pub fn best_contact_forces(
     let (mut gi, mut gj, mut gv) = (vec![], vec![], vec![]);
     for j in 0..arms.len() {
         for (row, dir) in [(0, up * friction), (1, t1), (2, t2)] {
-            for c in 0..3 {
-                if dir[c] != 0.0 {
+            for (c, d) in dir.iter().enumerate() {
+                if *d != 0.0 {
                     gi.push(3 * j + row);
                     gj.push(3 * j + c);
-                    gv.push(-dir[c]);
+                    gv.push(-d);
                 }
             }
         }
@@ -150,11 +149,10 @@ pub fn best_contact_forces(
         .collect();
     let mut residual = *wrench;
     for (f, r) in forces.iter().zip(arms) {
-        let m = r.cross(f);
-        for c in 0..3 {
-            residual[c] -= m[c];
-            residual[3 + c] -= f[c];
-        }
+        let mut top = residual.fixed_rows_mut::<3>(0);
+        top -= r.cross(f);
+        let mut bottom = residual.fixed_rows_mut::<3>(3);
+        bottom -= f;
     }
     Ok(ConeSolution {
         forces,

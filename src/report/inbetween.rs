@@ -17,6 +17,13 @@
 //! horizontal foot speed while within 5 cm of its lowest height in the
 //! window, cm/s), the largest change of a bone's length (m), ∫Στ² over the
 //! gap, and for SP its iterations, evaluations, convergence and time.
+//! Beside them the README's ground measures (`crate::ground`) over the gap's
+//! frames and the step on either side, against the floor of the whole
+//! captured clip: skate (horizontal speed of a foot joint within 2 cm of the
+//! floor, cm/s), penetration (deepest foot joint below it, cm) and the ground
+//! residual (the force no friction-cone contact forces, μ 0.8, at foot joints
+//! within 2 cm can supply, % of body weight); the capture is their reference
+//! row, and the locomotion clips (walk*, run*, dash*) are summarised on their own.
 //! Used by `benches/inbetween.rs`, `mx report` and the plausibility tests.
 
 use crate::lie::Se3;
@@ -104,6 +111,8 @@ pub struct Case {
     /// DOFs of the root (the skeleton's first joint and, while it never moves,
     /// its first child: Bandai's all-zero `joint_Root` above `Hips`).
     pub root_dofs: Vec<String>,
+    /// The floor: the lowest height a foot joint reaches in the captured clip (m).
+    pub floor: f64,
 }
 
 /// Body mass of the benchmark's bodies (kg), `body_of`'s default.
@@ -140,7 +149,18 @@ impl Case {
                 _ => break,
             }
         }
+        let feet = crate::ground::contact_points(&body, None)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let floor = crate::ground::tracks(
+            &clip.mu,
+            &body,
+            &feet,
+            &ground_options(None, clip.frame_time),
+        )
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .lowest();
         Ok(Case {
+            floor,
             name: path
                 .file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
@@ -258,6 +278,13 @@ pub struct WindowResult {
     pub bone: f64,
     /// ∫Στ² over the gap.
     pub energy: f64,
+    /// The README's ground measures over the gap (see the module doc): skate
+    /// within 2 cm of the capture's floor (cm/s), depth below it (cm), ground
+    /// residual mean and worst frame (% of body weight).
+    pub ground_skate: f64,
+    pub penetration: f64,
+    pub residual: f64,
+    pub residual_worst: f64,
     pub iterations: u64,
     pub evaluations: u64,
     /// `Some(false)`: an SP solve stopped short of its rule (flagged).
@@ -285,6 +312,24 @@ fn poses(
     body.forward_kinematics(&q, buf)
         .map_err(|e| e.to_string())?;
     Ok(links.iter().map(|&l| buf[l]).collect())
+}
+
+/// The ground measures' options at the protocol's settings (2 cm, the clip's frame rate).
+fn ground_options(floor: Option<f64>, frame_time: f64) -> crate::ground::GroundOptions {
+    crate::ground::GroundOptions {
+        floor: floor.map_or(crate::ground::Floor::Auto, crate::ground::Floor::At),
+        height: 0.02,
+        rate: Some(1.0 / frame_time),
+        ..Default::default()
+    }
+}
+
+/// Friction coefficient of the ground residual (the README's μ).
+pub const FRICTION: f64 = 0.8;
+
+/// Whether a clip is locomotion (walk*, run*, dash*: the subset shown on its own).
+pub fn is_locomotion(clip: &str) -> bool {
+    ["walk", "run", "dash"].iter().any(|k| clip.contains(k))
 }
 
 fn is_foot(name: &str) -> bool {
@@ -386,6 +431,16 @@ pub fn score(
     let t1 = case.time(first + gap);
     let piece = crate::motion::clip_in_place(t0, t1, filled).map_err(|e| e.to_string())?;
     let energy = torque_energy(&piece, &case.body, None).map_err(|e| e.to_string())?;
+    let go = ground_options(Some(case.floor), case.frame_time);
+    let gerr = |e: crate::ground::GroundError| format!("{}: ground: {e}", case.name);
+    let ground_skate = crate::ground::foot_skate(&piece, &case.body, &go)
+        .map_err(gerr)?
+        .mean;
+    let penetration = crate::ground::penetration(&piece, &case.body, &go)
+        .map_err(gerr)?
+        .depth;
+    let residual =
+        crate::ground::ground_residual(&piece, &case.body, &go, FRICTION).map_err(gerr)?;
     Ok(WindowResult {
         clip: case.name.clone(),
         start,
@@ -404,6 +459,10 @@ pub fn score(
         },
         bone,
         energy,
+        ground_skate,
+        penetration,
+        residual: residual.mean_force,
+        residual_worst: residual.worst_force,
         iterations: 0,
         evaluations: 0,
         converged: None,
@@ -520,6 +579,13 @@ pub struct Summary {
     pub skate: f64,
     pub bone: f64,
     pub energy: f64,
+    /// Ground measures: mean skate (cm/s), mean and worst penetration (cm),
+    /// mean residual and its worst frame over the windows (% of body weight).
+    pub ground_skate: f64,
+    pub penetration: f64,
+    pub penetration_worst: f64,
+    pub residual: f64,
+    pub residual_worst: f64,
     /// Windows where this method is closer to the capture than Hermite (L2P).
     pub beats_hermite: usize,
     /// Windows whose ∫Στ² is below Hermite's.
@@ -582,6 +648,11 @@ pub fn summarise(results: &[WindowResult]) -> Vec<Summary> {
                 skate: mean(&|r| r.skate),
                 bone: rows.iter().map(|r| r.bone).fold(0.0, f64::max),
                 energy: mean(&|r| r.energy),
+                ground_skate: mean(&|r| r.ground_skate),
+                penetration: mean(&|r| r.penetration),
+                penetration_worst: rows.iter().map(|r| r.penetration).fold(0.0, f64::max),
+                residual: mean(&|r| r.residual),
+                residual_worst: rows.iter().map(|r| r.residual_worst).fold(0.0, f64::max),
                 beats_hermite: beats,
                 cheaper_than_hermite: cheaper,
                 blowups,
@@ -592,6 +663,42 @@ pub fn summarise(results: &[WindowResult]) -> Vec<Summary> {
             }
         })
         .collect()
+}
+
+/// [`summarise`] over the locomotion clips only ([`is_locomotion`]).
+pub fn summarise_locomotion(results: &[WindowResult]) -> Vec<Summary> {
+    let loco: Vec<WindowResult> = results
+        .iter()
+        .filter(|r| is_locomotion(&r.clip))
+        .cloned()
+        .collect();
+    summarise(&loco)
+}
+
+/// The ground measures of a summary as a Markdown table, one row per method
+/// beside its L2P: skate within 2 cm of the floor, penetration (mean, worst),
+/// ground residual (mean, worst frame).
+pub fn ground_table(rows: &[Summary]) -> String {
+    let mut s = String::from(
+        "| root | gap | method | windows | L2P cm | skate 2 cm cm/s | below floor cm (worst) | ground residual % BW (worst frame) |\n\
+         |---|---:|---|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {:.2} | {:.1} | {:.2} ({:.2}) | {:.1} ({:.1}) |\n",
+            r.root.label(),
+            r.gap,
+            r.method,
+            r.windows,
+            r.l2p,
+            r.ground_skate,
+            r.penetration,
+            r.penetration_worst,
+            r.residual,
+            r.residual_worst
+        ));
+    }
+    s
 }
 
 /// The summary as a Markdown table.
@@ -692,11 +799,11 @@ pub fn methods() -> Vec<Method> {
 /// Every window's result as CSV rows (with a header), for plots and digging.
 pub fn csv(results: &[WindowResult]) -> String {
     let mut s = String::from(
-        "clip,start,gap,root,method,l2p_cm,worst_cm,worst_joint,worst_frame,l2q,skate_cm_s,bone_m,energy,iterations,evaluations,converged,seconds\n",
+        "clip,start,gap,root,method,l2p_cm,worst_cm,worst_joint,worst_frame,l2q,skate_cm_s,bone_m,energy,ground_skate_cm_s,penetration_cm,residual_pct_bw,residual_worst_pct_bw,iterations,evaluations,converged,seconds\n",
     );
     for r in results {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             r.clip,
             r.start,
             r.gap,
@@ -710,6 +817,10 @@ pub fn csv(results: &[WindowResult]) -> String {
             r.skate,
             r.bone,
             r.energy,
+            r.ground_skate,
+            r.penetration,
+            r.residual,
+            r.residual_worst,
             r.iterations,
             r.evaluations,
             r.converged.map_or("", |c| if c { "yes" } else { "no" }),
@@ -836,5 +947,49 @@ pub(super) fn section(
             d.n(r.seconds),
         ];
         d.row(&cells);
+    }
+    let _ = writeln!(
+        d.md,
+        "\nStanding on the ground (`data/inbetween/README.md`'s ground measures, `crate::ground`), over \
+         each gap and the step on either side, against the floor of the whole captured clip: skate: \
+         horizontal speed of a foot joint (`Foot_*`, `Toes_*`) within 2 cm of the floor (cm/s); below floor: \
+         the deepest foot joint under it (cm; mean, and worst window); ground residual: the force the \
+         floating base needs that no friction-cone (μ {FRICTION}) forces at the foot joints within 2 cm can \
+         supply (% of body weight; mean, and worst frame). The capture row is the reference. All clips, then \
+         the locomotion clips (walk*, run*, dash*) alone.\n"
+    );
+    for (title, rows) in [
+        ("all clips", rows.clone()),
+        ("locomotion", summarise_locomotion(&results)),
+    ] {
+        d.header(&[
+            "clips",
+            "root",
+            "gap",
+            "method",
+            "windows",
+            "L2P cm",
+            "skate 2 cm cm/s",
+            "below floor cm",
+            "worst below cm",
+            "residual % BW",
+            "worst frame % BW",
+        ]);
+        for r in &rows {
+            let cells = [
+                title.to_string(),
+                r.root.label().to_string(),
+                r.gap.to_string(),
+                r.method.clone(),
+                r.windows.to_string(),
+                d.n(r.l2p),
+                d.n(r.ground_skate),
+                d.n(r.penetration),
+                d.n(r.penetration_worst),
+                d.n(r.residual),
+                d.n(r.residual_worst),
+            ];
+            d.row(&cells);
+        }
     }
 }
