@@ -240,3 +240,86 @@ fn bad_glb_input_is_an_error_not_a_panic() {
     assert!(e.contains("skeleton") || e.contains("body"), "{e}");
     assert!(!dir.path().join("x.glb").exists());
 }
+
+/// A Python that imports `bpy` (Blender 5 as a module): `MX_BPY_PYTHON`, else
+/// `target/bpyenv/bin/python` (`scripts/test` installs bpy 5.0.1 there, apart
+/// from the package's venv: bpy pins numpy 1.26, pandas 3 needs numpy 2).
+/// `None` with a note on a developer machine without it; a panic in CI.
+fn blender_python() -> Option<PathBuf> {
+    let py = std::env::var_os("MX_BPY_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bpyenv/bin/python"));
+    let ok = Command::new(&py)
+        .args(["-c", "import bpy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if ok {
+        return Some(py);
+    }
+    let msg = format!(
+        "no Python with bpy at {} (scripts/test installs it)",
+        py.display()
+    );
+    assert!(!in_ci(), "{msg}: required in CI");
+    eprintln!("SKIPPED: {msg}");
+    None
+}
+
+#[test]
+fn blenders_own_importer_puts_every_joint_within_a_millimetre() {
+    let files = common::shared_files("mocap", ".bvh");
+    let Some(py) = blender_python() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut args = Vec::new();
+    for f in &files {
+        let name = f.file_stem().unwrap().to_string_lossy().to_string();
+        let clip = mx::mocap::load(f, Units::Auto).unwrap();
+        let (body, _) =
+            mx::mocap::body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+        let glb = dir.path().join(format!("{name}.glb"));
+        gltf::save(
+            &body,
+            &[Clip {
+                name: &name,
+                motion: &clip.mu,
+            }],
+            None,
+            &glb,
+        )
+        .unwrap();
+        let p = positions(&clip.mu, &body, None, Missing::Error).unwrap();
+        let json = serde_json::json!({
+            "times": p.times,
+            "names": p.names,
+            "points": p.points.iter().map(|fr| fr.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        });
+        let pos = dir.path().join(format!("{name}.json"));
+        std::fs::write(&pos, json.to_string()).unwrap();
+        args.push(glb);
+        args.push(pos);
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/it/blender/gltf_joints.py");
+    let out = Command::new(&py)
+        .arg(&script)
+        .args(&args)
+        .output()
+        .expect("runs Blender's Python");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let results: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("RESULT "))
+        .collect();
+    assert_eq!(results.len(), files.len(), "{stdout}");
+    for line in results {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let (worst, missing): (f64, usize) = (w[2].parse().unwrap(), w[3].parse().unwrap());
+        eprintln!("Blender import of {}: worst joint {worst:.2e} m", w[1]);
+        assert_eq!(missing, 0, "{line}: bones missing");
+        assert!(worst <= 1e-3, "{line}: a joint is more than 1 mm off");
+    }
+}
