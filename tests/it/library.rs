@@ -443,7 +443,7 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
             .unwrap()
             .metres_per_unit;
         // the library: this clip under another name, beside the others
-        let (mut clips, skipped) = library::clips_in_folder(&path.parent().unwrap()).unwrap();
+        let (mut clips, skipped) = library::clips_in_folder(path.parent().unwrap()).unwrap();
         clips.retain(|c| c.name != case.name);
         clips.push(ClipInput {
             name: "the same, renamed".into(),
@@ -501,7 +501,7 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
             .collect();
         let ex = mx::spacetime::reference::from_library(
             &m,
-            &names,
+            names,
             &|c: usize| !names[c].ends_with("position"),
             &gaps,
             opts.library.as_ref().unwrap(),
