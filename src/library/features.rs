@@ -255,8 +255,8 @@ pub fn frame_features(
             *o = *x as f32;
         }
     };
-    for j in 0..4 {
-        put(3 * j, &local(p[j] - c));
+    for (j, point) in p.iter().take(4).enumerate() {
+        put(3 * j, &local(point - c));
     }
     // velocity forward in time on both sides: (later − earlier) / step
     let s = dir as f64 * rate;

@@ -122,23 +122,23 @@ pub fn load(path: &Path, expect: Option<&Settings>) -> Result<Library, LibraryEr
 /// [`load`] on bytes in memory.
 pub fn from_bytes(bytes: &[u8], expect: Option<&Settings>) -> Result<Library, LibraryError> {
     let err = |s: String| LibraryError::new(s);
-    if bytes.len() < MAGIC.len() + 4 || &bytes[..MAGIC.len()] != MAGIC {
+    if !bytes.starts_with(MAGIC) {
         return Err(err(
             "not an mx clip library (.mxlib) file: save one with save(library(…), \"x.mxlib\")"
                 .into(),
         ));
-    }
-    let version = u32::from_le_bytes(bytes[6..10].try_into().unwrap());
-    if version != VERSION {
-        return Err(err(format!(
-            "written in .mxlib format version {version}, and this mx reads version {VERSION}: rebuild it with library(…) and save it again"
-        )));
     }
     let corrupt = || {
         err("damaged (truncated, or changed since it was written: the checksum does not match): rebuild it with library(…)".into())
     };
     if bytes.len() < 10 + 8 + 8 {
         return Err(corrupt());
+    }
+    let version = u32::from_le_bytes(bytes[6..10].try_into().unwrap());
+    if version != VERSION {
+        return Err(err(format!(
+            "written in .mxlib format version {version}, and this mx reads version {VERSION}: rebuild it with library(…) and save it again"
+        )));
     }
     let (body, tail) = bytes.split_at(bytes.len() - 8);
     if fingerprint(body) != u64::from_le_bytes(tail.try_into().unwrap()) {

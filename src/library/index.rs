@@ -135,6 +135,9 @@ pub struct Match {
 
 type Tree = ImmutableKdTree<f32, u32, DIM, 32>;
 
+/// A clip with its raw before and after vectors, before normalisation.
+type Indexed = (LibClip, Vec<[f32; DIM]>, Vec<[f32; DIM]>);
+
 /// The built index.
 pub struct Library {
     pub settings: Settings,
@@ -220,7 +223,7 @@ impl Library {
             ));
         }
         let min_frames = 2 * settings.horizon() + 2;
-        let done: Vec<Result<(LibClip, Vec<[f32; DIM]>, Vec<[f32; DIM]>), Skipped>> = clips
+        let done: Vec<Result<Indexed, Skipped>> = clips
             .into_par_iter()
             .map(|input| {
                 let skip = |reason: String| Skipped {
@@ -377,8 +380,8 @@ impl Library {
         let mut before = side(&pos_b, h, -1, "before", t0)?;
         let mut after = side(&pos_a, 0, 1, "after", t1)?;
         for v in [&mut before, &mut after] {
-            for d in 0..DIM {
-                v[d] = (v[d] - self.mean[d]) / self.scale[d];
+            for (d, x) in v.iter_mut().enumerate() {
+                *x = (*x - self.mean[d]) / self.scale[d];
             }
         }
         Ok(Query {
@@ -535,9 +538,7 @@ fn normalisation(before: &[[f32; DIM]], after: &[[f32; DIM]]) -> ([f32; DIM], [f
     let mut scale = [1f32; DIM];
     for (first, len) in GROUPS {
         let s = (var[first..first + len].iter().sum::<f64>() / len as f64).sqrt();
-        for d in first..first + len {
-            scale[d] = if s > 1e-9 { s as f32 } else { 1.0 };
-        }
+        scale[first..first + len].fill(if s > 1e-9 { s as f32 } else { 1.0 });
     }
     (mean.map(|m| m as f32), scale)
 }

@@ -472,7 +472,9 @@ pub fn from_library(
             }
         }
         let rho = e / spread;
-        if !(rho <= MAX_MISMATCH) || best.as_ref().is_some_and(|b| b.mismatch <= rho) {
+        // (a NaN ρ is refused too)
+        let acceptable = rho <= MAX_MISMATCH;
+        if !acceptable || best.as_ref().is_some_and(|b| b.mismatch <= rho) {
             continue;
         }
         let joint = |c: usize| {

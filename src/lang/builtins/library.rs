@@ -161,7 +161,7 @@ fn matches(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let t0 = a.number("t0")?;
     let t1 = a.number("t1")?;
     let k = a.named_number_or("k", 5.0)?;
-    if !(k.is_finite() && k >= 1.0 && k <= 1e4) {
+    if !(1.0..=1e4).contains(&k) {
         return Err(a.error(
             ErrorKind::Value,
             format!("`k` must be a whole number from 1 to 10000, found {k}"),

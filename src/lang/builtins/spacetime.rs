@@ -493,7 +493,9 @@ pub fn register(reg: &mut Registry) {
          lowered tenfold until the transition costs at least 1 % less ∫Στ² than the Hermite curves; \"torque\" is Rose's ∫Στ² alone. \
          example: \"self\" (default): where the motion repeats (a walk, a run), the prior follows the velocities of the stretch of m \
          whose 0.3 s on each side best match those around the gap, λ Σ M_dd² ∫ (q̈ − r̈)² + (q̇ − ṙ)²/T², if it matches better than \
-         the context's own mean pose; \"none\": the plain prior. \
+         the context's own mean pose; \"none\": the plain prior; a clip library (library(…)): the stretch of its clips that best \
+         matches the gap's context, turned and moved onto the gap in the floor plane (sp_report names clip, time, warp and mismatch); \
+         [lib, \"self\"]: the better of the two. \
          root: \"auto\" (default: per gap, \"pinned\" when the recorded x–z displacement across it is within 0.5 m + half the \
          displacement T (v₀ + v₁)/2 the end velocities predict, i.e. a hole inside one recording, else \"shift\"), \"shift\" \
          (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays where it was recorded). \
