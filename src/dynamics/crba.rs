@@ -187,7 +187,9 @@ mod tests {
     /// axis, a rotating offset, a prismatic, a spherical, a massless link in a
     /// chain and a massless leaf, two branches.
     fn mixed_chain() -> Model {
-        let joints: [(Option<usize>, Arc<dyn Joint>, bool, bool); 10] = [
+        // (parent, joint, offset rotates, has mass)
+        type Spec = (Option<usize>, Arc<dyn Joint>, bool, bool);
+        let joints: [Spec; 10] = [
             (
                 None,
                 Arc::new(Revolute::new(Vector3::z()).unwrap()),

@@ -59,10 +59,9 @@ pub(crate) fn rnea_core(
     velocity_pass(model, ws, x.q, x.v, true);
     let a0 = base_acceleration(gravity);
     for (i, l) in model.links().iter().enumerate() {
-        let ap = l.parent.map_or(a0, |p| ws.a[p]);
-        let wa = match &ws.turn[i] {
-            Some(t) => t.inv_ad_twist(&ap),
-            None => ws.xt[i].inv_ad_twist(&ap),
+        let wa = match l.parent {
+            Some(p) => ws.xt[i].inv_ad_twist(&ws.a[p]),
+            None => ws.xt[i].inv_ad_twist(&a0),
         };
         let ai = wa + s_mul(&ws.kin[i], &a[l.q_index..l.q_index + l.dof]) + ws.c[i];
         ws.wa[i] = wa;
@@ -86,10 +85,7 @@ pub(crate) fn rnea_core(
             tau[l.q_index + j] = ws.kin[i].s[j].dot(&ws.f[i]);
         }
         if let Some(p) = l.parent {
-            let fp = match &ws.turn[i] {
-                Some(t) => t.ad_wrench(&ws.f[i]),
-                None => ws.xt[i].ad_wrench(&ws.f[i]),
-            };
+            let fp = ws.xt[i].ad_wrench(&ws.f[i]);
             ws.f[p] += fp;
         }
     }

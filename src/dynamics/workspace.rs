@@ -2,7 +2,6 @@
 //! (kinematic) sweep they share.
 
 use crate::dynamics::DynamicsError;
-use crate::dynamics::axis_turn::AxisTurn;
 use crate::dynamics::variation::Variation;
 use crate::lie::{Se3, Twist, Wrench, ad};
 use crate::model::joint::{AxisMotion, Derivatives, JointKinematics, MAX_JOINT_DOF};
@@ -19,8 +18,6 @@ pub struct Workspace {
     pub(crate) kin: Vec<JointKinematics>,
     /// Pose of each link in its parent: `offset · G(q)`.
     pub(crate) xt: Vec<Se3>,
-    /// The same pose as an [`AxisTurn`] where the link allows (set by [`velocity_pass`]).
-    pub(crate) turn: Vec<Option<AxisTurn>>,
     /// Body twist `V_i`.
     pub(crate) v: Vec<Twist>,
     /// Body acceleration `V̇_i` (with the gravity trick: the base accelerates at −g).
@@ -77,7 +74,6 @@ impl Workspace {
             nq: model.nq(),
             kin: vec![JointKinematics::default(); n],
             xt: vec![Se3::identity(); n],
-            turn: vec![None; n],
             v: vec![Twist::zeros(); n],
             a: vec![Twist::zeros(); n],
             f: vec![Wrench::zeros(); n],
@@ -172,18 +168,10 @@ pub(crate) fn velocity_pass(
             Some(axis) => {
                 let s = axis.twist();
                 ws.kin[i].s[0] = s;
-                // A turn about a coordinate axis behind a translating offset
-                // (most URDF links) also moves twists and wrenches cheaply.
-                let turn = AxisTurn::of(l, q[l.q_index]).map(|(t, _)| t);
-                ws.xt[i] = match &turn {
-                    Some(t) => t.se3(),
-                    None => axis.place(&l.offset, q[l.q_index]),
-                };
-                ws.turn[i] = turn;
+                ws.xt[i] = axis.place(&l.offset, q[l.q_index]);
                 s * v[l.q_index]
             }
             None => {
-                ws.turn[i] = None;
                 let want = if hessian && !l.constant_jacobian {
                     Derivatives::Hessian
                 } else {
@@ -194,10 +182,9 @@ pub(crate) fn velocity_pass(
                 s_mul(&ws.kin[i], &v[r.clone()])
             }
         };
-        let wv = match (l.parent, &ws.turn[i]) {
-            (Some(p), Some(t)) => t.inv_ad_twist(&ws.v[p]),
-            (Some(p), None) => ws.xt[i].inv_ad_twist(&ws.v[p]),
-            (None, _) => Twist::zeros(),
+        let wv = match l.parent {
+            Some(p) => ws.xt[i].inv_ad_twist(&ws.v[p]),
+            None => Twist::zeros(),
         };
         let vi = wv + sv;
         let mut c = ad(&vi, &sv);

@@ -91,15 +91,38 @@ impl Inertia {
     #[inline]
     pub fn transformed(&self, t: &Se3) -> Inertia {
         let r = &t.r;
+        let rh = r * self.h;
+        let p = &t.p;
         // The dynamics transforms every link's inertia on every call, so only the
-        // six unique entries of the symmetric `R I Rᵀ` are formed, as `A Rᵀ`
-        // with `A = R I`.
+        // six unique entries of the symmetric result are formed. `R I Rᵀ` is
+        // `A Rᵀ` with `A = R I`; the parallel-axis part −[rh][p] − [p][rh] − m[p]²
+        // written out with [a][b] = b aᵀ − (a·b) 1 is 2(p·w) 1 − p wᵀ − w pᵀ,
+        // w = rh + m p / 2.
         let a = r * self.i_o;
+        let w = rh + p * (0.5 * self.mass);
+        let d = 2.0 * p.dot(&w);
         let e = |i: usize, j: usize| {
             a[(i, 0)] * r[(j, 0)] + a[(i, 1)] * r[(j, 1)] + a[(i, 2)] * r[(j, 2)]
+                - p[i] * w[j]
+                - w[i] * p[j]
         };
-        let rotated = [e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(0, 2), e(1, 2)];
-        Inertia::shifted(self.mass, &(r * self.h), &rotated, &t.p)
+        let (xy, xz, yz) = (e(0, 1), e(0, 2), e(1, 2));
+        let i_o = Matrix3::new(
+            e(0, 0) + d,
+            xy,
+            xz,
+            xy,
+            e(1, 1) + d,
+            yz,
+            xz,
+            yz,
+            e(2, 2) + d,
+        );
+        Inertia {
+            mass: self.mass,
+            h: rh + p * self.mass,
+            i_o,
+        }
     }
 
     /// The inertia of mass `mass` whose first moment `rh` and rotational
