@@ -997,33 +997,7 @@ fn hold_supports(
         }
         let obj = SupportObjective::new(model, frames.clone(), ik, &opts.settings, &configuration)?;
         let x = obj.solve(&opts.solve.cancel)?;
-        let before = obj.largest_drift(&obj.hermite_start())?;
-        let after = obj.largest_drift(&x)?;
-        let dof_names: Vec<String> = obj.dofs().iter().map(|d| names[d.coord].clone()).collect();
-        for (i, &f) in frames.iter().enumerate() {
-            report.support.push(HeldFrame {
-                frame: model.link(f).name.clone(),
-                t0,
-                t1,
-                detected,
-                dofs: dof_names.clone(),
-                moved_before: before[i],
-                moved: after[i],
-            });
-        }
-        for ((gap, coefs), curve) in obj
-            .dofs()
-            .iter()
-            .zip(obj.coefficients(&x))
-            .zip(obj.curves())
-        {
-            let c = curve.to_curve(coefs)?;
-            let dof = m
-                .dofs
-                .get_mut(&names[gap.coord])
-                .ok_or_else(|| invalid("support DOF vanished"))?;
-            insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
-        }
+        write_support_solve(&obj, &x, &frames, (t0, t1), detected, model, m, report)?;
     }
     Ok(left)
 }
@@ -1057,7 +1031,7 @@ fn hold_contacts(
     report: &mut SpReport,
 ) -> Result<Vec<GapDof>, SpError> {
     use super::contact::{self, Context};
-    use super::support::{self, HeldFrame, SupportObjective};
+    use super::support::{self, SupportObjective};
     if gravity.norm() == 0.0 {
         return Ok(gaps); // no gravity, no floor: nothing stands on anything
     }
@@ -1146,35 +1120,51 @@ fn hold_contacts(
             &configuration,
         )?;
         let x = obj.solve(&opts.solve.cancel)?;
-        let before = obj.largest_drift(&obj.hermite_start())?;
-        let after = obj.largest_drift(&x)?;
-        let dof_names: Vec<String> = obj.dofs().iter().map(|d| names[d.coord].clone()).collect();
-        for (i, &f) in frames.iter().enumerate() {
-            report.support.push(HeldFrame {
-                frame: model.link(f).name.clone(),
-                t0,
-                t1,
-                detected: true,
-                dofs: dof_names.clone(),
-                moved_before: before[i],
-                moved: after[i],
-            });
-        }
-        for ((gap, coefs), curve) in obj
-            .dofs()
-            .iter()
-            .zip(obj.coefficients(&x))
-            .zip(obj.curves())
-        {
-            let c = curve.to_curve(coefs)?;
-            let dof = m
-                .dofs
-                .get_mut(&names[gap.coord])
-                .ok_or_else(|| invalid("contact DOF vanished"))?;
-            insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
-        }
+        write_support_solve(&obj, &x, &frames, (t0, t1), true, model, m, report)?;
     }
     Ok(left)
+}
+
+/// Writes a solved support IK back into the motion (its chain's curves over
+/// the gap) and records each held frame in the report, with how far it moved
+/// under the Hermite curves and under IK.
+#[allow(clippy::too_many_arguments)]
+fn write_support_solve(
+    obj: &super::support::SupportObjective,
+    x: &[f64],
+    frames: &[usize],
+    (t0, t1): (f64, f64),
+    detected: bool,
+    model: &Model,
+    m: &mut Mu,
+    report: &mut SpReport,
+) -> Result<(), SpError> {
+    let names = model.coordinate_names();
+    let before = obj.largest_drift(&obj.hermite_start())?;
+    let after = obj.largest_drift(x)?;
+    let dof_names: Vec<String> = obj.dofs().iter().map(|d| names[d.coord].clone()).collect();
+    for (i, &f) in frames.iter().enumerate() {
+        report.support.push(HeldFrame {
+            frame: model.link(f).name.clone(),
+            t0,
+            t1,
+            detected,
+            dofs: dof_names.clone(),
+            moved_before: before[i],
+            moved: after[i],
+        });
+    }
+    for ((gap, coefs), curve) in obj.dofs().iter().zip(obj.coefficients(x)).zip(obj.curves()) {
+        let c = curve.to_curve(coefs)?;
+        let dof = m.dofs.get_mut(&names[gap.coord]).ok_or_else(|| {
+            invalid(format!(
+                "SP lost the DOF {} while writing back its support IK",
+                names[gap.coord]
+            ))
+        })?;
+        insert_curve(dof, Curve::Spline(c), gap.t0, gap.t1)?;
+    }
+    Ok(())
 }
 
 /// 1 for every joint coordinate, 0 for the root's (nothing actuates the six
