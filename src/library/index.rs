@@ -360,7 +360,19 @@ impl Library {
         })?;
         let h = self.settings.horizon();
         let rate = self.settings.rate;
-        let grid = |from: f64| -> Vec<f64> { (0..=h).map(|k| from + k as f64 / rate).collect() };
+        // Grid times within a thousandth of a grid step outside the motion's
+        // span are its ends: a file's rounded frame time (0.0333333 s, or
+        // 0.0083333 s over 40 frames) puts a context that starts on a clip's
+        // first frame 0.3–1.3 µs before it, which would otherwise read as undefined.
+        let span = mu.span();
+        let slack = 1e-3 / rate;
+        let snap = |t: f64| match span {
+            Some((a, _)) if t < a && a - t <= slack => a,
+            Some((_, b)) if t > b && t - b <= slack => b,
+            _ => t,
+        };
+        let grid =
+            |from: f64| -> Vec<f64> { (0..=h).map(|k| snap(from + k as f64 / rate)).collect() };
         let pos_b = features::key_positions(
             mu,
             skeleton,

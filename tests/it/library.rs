@@ -558,3 +558,35 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
     println!("{full} of {tried} gaps filled from their continuation");
     assert!(tried == 0 || full == tried, "no gap was tried");
 }
+
+/// The protocol's first window: its context starts on the clip's first frame,
+/// whole frames of the file's own rounded frame time (0.0333333 s) before the
+/// gap, which is 3e-7 s before the library's 30 Hz grid reaches it. It must be matched,
+/// not refused as undefined.
+#[test]
+fn a_context_that_starts_on_the_first_frame_is_matched() {
+    let Some(lib) = real_library(Settings::default()) else {
+        return;
+    };
+    let h = lib.settings.horizon();
+    for c in 0..lib.clips.len() {
+        let clip = lib.clips[c].motion().unwrap();
+        let (start, end) = clip.mu.span().unwrap();
+        // the context in whole frames of the file's own (rounded) frame time
+        let frames = (h as f64 / lib.settings.rate / clip.frame_time).round();
+        let t0 = start + frames * clip.frame_time;
+        if t0 + 0.5 + h as f64 / lib.settings.rate > end {
+            continue; // too short for a gap and the context after it
+        }
+        let q = lib
+            .query(
+                &clip.mu,
+                &clip.skeleton,
+                clip.units.metres_per_unit,
+                t0,
+                t0 + 0.5,
+            )
+            .unwrap_or_else(|e| panic!("clip {c}: {e}"));
+        assert!(!lib.match_gap(&q, 1).is_empty(), "clip {c}");
+    }
+}
