@@ -112,6 +112,11 @@ impl Args {
         None
     }
 
+    /// Whether the call names `name` (`support: …`), without taking it.
+    pub fn has_named(&self, name: &str) -> bool {
+        self.named.iter().any(|(n, _, _, _)| n == name)
+    }
+
     /// The named argument `name` only (never positional), e.g. `rate: 30`.
     pub fn opt_named(&mut self, name: &str) -> Option<ArgValue> {
         let entry = self

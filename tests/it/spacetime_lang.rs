@@ -657,3 +657,58 @@ print(sp_report(filled))
         assert_eq!(at(&filled, c, (t0 + t1) / 2.0)[0], 0.0);
     }
 }
+
+/// `contact:` as the issue writes it: `"none"` is the default (the same
+/// transition to the bit), `"auto"` plans the feet (the plan is in
+/// `sp_report(m).contacts`, the hole stays filled and continuous), and the
+/// option's misuses are errors that point at it.
+#[test]
+fn sp_contact_option_in_the_language() {
+    let src = "
+let w = load(\"$a\")
+let cut = w - clip_in_place(1s, 1.5s, w)
+let plain = SP(cut, body: body_of(w), coefficients: 3, samples: 8)
+let none = SP(cut, body: body_of(w), coefficients: 3, samples: 8, contact: \"none\")
+let planned = SP(cut, body: body_of(w), coefficients: 3, samples: 8, contact: \"auto\", floor: \"auto\")
+let plan = sp_report(planned).contacts
+";
+    let Some((mut mx, _)) = run_bandai("1_walk_normal", "1_walk_normal", src) else {
+        return;
+    };
+    let (plain, none) = (mu(&mx.get("plain").unwrap()), mu(&mx.get("none").unwrap()));
+    let (_, end) = plain.span().unwrap();
+    for k in 0..=40 {
+        let t = end * k as f64 / 40.0;
+        for name in plain.dofs.keys() {
+            assert_eq!(
+                plain.sample(name, t).unwrap(),
+                none.sample(name, t).unwrap(),
+                "{name} at {t}"
+            );
+        }
+    }
+    let planned = mu(&mx.get("planned").unwrap());
+    assert!(mx::motion::gaps(&planned).is_empty());
+    let [jq, jv, _] = jumps(&planned);
+    assert!(jq <= 1e-9 && jv <= 1e-6, "jumps {jq} {jv}");
+    let plan = mx.get("plan").unwrap();
+    assert!(plan.repr().contains("Toes_"), "{}", plan.repr());
+    for (bad, says) in [
+        ("SP(cut, body: body_of(w), contact: \"feet\")", "contact"),
+        (
+            "SP(cut, body: body_of(w), contact: [\"Toes_X\"])",
+            "no frame named `Toes_X`",
+        ),
+        (
+            "SP(cut, body: body_of(w), contact: \"auto\", support: [])",
+            "replaces `support:`",
+        ),
+        (
+            "SP(cut, body: body_of(w), contact: \"auto\", floor: \"low\")",
+            "`floor:`",
+        ),
+    ] {
+        let e = mx.eval_str(bad).unwrap_err().render_plain();
+        assert!(e.contains(says), "{bad}: {e}");
+    }
+}

@@ -24,7 +24,7 @@ use crate::motion::Mu;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
 use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::{
-    Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
+    Contact, Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
     fill_hermite, sp, torque_energy,
 };
 
@@ -155,6 +155,78 @@ fn support(a: &mut Args, model: &Model) -> MxResult<Support> {
             "support",
             "a list of frame names like [\"LeftFoot\"], [] for none, or \"auto\"",
             &arg,
+        )),
+    }
+}
+
+/// `contact: "none"` (the default: Rose's supports alone), `"auto"` (a
+/// stance schedule planned per gap for the frames near the floor, held by the
+/// support IK with the floor below) or `["Toes_L", …]` (those frames).
+/// Planning replaces `support:`, so the two are not given together.
+fn contact(a: &mut Args, model: &Model, support_given: bool) -> MxResult<Contact> {
+    let Some(arg) = a.opt_named("contact") else {
+        return Ok(Contact::default());
+    };
+    let contact = match &arg.value {
+        Value::Str(s) if &**s == "none" => return Ok(Contact::None),
+        Value::Str(s) if &**s == "auto" => Contact::Auto,
+        Value::List(items) if !items.is_empty() => {
+            let mut names = vec![];
+            for v in items.iter() {
+                let Some(n) = v.as_str() else {
+                    return Err(a.type_error("contact", "a list of frame names (strings)", &arg));
+                };
+                if model.link_index(n).is_none() {
+                    let links = model.links().iter().map(|l| l.name.as_str());
+                    let guess = did_you_mean(n, links)
+                        .map(|g| format!("did you mean `{g}`?"))
+                        .unwrap_or_else(|| "name a frame of the body".into());
+                    return Err(bad_option(
+                        a,
+                        &arg,
+                        format!("the body has no frame named `{n}` to plant"),
+                        &guess,
+                    ));
+                }
+                names.push(n.to_string());
+            }
+            Contact::Named(names)
+        }
+        _ => {
+            return Err(a.type_error(
+                "contact",
+                "\"none\", \"auto\" or a list of frame names like [\"Toes_L\"]",
+                &arg,
+            ));
+        }
+    };
+    if support_given {
+        return Err(bad_option(
+            a,
+            &arg,
+            "`contact:` plans the feet itself and replaces `support:`".into(),
+            "give one of the two",
+        ));
+    }
+    Ok(contact)
+}
+
+/// `floor: h`: the floor's height (m, along −gravity) for `contact:`.
+fn floor(a: &mut Args) -> MxResult<Option<f64>> {
+    let Some(arg) = a.opt_named("floor") else {
+        return Ok(None);
+    };
+    match arg.value {
+        Value::Number(h) if h.is_finite() => Ok(Some(h)),
+        Value::Str(ref s) if &**s == "auto" => Ok(None),
+        _ => Err(bad_option(
+            a,
+            &arg,
+            format!(
+                "`floor:` must be a height in metres or \"auto\", found {}",
+                arg.value.repr()
+            ),
+            "\"auto\" (default): the lowest contact point of the motion's recorded part",
         )),
     }
 }
@@ -353,7 +425,10 @@ fn sp_options(
     if let Some(g) = a.opt_named("gravity") {
         o.gravity = Some(vec3(a, &g, "gravity")?);
     }
+    let support_given = a.has_named("support");
     o.support = support(a, model)?;
+    o.contact = contact(a, model, support_given)?;
+    o.floor = floor(a)?;
     o.root = root_fill(a)?;
     let mut library = None;
     o.prior = prior(a, &mut library)?;
@@ -499,6 +574,9 @@ pub fn register(reg: &mut Registry) {
          root: \"auto\" (default: per gap, \"pinned\" when the recorded x–z displacement across it is within 0.5 m + half the \
          displacement T (v₀ + v₁)/2 the end velocities predict, i.e. a hole inside one recording, else \"shift\"), \"shift\" \
          (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays where it was recorded). \
+         contact: \"none\" (default: Rose's support: alone), \"auto\" (a stance schedule per foot planned from the stances around \
+         each gap, planted frames held by IK with the floor below them; replaces support:) or [\"Toes_L\", …]; floor: its height \
+         (m, default \"auto\": the lowest contact point of the recorded part); sp_report(result).contacts lists the plan. \
          Translation DOFs constant on both sides (bone offsets) stay constant. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
         run_sp,

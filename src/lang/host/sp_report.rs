@@ -130,11 +130,56 @@ impl SpReportValue {
     }
 }
 
+impl SpReportValue {
+    /// Per gap planned with `contact:`, the floor and each contact frame's
+    /// planted intervals with where the frame stands at their ends.
+    fn contacts(&self) -> Value {
+        let point = |p: &nalgebra::Vector3<f64>| Value::list(vec![num(p.x), num(p.y), num(p.z)]);
+        Value::list(
+            self.0
+                .contacts
+                .iter()
+                .map(|g| {
+                    let phases = g
+                        .phases
+                        .iter()
+                        .map(|ph| {
+                            let plants = ph
+                                .plants
+                                .iter()
+                                .map(|p| {
+                                    record(vec![
+                                        ("t0", num(p.t0)),
+                                        ("t1", num(p.t1)),
+                                        ("p0", point(&p.p0)),
+                                        ("p1", point(&p.p1)),
+                                    ])
+                                })
+                                .collect();
+                            record(vec![
+                                ("frame", Value::str(&ph.frame)),
+                                ("planted", Value::list(plants)),
+                            ])
+                        })
+                        .collect();
+                    record(vec![
+                        ("t0", num(g.t0)),
+                        ("t1", num(g.t1)),
+                        ("floor", num(g.floor)),
+                        ("phases", Value::list(phases)),
+                    ])
+                })
+                .collect(),
+        )
+    }
+}
+
 /// The fields `sp_report(m)` has, in the order `keys` would show them.
-pub const FIELDS: [&str; 7] = [
+pub const FIELDS: [&str; 8] = [
     "groups",
     "root",
     "pinned",
+    "contacts",
     "hermite",
     "constant",
     "undefined",
@@ -170,6 +215,7 @@ impl HostObject for SpReportValue {
                     })
                     .collect(),
             )),
+            "contacts" => Some(self.contacts()),
             "hermite" => Some(spans(&self.0.hermite)),
             "constant" => Some(spans(&self.0.constant)),
             "undefined" => Some(spans(&self.0.undefined)),
