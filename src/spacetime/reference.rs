@@ -209,13 +209,7 @@ pub fn find(
     let Some((s, rho)) = best.filter(|(_, rho)| *rho <= MAX_MISMATCH) else {
         return Ok(None);
     };
-    // A joint's channels follow together or not at all: one Euler channel
-    // following and its siblings not is a rotation neither side has.
-    let joint = |c: usize| {
-        names[c]
-            .rsplit_once('.')
-            .map_or(names[c].as_str(), |(j, _)| j)
-    };
+    // which channels are close to the example at both gap ends
     let close: Vec<bool> = x
         .iter()
         .map(|row| {
@@ -224,16 +218,7 @@ pub fn find(
                 .all(|&k| wrap(row[at(k + s)] - row[at(k)]).abs() <= MAX_END_DIFFERENCE)
         })
         .collect();
-    let follow: Vec<usize> = coords
-        .iter()
-        .filter(|&&c| {
-            coords
-                .iter()
-                .zip(&close)
-                .all(|(&o, &ok)| ok || joint(o) != joint(c))
-        })
-        .copied()
-        .collect();
+    let follow = whole_joints(&coords, &close, names);
     if follow.is_empty() {
         return Ok(None);
     }
@@ -477,11 +462,6 @@ pub fn from_library(
         if !acceptable || best.as_ref().is_some_and(|b| b.mismatch <= rho) {
             continue;
         }
-        let joint = |c: usize| {
-            names[c]
-                .rsplit_once('.')
-                .map_or(names[c].as_str(), |(j, _)| j)
-        };
         let close: Vec<bool> = coords
             .iter()
             .map(|&c| {
@@ -496,16 +476,7 @@ pub fn from_library(
                     })
             })
             .collect();
-        let follow: Vec<usize> = coords
-            .iter()
-            .filter(|&&c| {
-                coords
-                    .iter()
-                    .zip(&close)
-                    .all(|(&o, &ok)| ok || joint(o) != joint(c))
-            })
-            .copied()
-            .collect();
+        let follow = whole_joints(&coords, &close, names);
         if follow.is_empty() {
             continue;
         }
@@ -530,6 +501,27 @@ pub fn from_library(
 /// The joint that carries the body through the world: the first joint from
 /// the skeleton's root down to the hips with position channels that move
 /// (Bandai's all-zero `joint_Root` is skipped for its `Hips`).
+/// The coordinates of `coords` whose joint has every channel `close` (a
+/// joint's channels follow an example together or not at all: one Euler
+/// channel following and its siblings not is a rotation neither side has).
+fn whole_joints(coords: &[usize], close: &[bool], names: &[String]) -> Vec<usize> {
+    let joint = |c: usize| {
+        names[c]
+            .rsplit_once('.')
+            .map_or(names[c].as_str(), |(j, _)| j)
+    };
+    coords
+        .iter()
+        .filter(|&&c| {
+            coords
+                .iter()
+                .zip(close)
+                .all(|(&o, &ok)| ok || joint(o) != joint(c))
+        })
+        .copied()
+        .collect()
+}
+
 fn moving_root(clip: &crate::mocap::Clip, keys: &KeyJoints) -> Option<usize> {
     let sk = &clip.skeleton;
     let mut chain = vec![];
