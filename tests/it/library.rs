@@ -426,19 +426,23 @@ fn the_language_forms_work_as_written() {
     }
 }
 
-/// A gap whose true continuation is in the library, as another clip's name,
-/// is filled from it: within 1 cm of the capture at every joint and frame.
+/// A gap whose true continuation is in the library, as another clip's name:
+/// SP is offered that clip, and the stretch laid on the gap is within 1 cm of
+/// the capture at every joint and frame. How close SP's own fill comes is
+/// printed, not asserted: its prior follows the stretch softly against ∫Στ²
+/// (2.6–240 mm on the shared clips; issue #26 keeps that goal open).
 #[cfg(feature = "report")]
 #[test]
-fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
+fn a_gap_whose_continuation_is_in_the_library_is_offered_it() {
     use mx::report::inbetween::{Case, RootMode};
     use mx::spacetime::reference::LibrarySource;
     use mx::spacetime::{Prior, SpOptions, sp};
     use std::sync::Arc;
-    let (mut tried, mut full) = (0, 0);
-    for path in common::shared_files("mocap", ".bvh") {
-        let case = Case::load(&path).unwrap();
-        let file = bvh::read_file(&path).unwrap();
+    let mut tried = 0;
+    let paths = common::shared_files("mocap", ".bvh");
+    for path in &paths {
+        let case = Case::load(path).unwrap();
+        let file = bvh::read_file(path).unwrap();
         let mpu = bvh::resolve_units(Units::Auto, &file.skeleton)
             .unwrap()
             .metres_per_unit;
@@ -543,7 +547,6 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
             case.name,
             worst * 100.0
         );
-        full += 1;
         // what SP makes of it (its prior follows the stretch's velocities
         // softly, against ∫Στ²): reported, not asserted
         let (filled, report) = sp(&m, &case.body, &opts).unwrap();
@@ -555,8 +558,8 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
             report.groups[0].prior_scale
         );
     }
-    println!("{full} of {tried} gaps filled from their continuation");
-    assert!(tried == 0 || full == tried, "no gap was tried");
+    println!("{tried} gaps offered their continuation");
+    assert!(paths.is_empty() || tried > 0, "no shared clip was long enough to try");
 }
 
 /// The protocol's first window: its context starts on the clip's first frame,
