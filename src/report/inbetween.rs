@@ -744,7 +744,8 @@ pub fn table(rows: &[Summary]) -> String {
 /// the two interpolation baselines, SP at its defaults, and a row for each
 /// knob of SP's objective — Rose's ∫Στ² alone (`objective: "torque"`), the
 /// prior's weight (`smoothness:`), its time constant (`time_constant:`,
-/// fixed instead of (0.32 s)²/gap) — and SP without support IK.
+/// fixed instead of (0.32 s)²/gap) — SP without support IK, and SP with
+/// foot contact planned (`contact: "auto"`).
 pub fn methods() -> Vec<Method> {
     use crate::spacetime::{Prior, SpOptions, Support};
     let sp = |label: &str, o: SpOptions| Method::Sp(label.into(), Box::new(o));
@@ -790,6 +791,14 @@ pub fn methods() -> Vec<Method> {
             "SP support: []",
             SpOptions {
                 support: Support::Off,
+                ..Default::default()
+            },
+        ),
+        // foot contact planned per gap (issue #25; opt-in until it helps)
+        sp(
+            "SP contact: \"auto\"",
+            SpOptions {
+                contact: crate::spacetime::Contact::Auto,
                 ..Default::default()
             },
         ),

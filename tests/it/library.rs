@@ -559,7 +559,10 @@ fn a_gap_whose_continuation_is_in_the_library_is_offered_it() {
         );
     }
     println!("{tried} gaps offered their continuation");
-    assert!(paths.is_empty() || tried > 0, "no shared clip was long enough to try");
+    assert!(
+        paths.is_empty() || tried > 0,
+        "no shared clip was long enough to try"
+    );
 }
 
 /// The protocol's first window: its context starts on the clip's first frame,
