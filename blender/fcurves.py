@@ -1,0 +1,98 @@
+"""F-curves in and out as NumPy arrays, one `foreach_get` / `foreach_set`
+per curve (a per-keyframe Python loop is what would make the glue slow)."""
+
+import numpy as np
+
+from bpy_extras import anim_utils
+
+
+def channelbag(action):
+    """The channel bag of the action's first slot (Blender 5 actions are
+    slotted; an importer's action has one slot)."""
+    if not action.slots:
+        return None
+    return anim_utils.action_get_channelbag_for_slot(action, action.slots[0])
+
+
+def curve_map(action):
+    """{(data_path, index): FCurve} of the action."""
+    bag = channelbag(action)
+    return {} if bag is None else {(c.data_path, c.array_index): c for c in bag.fcurves}
+
+
+def keyed_frames(action):
+    """Sorted integer frames that carry a key on any curve."""
+    frames = set()
+    for c in curve_map(action).values():
+        co = np.empty(2 * len(c.keyframe_points), dtype=np.float32)
+        c.keyframe_points.foreach_get("co", co)
+        frames.update(np.round(co[0::2]).astype(int).tolist())
+    return np.array(sorted(frames), dtype=int)
+
+
+def sample(curve, frames):
+    """The curve's values at integer `frames` (float64). Keys exactly on
+    those frames are read in one call; otherwise the curve is evaluated."""
+    n = len(curve.keyframe_points)
+    co = np.empty(2 * n, dtype=np.float32)
+    curve.keyframe_points.foreach_get("co", co)
+    kf, kv = co[0::2].astype(float), co[1::2].astype(float)
+    idx = np.searchsorted(kf, frames)
+    idx = np.minimum(idx, n - 1)
+    if n and np.all(kf[idx] == frames):
+        return kv[idx]
+    return np.array([curve.evaluate(float(f)) for f in frames])
+
+
+def reader(action, frames):
+    """`get(path, index)` for rig.Rig.to_mx: the channel over `frames`, or
+    None when the action does not animate it."""
+    curves = curve_map(action)
+    cache = {}
+
+    def get(path, index):
+        # Each channel is read once: the mapping and the bake both ask.
+        if (path, index) not in cache:
+            c = curves.get((path, index))
+            cache[(path, index)] = None if c is None else sample(c, frames)
+        return cache[(path, index)]
+
+    return get
+
+
+def write_action(name, target_id_type, frames, channels, groups):
+    """A new action with one key per frame on each channel.
+
+    channels: {(data_path, index): values [T]}; groups: {data_path: group
+    name} (the bone, as importers group them). Keys are linear, as Blender's
+    BVH importer makes them, so the curve between frames is the straight line
+    between mx's samples.
+    """
+    import bpy
+
+    action = bpy.data.actions.new(name)
+    slot = action.slots.new(target_id_type, "Slot")
+    bag = anim_utils.action_ensure_channelbag_for_slot(action, slot)
+    f = np.asarray(frames, dtype=np.float32)
+    co = np.empty(2 * len(f), dtype=np.float32)
+    co[0::2] = f
+    linear = None
+    for (path, index), values in channels.items():
+        c = bag.fcurves.new(data_path=path, index=index, group_name=groups.get(path, ""))
+        c.keyframe_points.add(len(f))
+        co[1::2] = values
+        c.keyframe_points.foreach_set("co", co)
+        if linear is None:
+            linear = _linear_code(c)
+        c.keyframe_points.foreach_set("interpolation", np.full(len(f), linear, dtype=np.int32))
+        c.update()
+    return action, slot
+
+
+def _linear_code(curve):
+    """The integer `foreach_set` takes for interpolation 'LINEAR' (enum codes
+    are Blender's, not documented): set one key by name and read it back."""
+    curve.keyframe_points[0].interpolation = "LINEAR"
+    buf = np.empty(len(curve.keyframe_points), dtype=np.int32)
+    curve.keyframe_points.foreach_get("interpolation", buf)
+    return int(buf[0])
