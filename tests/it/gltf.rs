@@ -14,10 +14,6 @@ fn quote(p: &Path) -> String {
     format!("{:?}", p.to_string_lossy())
 }
 
-fn in_ci() -> bool {
-    std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
-}
-
 /// The npm `gltf-validator` package's `node_modules` folder (`scripts/test`
 /// installs it into `target/gltf-validator`; `MX_GLTF_VALIDATOR` moves it).
 /// `None` (with a note) on a developer machine without it or without node;
@@ -39,7 +35,7 @@ fn validator() -> Option<PathBuf> {
         "the glTF validator is not at {} (or node is missing); scripts/test installs it",
         dir.display()
     );
-    assert!(!in_ci(), "{msg}: required in CI");
+    assert!(!common::in_ci(), "{msg}: required in CI");
     eprintln!("SKIPPED: {msg}");
     None
 }
@@ -241,34 +237,10 @@ fn bad_glb_input_is_an_error_not_a_panic() {
     assert!(!dir.path().join("x.glb").exists());
 }
 
-/// A Python that imports `bpy` (Blender 5 as a module): `MX_BPY_PYTHON`, else
-/// `target/bpyenv/bin/python` (`scripts/test` installs bpy 5.0.1 there, apart
-/// from the package's venv: bpy pins numpy 1.26, pandas 3 needs numpy 2).
-/// `None` with a note on a developer machine without it; a panic in CI.
-fn blender_python() -> Option<PathBuf> {
-    let py = std::env::var_os("MX_BPY_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bpyenv/bin/python"));
-    let ok = Command::new(&py)
-        .args(["-c", "import bpy"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if ok {
-        return Some(py);
-    }
-    let msg = format!(
-        "no Python with bpy at {} (scripts/test installs it)",
-        py.display()
-    );
-    assert!(!in_ci(), "{msg}: required in CI");
-    eprintln!("SKIPPED: {msg}");
-    None
-}
-
 #[test]
 fn blenders_own_importer_puts_every_joint_within_a_millimetre() {
     let files = common::shared_files("mocap", ".bvh");
-    let Some(py) = blender_python() else { return };
+    let Some(py) = common::blender_python() else { return };
     let dir = tempfile::tempdir().unwrap();
     let mut args = Vec::new();
     for f in &files {

@@ -6,6 +6,7 @@
 mod common;
 mod support;
 
+mod blender_addon;
 mod bvh_malformed;
 mod bvh_shared;
 mod cli;

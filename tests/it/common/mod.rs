@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// The folder holding `data/` (reference data from peers and motion capture):
 /// `$MX_SHARED`, else `../shared` from the repository root.
@@ -88,4 +89,33 @@ pub fn jumps(m: &mx::motion::Mu) -> (f64, f64) {
         }
     }
     (jq, jv)
+}
+
+/// Whether the tests run in CI (`CI=true` or `1`), where missing tools fail.
+pub fn in_ci() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
+}
+
+/// A Python that imports `bpy` (Blender 5 as a module): `MX_BPY_PYTHON`, else
+/// `target/bpyenv/bin/python` (`scripts/test` installs bpy 5.0.1 there, apart
+/// from the package's venv: bpy pins numpy 1.26, pandas 3 needs numpy 2).
+/// `None` with a note on a developer machine without it; a panic in CI.
+pub fn blender_python() -> Option<PathBuf> {
+    let py = std::env::var_os("MX_BPY_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bpyenv/bin/python"));
+    let ok = Command::new(&py)
+        .args(["-c", "import bpy"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if ok {
+        return Some(py);
+    }
+    let msg = format!(
+        "no Python with bpy at {} (scripts/test installs it)",
+        py.display()
+    );
+    assert!(!in_ci(), "{msg}: required in CI");
+    eprintln!("SKIPPED: {msg}");
+    None
 }

@@ -1,0 +1,97 @@
+//! The mx add-on (blender/) in real Blender: bpy 5 from PyPI, headless. The
+//! extension zip `scripts/blender-addon` builds is installed through
+//! Blender's extension system into a throwaway user folder; two shared BVH
+//! clips are imported with Blender's own importer and the fill operator joins
+//! them (tests/it/blender/addon_fill.py does the Blender side and prints
+//! `CHECK name value` lines, asserted here).
+
+use crate::common;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The extension zip: `MX_BLENDER_ADDON_ZIP`, else what `scripts/blender-addon`
+/// writes. `None` with a note on a developer machine without it; a panic in CI.
+fn addon_zip() -> Option<PathBuf> {
+    let zip = std::env::var_os("MX_BLENDER_ADDON_ZIP")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("target/blender/mx_transitions-0.1.0.zip")
+        });
+    if zip.is_file() {
+        return Some(zip);
+    }
+    let msg = format!(
+        "no add-on zip at {} (scripts/blender-addon builds it)",
+        zip.display()
+    );
+    assert!(!common::in_ci(), "{msg}: required in CI");
+    eprintln!("SKIPPED: {msg}");
+    None
+}
+
+/// Runs the driver in `mode` with Blender's user folders in a temporary
+/// directory; returns the CHECK values and the whole stdout.
+fn drive(mode: &str) -> Option<(HashMap<String, f64>, String)> {
+    let dir = common::shared_dir()?;
+    let py = common::blender_python()?;
+    let zip = addon_zip()?;
+    let home = tempfile::tempdir().unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/it/blender/addon_fill.py");
+    let out = Command::new(&py)
+        .arg(&script)
+        .arg(&zip)
+        .arg(dir.join("data/mocap"))
+        .arg(mode)
+        // Blender installs extensions under its user folders: keep them out of $HOME.
+        .env("BLENDER_USER_RESOURCES", home.path())
+        .env("BLENDER_USER_CONFIG", home.path().join("config"))
+        .env("BLENDER_USER_SCRIPTS", home.path().join("scripts"))
+        .env("BLENDER_USER_EXTENSIONS", home.path().join("extensions"))
+        .output()
+        .expect("runs Blender's Python");
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let checks = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("CHECK "))
+        .map(|l| {
+            let (k, v) = l.split_once(' ').unwrap();
+            (k.to_string(), v.parse::<f64>().unwrap())
+        })
+        .collect();
+    Some((checks, stdout))
+}
+
+#[test]
+fn the_fill_operator_joins_two_clips_as_the_python_api_does() {
+    let Some((c, stdout)) = drive("check") else {
+        return;
+    };
+    eprintln!("{stdout}");
+    let get = |k: &str| *c.get(k).unwrap_or_else(|| panic!("no CHECK {k}:\n{stdout}"));
+    // Blender's armature mapped to mx is the file's clip (F-curves are float32).
+    assert!(get("rig_vs_file_max") < 1e-4, "rig mapping off by {}", get("rig_vs_file_max"));
+    // The new action spans the walk, the 30-frame gap and the run.
+    assert_eq!(get("frame_start"), 0.0);
+    assert_eq!(get("frame_end"), 0.0);
+    assert_eq!(get("curves_missing"), 0.0);
+    // Outside the gap: the two actions' keys, bit for bit (the root's location
+    // after the gap may move as a whole: root "auto" shifts a walk onto a run).
+    assert_eq!(get("outside_first_max"), 0.0);
+    assert_eq!(get("outside_second_max"), 0.0);
+    assert!(get("root_shift_not_constant") < 1e-5);
+    // Continuous joins: the step across each join and its change are like
+    // those of the frames beside it (a jump or a kink would be many times them).
+    assert!(get("join_step_ratio") < 2.0, "value jump at a join");
+    assert!(get("join_velocity_change_ratio") < 3.0, "velocity jump at a join");
+    // The gap holds exactly what mx.sp gives on the same clips and options.
+    assert!(get("gap_vs_python_api_max") <= 1e-9);
+    // And what it gives on the files themselves (mx.load), float32 apart.
+    assert!(get("vs_files_api_max") < 1e-3, "{}", get("vs_files_api_max"));
+}
