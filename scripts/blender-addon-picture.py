@@ -60,19 +60,18 @@ mats = {
 }
 scene = bpy.context.scene
 frames = list(range(walk_end - 20, run_start + 21, STEP))
-x0 = None
 for n, f in enumerate(frames):
     scene.frame_set(f)
     kind = "walk" if f <= walk_end else ("run" if f >= run_start else "sp")
-    if x0 is None:
-        x0 = (arm.matrix_world @ arm.pose.bones[0].head).copy()
-    for pb in arm.pose.bones:
+    # Each pose centred on its hips, the poses in a row along y (across the
+    # picture): a film strip, not the path walked.
+    hips = arm.matrix_world @ arm.pose.bones["Hips"].head
+    off = Vector((-hips.x, 0.6 * n - hips.y, 0))
+    for pb in arm.pose.bones[1:]:  # not the static joint_Root -> Hips bone
         h = arm.matrix_world @ pb.head
         t = arm.matrix_world @ pb.tail
         if (t - h).length < 1e-4:
             continue
-        # Spread the poses sideways (y) so they do not overlap; forward stays as recorded.
-        off = Vector((0, 0.55 * n, 0)) - Vector((x0.x, x0.y, 0))
         bpy.ops.mesh.primitive_cylinder_add(radius=0.018, depth=(t - h).length, location=(h + t) / 2 + off)
         c = bpy.context.active_object
         c.rotation_mode = "QUATERNION"
@@ -84,22 +83,22 @@ bpy.context.active_object.data.materials.append(material("floor", (0.8, 0.8, 0.8
 bpy.ops.object.light_add(type="SUN", rotation=(0.6, 0.2, 0.8))
 bpy.context.active_object.data.energy = 3.0
 world = bpy.data.worlds.new("w")
-world.color = (0.9, 0.9, 0.92)
+world.color = (0.35, 0.35, 0.38)
 scene.world = world
 # Camera: looking across the row of figures from the side, slightly above.
 mid = np.mean([o.location for o in bpy.data.objects if o.type == "MESH" and o.data.name.startswith("Cyl")], 0)
-bpy.ops.object.camera_add(location=(mid[0] + 9.5, mid[1] - 1.5, 2.2))
+bpy.ops.object.camera_add(location=(mid[0] + 9.5, mid[1], 1.6))
 cam = bpy.context.active_object
 cam.rotation_mode = "QUATERNION"
 cam.rotation_quaternion = (Vector(mid) + Vector((0, 0, 0.2)) - cam.location).to_track_quat("-Z", "Y")
 cam.data.type = "ORTHO"
-cam.data.ortho_scale = 0.55 * len(frames) + 1.5
+cam.data.ortho_scale = 0.6 * len(frames) + 0.6
 scene.camera = cam
 scene.render.engine = "CYCLES"
 scene.cycles.device = "CPU"
 scene.cycles.samples = 24
 scene.cycles.use_denoising = False
-scene.render.resolution_x, scene.render.resolution_y = 1400, 420
+scene.render.resolution_x, scene.render.resolution_y = 1400, 300
 scene.render.filepath = os.path.abspath(OUT)
 bpy.ops.render.render(write_still=True)
 print("wrote", OUT, "frames", frames)
