@@ -207,9 +207,7 @@ class MX_OT_import_motion(ImportHelper, bpy.types.Operator):
             lo, hi = m.span
             n = int(np.floor((hi - lo) * fps + 1e-9)) + 1
             times = lo + np.arange(n) / fps
-            cols = {d: i for i, d in enumerate(m.dofs)}
-            raw = m.sample(times)
-            values = np.stack([raw[:, cols[d]] if d in cols else np.zeros(n) for d in rig.dofs], 1)
+            values = rig.from_named(m.dofs, m.sample(times))
             frames = context.scene.frame_start + np.arange(n)
             chans = rig.from_mx(np.nan_to_num(values))
             name = os.path.splitext(os.path.basename(self.filepath))[0]

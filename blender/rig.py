@@ -190,6 +190,34 @@ class Rig:
                 out[:, c : c + 3] = e[j]
         return out
 
+    def from_named(self, names, raw):
+        """[T, D] in the rig's DOFs from a motion's columns (`names`, raw
+        [T, K]): a joint's rotation given in another Euler order (a glTF
+        file's Z X Y, say) is converted; what the motion lacks is the rest pose."""
+        col = {d: i for i, d in enumerate(names)}
+        rots = {}
+        for d in names:
+            joint, ch = d.rsplit(".", 1)
+            if ch.endswith("rotation"):
+                rots.setdefault(joint, []).append(d)
+        out = np.zeros((raw.shape[0], len(self.dofs)))
+        k = 0
+        for b in self.bones:
+            if b.has_loc:
+                for i, a in enumerate("XYZ"):
+                    d = f"{b.name}.{a}position"
+                    out[:, k + i] = raw[:, col[d]] if d in col else b.offset[i]
+                k += 3
+            given = rots.get(b.name, [])
+            if len(given) == 3:
+                order = "".join(d.rsplit(".", 1)[1][0] for d in given)
+                ang = raw[:, [col[d] for d in given]]
+                if order != b.order:
+                    ang = np.unwrap(rot.matrix_to_euler(rot.euler_to_matrix(ang, order), b.order), axis=0)
+                out[:, k : k + 3] = ang
+            k += 3
+        return out
+
     def from_mx(self, values):
         out = {}
         k = 0

@@ -103,6 +103,15 @@ fn the_fill_operator_joins_two_clips_as_the_python_api_does() {
     // float32 (rig_vs_file_max above).
     let (files, body) = (get("vs_files_api_max"), get("files_body_vs_rest_body_max"));
     assert!((files - body).abs() < 1e-3, "{files} vs {body}");
+    // Between two NLA strips placed as the actions were: the same transition.
+    assert!(get("nla_vs_actions_max") <= 1e-9);
+    // Export with mx and import back, per format: every frame, the same motion
+    // (float32 keys both ways; .bvh's decimals; .glb's quaternions).
+    for ext in ["json", "bvh", "glb"] {
+        assert_eq!(get(&format!("roundtrip_frames_{ext}")), 0.0, "{ext}");
+        let d = get(&format!("roundtrip_{ext}_max"));
+        assert!(d < 1e-3, "{ext}: {d}");
+    }
 }
 
 /// The operator on a 1 s gap of three walks (two 30 Hz Bandai clips, a

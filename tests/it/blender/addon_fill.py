@@ -210,6 +210,36 @@ def run_check():
     check("vs_files_api_max", np.abs(d).max())
     print("REPORT", report.get("text", ""), flush=True)
 
+    # Between two NLA strips: the walk, then the run GAP frames after its
+    # end, as strips; the operator gives the same transition.
+    ad = walk_ob.animation_data
+    track = ad.nla_tracks.new()
+    track.strips.new("walk", a0, walk)
+    track.strips.new("run", b0, run)
+    ad.action = None
+    assert bpy.ops.mx.fill_transition(source="NLA") == {"FINISHED"}
+    check("nla_vs_actions_max", np.abs(addon.operators.LAST_TIMING["values"] - result).max())
+    ad.nla_tracks.remove(track)
+
+    # Export the fill with mx and import it back onto the armature, per format.
+    import tempfile
+
+    ad.action = new
+    ad.action_slot = new.slots[0]
+    with tempfile.TemporaryDirectory() as tmp:
+        for ext in ("json", "bvh", "glb"):
+            path = os.path.join(tmp, "fill." + ext)
+            assert bpy.ops.mx.export_motion(filepath=path) == {"FINISHED"}, ext
+            assert bpy.ops.mx.import_motion(filepath=path) == {"FINISHED"}, ext
+            back = keys(walk_ob.animation_data.action)
+            nb = len(back[next(iter(back))][0])
+            v = rig.to_mx(lambda p, i: back[(p, i)][1] if (p, i) in back else None)
+            d = v - result[:nb]
+            d[:, rot] -= 2 * np.pi * np.round(d[:, rot] / (2 * np.pi))
+            print("ROUNDTRIP", ext, nb, "frames", flush=True)
+            check(f"roundtrip_frames_{ext}", nb - len(result))
+            check(f"roundtrip_{ext}_max", np.abs(d).max())
+
 
 def gapped_walk(mx, name):
     """The walk imported, a 1 s hole cut into its keys in the middle; returns
