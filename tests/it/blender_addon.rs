@@ -74,9 +74,16 @@ fn the_fill_operator_joins_two_clips_as_the_python_api_does() {
         return;
     };
     eprintln!("{stdout}");
-    let get = |k: &str| *c.get(k).unwrap_or_else(|| panic!("no CHECK {k}:\n{stdout}"));
+    let get = |k: &str| {
+        *c.get(k)
+            .unwrap_or_else(|| panic!("no CHECK {k}:\n{stdout}"))
+    };
     // Blender's armature mapped to mx is the file's clip (F-curves are float32).
-    assert!(get("rig_vs_file_max") < 1e-4, "rig mapping off by {}", get("rig_vs_file_max"));
+    assert!(
+        get("rig_vs_file_max") < 1e-4,
+        "rig mapping off by {}",
+        get("rig_vs_file_max")
+    );
     // The new action spans the walk, the 30-frame gap and the run.
     assert_eq!(get("frame_start"), 0.0);
     assert_eq!(get("frame_end"), 0.0);
@@ -93,7 +100,10 @@ fn the_fill_operator_joins_two_clips_as_the_python_api_does() {
     // Continuous joins (mx's DOFs from the keys): the step across each join and
     // its change are like those beside it; a jump or a kink would be many times them.
     assert!(get("join_step_ratio") < 2.0, "value jump at a join");
-    assert!(get("join_velocity_change_ratio") < 3.0, "velocity jump at a join");
+    assert!(
+        get("join_velocity_change_ratio") < 3.0,
+        "velocity jump at a join"
+    );
     // The operator's transition is exactly mx.sp's from Python on the same
     // clips (as Blender holds them) and options.
     assert!(get("result_vs_python_api_max") <= 1e-9);
@@ -105,6 +115,14 @@ fn the_fill_operator_joins_two_clips_as_the_python_api_does() {
     assert!((files - body).abs() < 1e-3, "{files} vs {body}");
     // Between two NLA strips placed as the actions were: the same transition.
     assert!(get("nla_vs_actions_max") <= 1e-9);
+    // Misuse (a missing action, no gap, no strips) is a clear report.
+    for source in ["ACTIONS", "GAP", "NLA"] {
+        assert_eq!(
+            get(&format!("misuse_{source}_reported")),
+            1.0,
+            "{source}: {stdout}"
+        );
+    }
     // Export with mx and import back, per format: every frame, the same motion
     // (float32 keys both ways; .bvh's decimals; .glb's quaternions).
     for ext in ["json", "bvh", "glb"] {

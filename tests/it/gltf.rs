@@ -240,7 +240,9 @@ fn bad_glb_input_is_an_error_not_a_panic() {
 #[test]
 fn blenders_own_importer_puts_every_joint_within_a_millimetre() {
     let files = common::shared_files("mocap", ".bvh");
-    let Some(py) = common::blender_python() else { return };
+    let Some(py) = common::blender_python() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     let mut args = Vec::new();
     for f in &files {

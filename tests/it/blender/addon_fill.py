@@ -221,6 +221,21 @@ def run_check():
     check("nla_vs_actions_max", np.abs(addon.operators.LAST_TIMING["values"] - result).max())
     ad.nla_tracks.remove(track)
 
+    # Misuse is a report, not a traceback (bpy raises RuntimeError on an ERROR report).
+    for kw, want in [
+        (dict(source="ACTIONS", first=walk.name, second="no such action"), "no action named"),
+        (dict(source="GAP"), "no gap to fill"),
+        (dict(source="NLA"), "select exactly two NLA"),
+    ]:
+        ad.action = walk
+        ad.action_slot = walk.slots[0]
+        try:
+            bpy.ops.mx.fill_transition(**kw)
+            check(f"misuse_{kw['source']}_reported", 0)
+        except RuntimeError as e:
+            print("MISUSE", kw["source"], str(e).strip(), flush=True)
+            check(f"misuse_{kw['source']}_reported", 1 if want in str(e) else 0)
+
     # Export the fill with mx and import it back onto the armature, per format.
     import tempfile
 
