@@ -1,4 +1,4 @@
-//! The mx add-on (blender/) in real Blender: bpy 5 from PyPI, headless. The
+//! The mx add-on (blender/mx_transitions/) in real Blender: bpy 5 from PyPI, headless. The
 //! extension zip `scripts/blender-addon` builds is installed through
 //! Blender's extension system into a throwaway user folder; two shared BVH
 //! clips are imported with Blender's own importer and the fill operator joins
@@ -31,12 +31,35 @@ fn addon_zip() -> Option<PathBuf> {
     None
 }
 
+/// `blender/` (a local extension repository holding `mx_transitions/`) once
+/// `scripts/blender-addon` has put the wheel in it; as `addon_zip` otherwise.
+fn local_repository() -> Option<PathBuf> {
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("blender");
+    let wheels = std::fs::read_dir(repo.join("mx_transitions/wheels"))
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .any(|e| e.path().extension().is_some_and(|x| x == "whl"))
+        })
+        .unwrap_or(false);
+    if wheels {
+        return Some(repo);
+    }
+    let msg = "no wheel in blender/mx_transitions/wheels (scripts/blender-addon puts it there)";
+    assert!(!common::in_ci(), "{msg}: required in CI");
+    eprintln!("SKIPPED: {msg}");
+    None
+}
+
 /// Runs the driver in `mode` with Blender's user folders in a temporary
 /// directory; returns the CHECK values and the whole stdout.
 fn drive(mode: &str) -> Option<(HashMap<String, f64>, String)> {
     let dir = common::shared_dir()?;
     let py = common::blender_python()?;
-    let zip = addon_zip()?;
+    let zip = if mode == "local" {
+        local_repository()?
+    } else {
+        addon_zip()?
+    };
     let home = tempfile::tempdir().unwrap();
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/it/blender/addon_fill.py");
     let out = Command::new(&py)
@@ -151,4 +174,13 @@ fn the_fill_operator_costs_about_what_sp_costs() {
     for (k, r) in ratios {
         assert!(*r < 4.0, "{k}: the operator takes {r:.2}× mx.sp's time");
     }
+}
+
+#[test]
+fn the_blender_folder_works_as_a_local_extension_repository() {
+    let Some((c, stdout)) = drive("local") else {
+        return;
+    };
+    assert_eq!(c.get("local_operator_registered"), Some(&1.0), "{stdout}");
+    assert_eq!(c.get("local_mx_imports"), Some(&1.0), "{stdout}");
 }

@@ -3,6 +3,7 @@ tests/it/blender_addon.rs with a Python that has `bpy`.
 
     python addon_fill.py ZIP MOCAP_DIR check   # install, fill walk -> run, check it
     python addon_fill.py ZIP MOCAP_DIR timing  # the operator against mx.sp on 1 s gaps of walks
+    python addon_fill.py REPO_DIR MOCAP_DIR local  # blender/ added as a local repository, enabled
 
 Prints `CHECK name value` lines (the Rust side asserts on them) and `TIME`
 lines; exits non-zero on an exception. Frames are Blender's (1 = a BVH's
@@ -352,5 +353,21 @@ def run_timing():
         print("\n".join("PROFILE " + l for l in s.getvalue().splitlines() if "mx_transitions" in l), flush=True)
 
 
+def run_local():
+    """The repository's blender/ folder as a local extension repository: the
+    add-on enables, its wheel installs, the operator registers."""
+    import addon_utils
+
+    assert bpy.ops.preferences.extension_repo_add(
+        name="mx_local", type="LOCAL", use_custom_directory=True, custom_directory=ZIP
+    ) == {"FINISHED"}
+    repo = next(r for r in bpy.context.preferences.extensions.repos if r.name == "mx_local")
+    addon_utils.enable(f"bl_ext.{repo.module}.mx_transitions", default_set=True, handle_error=None)
+    import mx
+
+    check("local_operator_registered", hasattr(bpy.ops.mx, "fill_transition"))
+    check("local_mx_imports", hasattr(mx, "sp"))
+
+
 if __name__ == "__main__":
-    {"check": run_check, "timing": run_timing}[MODE]()
+    {"check": run_check, "timing": run_timing, "local": run_local}[MODE]()
