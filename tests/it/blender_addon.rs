@@ -93,7 +93,18 @@ fn drive(mode: &str) -> Option<(HashMap<String, f64>, String)> {
 
 #[test]
 fn the_fill_operator_joins_two_clips_as_the_python_api_does() {
-    let Some((c, stdout)) = drive("check") else {
+    check_fill("check");
+}
+
+/// The same with the clips imported as quaternion bones (the BVH importer's
+/// rotate_mode "QUATERNION", as glTF rigs come).
+#[test]
+fn the_fill_operator_works_on_quaternion_bones() {
+    check_fill("check_quaternion");
+}
+
+fn check_fill(mode: &str) {
+    let Some((c, stdout)) = drive(mode) else {
         return;
     };
     eprintln!("{stdout}");

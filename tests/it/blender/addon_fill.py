@@ -2,6 +2,7 @@
 tests/it/blender_addon.rs with a Python that has `bpy`.
 
     python addon_fill.py ZIP MOCAP_DIR check   # install, fill walk -> run, check it
+    python addon_fill.py ZIP MOCAP_DIR check_quaternion  # the same, bones keyed as quaternions
     python addon_fill.py ZIP MOCAP_DIR timing  # the operator against mx.sp on 1 s gaps of walks
     python addon_fill.py REPO_DIR MOCAP_DIR local  # blender/ added as a local repository, enabled
 
@@ -49,10 +50,13 @@ def units(mx, path):
     return mx.Interpreter().eval("bvh_info(" + json.dumps(path) + ").metres_per_unit")
 
 
+ROTATE_MODE = "QUATERNION" if MODE == "check_quaternion" else "NATIVE"
+
+
 def import_bvh(mx, name):
     path = os.path.join(MOCAP, name)
     bpy.ops.import_anim.bvh(
-        filepath=path, global_scale=units(mx, path), update_scene_fps=True, rotate_mode="NATIVE"
+        filepath=path, global_scale=units(mx, path), update_scene_fps=True, rotate_mode=ROTATE_MODE
     )
     ob = bpy.context.view_layer.objects.active
     return ob, ob.animation_data.action
@@ -155,6 +159,8 @@ def run_check():
     ours = rig.to_mx(lambda p, i: kn[(p, i)][1] if (p, i) in kn else None)
     d = ours - result
     d[:, rot] -= 2 * np.pi * np.round(d[:, rot] / (2 * np.pi))
+    j = np.unravel_index(np.argmax(np.abs(d)), d.shape)
+    print("KEYS worst", rig.dofs[j[1]], "frame", a0 + j[0], d[j], flush=True)
     check("keys_vs_result_max", np.abs(d).max())
 
     # ... joins the clips continuously: in mx's DOFs (well-conditioned, unlike
@@ -370,4 +376,4 @@ def run_local():
 
 
 if __name__ == "__main__":
-    {"check": run_check, "timing": run_timing, "local": run_local}[MODE]()
+    {"check": run_check, "check_quaternion": run_check, "timing": run_timing, "local": run_local}[MODE]()
