@@ -11,7 +11,7 @@ from bpy.props import EnumProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from . import bake, fcurves, sources, transition
-from .rig import Rig, RigError
+from .rig import Rig, RigError, joint_name, location_path
 
 # The last fill: its phases in seconds, and SP's result in mx's terms (dofs,
 # frames, values float64), before the float32 of F-curves (tests read it).
@@ -224,7 +224,7 @@ class MX_OT_import_motion(ImportHelper, bpy.types.Operator):
 
 def _location_paths(ob, dofs):
     names = {d.rsplit(".", 1)[0] for d in dofs if d.endswith("position")}
-    return {'pose.bones["%s"].location' % b.name for b in ob.pose.bones if b.name in names}
+    return {location_path(b.name) for b in ob.pose.bones if joint_name(b.name) in names}
 
 
 class MX_OT_export_motion(ExportHelper, bpy.types.Operator):

@@ -30,6 +30,16 @@ class RigError(Exception):
     """An armature mx cannot map (said why)."""
 
 
+def joint_name(bone):
+    """mx's joint name of a bone: its DOFs are `joint.channel`, so `.`
+    (Blender's "thigh.L") and spaces become `_`, as mx's glTF reader does."""
+    return "".join("_" if c == "." or c.isspace() else c for c in bone)
+
+
+def location_path(bone):
+    return _path(bone, "location")
+
+
 def _path(bone, prop):
     return 'pose.bones["%s"].%s' % (bone.replace("\\", "\\\\").replace('"', '\\"'), prop)
 
@@ -40,8 +50,7 @@ class Bone:
     def __init__(self, pose_bone, parent_head, has_loc):
         b = pose_bone.bone
         self.name = b.name
-        if any(c.isspace() for c in self.name):
-            raise RigError(f"bone {self.name!r}: mx's skeletons (BVH) cannot name a joint with spaces")
+        self.joint = joint_name(b.name)
         self.mode = pose_bone.rotation_mode
         if self.mode == "AXIS_ANGLE":
             raise RigError(f"bone {self.name!r}: axis-angle rotation is not supported; use Euler or quaternion")
@@ -59,26 +68,28 @@ class Bone:
         self.rot_path = _path(self.name, "rotation_quaternion" if self.mode == "QUATERNION" else "rotation_euler")
 
     def dofs(self):
-        pos = [f"{self.name}.{a}position" for a in "XYZ"] if self.has_loc else []
-        return pos + [f"{self.name}.{a}rotation" for a in self.order]
+        pos = [f"{self.joint}.{a}position" for a in "XYZ"] if self.has_loc else []
+        return pos + [f"{self.joint}.{a}rotation" for a in self.order]
 
     def curves(self):
         """(data_path, index) of the F-curves this bone reads and writes."""
         out = [(self.loc_path, i) for i in range(3)] if self.has_loc else []
         return out + [(self.rot_path, i) for i in range(4 if self.mode == "QUATERNION" else 3)]
 
-    def to_mx(self, get):
-        """[T, k] mx values from the bone's channels; `get(path, index)` gives
-        a channel's values over the frames (None: the channel's rest value)."""
+    def to_mx(self, get, nt):
+        """[T, k] mx values from the bone's channels over nt frames;
+        `get(path, index)` gives a channel's values (None: not animated, so
+        its rest value)."""
         cols = []
+        rest = np.zeros(nt)
         if self.has_loc:
-            loc = np.stack([_or(get(self.loc_path, i), 0.0) for i in range(3)], 1)
+            loc = np.stack([_or(get(self.loc_path, i), rest) for i in range(3)], 1)
             cols.append(loc @ self.rest.T + self.offset)
         if self.mode == "QUATERNION":
-            q = np.stack([_or(get(self.rot_path, i), 1.0 if i == 0 else 0.0) for i in range(4)], 1)
+            q = np.stack([_or(get(self.rot_path, i), rest + (1.0 if i == 0 else 0.0)) for i in range(4)], 1)
             p = rot.quaternion_to_matrix(q)
         else:
-            e = [_or(get(self.rot_path, i), 0.0) for i in range(3)]
+            e = [_or(get(self.rot_path, i), rest) for i in range(3)]
             order = rot.blender_order(self.mode)
             p = rot.euler_to_matrix(np.stack([e[rot._AXIS[a]] for a in order], 1), order)
         r = self.rest @ p @ self.rest.T
@@ -140,6 +151,10 @@ class Rig:
             for c in reversed(pb.children):
                 stack.append((c, bone.head, False))
         self.dofs = [d for b in self.bones for d in b.dofs()]
+        joints = [b.joint for b in self.bones]
+        clash = sorted({j for j in joints if joints.count(j) > 1})
+        if clash:
+            raise RigError(f"bones {clash} name the same mx joint once `.` and spaces become `_`; rename one")
         self.fps = None
 
     def curves(self):
@@ -166,7 +181,7 @@ class Rig:
         for mode, bones in groups.items():
             if mode == "QUATERNION":
                 for b in bones:  # rare in mocap rigs: one bone at a time
-                    v = b.to_mx(get)
+                    v = b.to_mx(get, nt)
                     out[:, first[b.name] : first[b.name] + v.shape[1]] = v
                 continue
             order = rot.blender_order(mode)
@@ -205,10 +220,10 @@ class Rig:
         for b in self.bones:
             if b.has_loc:
                 for i, a in enumerate("XYZ"):
-                    d = f"{b.name}.{a}position"
+                    d = f"{b.joint}.{a}position"
                     out[:, k + i] = raw[:, col[d]] if d in col else b.offset[i]
                 k += 3
-            given = rots.get(b.name, [])
+            given = rots.get(b.joint, [])
             if len(given) == 3:
                 order = "".join(d.rsplit(".", 1)[1][0] for d in given)
                 ang = raw[:, [col[d] for d in given]]
@@ -235,7 +250,7 @@ class Rig:
 
         def joint(b, depth):
             ind = "\t" * depth
-            lines.append(f"{ind}{'ROOT' if depth == 0 else 'JOINT'} {b.name}")
+            lines.append(f"{ind}{'ROOT' if depth == 0 else 'JOINT'} {b.joint}")
             lines.append(f"{ind}{{")
             lines.append(f"{ind}\tOFFSET {b.offset[0]:.17g} {b.offset[1]:.17g} {b.offset[2]:.17g}")
             ch = [a + "position" for a in "XYZ"] if b.has_loc else []
