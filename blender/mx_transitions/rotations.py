@@ -90,8 +90,3 @@ def matrix_to_quaternion(r):
     flips = np.cumsum(np.r_[False, np.einsum("ti,ti->t", q[1:], q[:-1]) < 0]) % 2 == 1
     q[flips] *= -1
     return q
-
-
-def nearest_turn(values, reference):
-    """`values` moved by whole turns (2 pi) to be nearest `reference`."""
-    return values + 2 * np.pi * np.round((reference - values) / (2 * np.pi))

@@ -14,7 +14,6 @@ first frame); the add-on's own seconds are (frame - first) / fps.
 import cProfile
 import io
 import json
-import math
 import os
 import pstats
 import sys
