@@ -135,6 +135,7 @@ class MX_OT_fill_transition(bpy.types.Operator):
         return sources.nla_strips(ob)
 
     def execute(self, context):
+        fcurves.fresh()
         try:
             fill(context, self._placed(_armature(context)), self.root, self.contact, self.example)
         except (RigError, sources.SourceError) as e:
@@ -155,7 +156,7 @@ def fill(context, placed, root="AUTO", contact="NONE", example="SELF"):
     mx = _mx()
     ob = _armature(context)
     fps = _fps(context.scene)
-    paths = {p for pl in placed for (p, _) in fcurves.curve_map(pl.action)}
+    paths = {p for pl in placed for (p, _) in fcurves.keys(pl.action)}
     rig = Rig(ob, paths)
     gets = [fcurves.reader(pl.action, pl.src) for pl in placed]
     pieces = [transition.Piece(pl.dst, rig.to_mx(g)) for pl, g in zip(placed, gets)]
@@ -236,6 +237,7 @@ class MX_OT_export_motion(ExportHelper, bpy.types.Operator):
     filter_glob: StringProperty(default="*.json;*.bvh;*.glb;*.gltf", options={"HIDDEN"})
 
     def execute(self, context):
+        fcurves.fresh()
         try:
             mx = _mx()
             ob = _armature(context)
@@ -247,7 +249,7 @@ class MX_OT_export_motion(ExportHelper, bpy.types.Operator):
                 raise RigError(f"mx writes .json, .bvh, .glb and .gltf, not {ext or 'no extension'}")
             frames = fcurves.keyed_frames(act)
             frames = np.arange(frames[0], frames[-1] + 1)
-            rig = Rig(ob, {p for (p, _) in fcurves.curve_map(act)})
+            rig = Rig(ob, {p for (p, _) in fcurves.keys(act)})
             fps = _fps(context.scene)
             values = rig.to_mx(fcurves.reader(act, frames))
             m = mx.Motion.from_array(rig.dofs, (frames - frames[0]) / fps, values)

@@ -170,8 +170,9 @@ fn check_fill(mode: &str) {
 /// 120 Hz CMU clip) against `mx.sp` from Python on the same problem, warm,
 /// interleaved, best of five. The goal is 1.5×; on this shared 2-core
 /// machine SP's own time varies twofold from run to run, so the assertion is
-/// a loose bound that a per-key Python loop in the glue (tens of times
-/// slower) would break; the ratios are printed (README quotes them).
+/// loose: under 4× or under 0.25 s more than SP, which a per-key Python loop
+/// in the glue (seconds on the CMU clip's 92k keys) would break; the ratios
+/// are printed (README quotes them).
 #[test]
 fn the_fill_operator_costs_about_what_sp_costs() {
     let Some((c, stdout)) = drive("timing") else {
@@ -183,7 +184,11 @@ fn the_fill_operator_costs_about_what_sp_costs() {
     let ratios: Vec<(&String, &f64)> = c.iter().filter(|(k, _)| k.starts_with("ratio_")).collect();
     assert_eq!(ratios.len(), 3, "{stdout}");
     for (k, r) in ratios {
-        assert!(*r < 4.0, "{k}: the operator takes {r:.2}× mx.sp's time");
+        let glue = c[&k.replace("ratio_", "glue_")];
+        assert!(
+            *r < 4.0 || glue < 0.25,
+            "{k}: the operator takes {r:.2}× mx.sp's time, {glue:.3} s more"
+        );
     }
 }
 

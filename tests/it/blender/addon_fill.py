@@ -349,6 +349,7 @@ def run_timing():
             flush=True,
         )
         check(f"ratio_{name}", t_op / t_py)
+        check(f"glue_{name}", t_op - t_py)
         prof = cProfile.Profile()
         prof.enable()
         op()
