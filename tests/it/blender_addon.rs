@@ -158,8 +158,8 @@ fn check_fill(mode: &str) {
         );
     }
     // Export with mx and import back, per format: every frame, the same motion
-    // (float32 keys both ways; .bvh's decimals; .glb's quaternions).
-    for ext in ["json", "bvh", "glb"] {
+    // (float32 keys both ways; .bvh's decimals; glTF's quaternions).
+    for ext in ["json", "bvh", "glb", "gltf"] {
         assert_eq!(get(&format!("roundtrip_frames_{ext}")), 0.0, "{ext}");
         let d = get(&format!("roundtrip_{ext}_max"));
         assert!(d < 1e-3, "{ext}: {d}");

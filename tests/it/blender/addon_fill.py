@@ -248,7 +248,7 @@ def run_check():
     ad.action = new
     ad.action_slot = new.slots[0]
     with tempfile.TemporaryDirectory() as tmp:
-        for ext in ("json", "bvh", "glb"):
+        for ext in ("json", "bvh", "glb", "gltf"):
             path = os.path.join(tmp, "fill." + ext)
             assert bpy.ops.mx.export_motion(filepath=path) == {"FINISHED"}, ext
             assert bpy.ops.mx.import_motion(filepath=path) == {"FINISHED"}, ext
