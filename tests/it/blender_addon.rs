@@ -157,6 +157,10 @@ fn check_fill(mode: &str) {
             "{source}: {stdout}"
         );
     }
+    // Undo (bl_options UNDO) takes the new action back off.
+    assert_eq!(get("undo_fill_added_actions"), 1.0);
+    assert_eq!(get("undo_left_actions"), 0.0);
+    assert_eq!(get("undo_active_is_walk"), 1.0);
     // Export with mx and import back, per format: every frame, the same motion
     // (float32 keys both ways; .bvh's decimals; glTF's quaternions).
     for ext in ["json", "bvh", "glb", "gltf"] {

@@ -261,6 +261,22 @@ def run_check():
             check(f"roundtrip_frames_{ext}", nb - len(result))
             check(f"roundtrip_{ext}_max", np.abs(d).max())
 
+    # Undo: the fill pushed as an undo step (bpy.ops' second argument, as the
+    # UI does) goes away with Ctrl-Z; the walk is the active action again.
+    ob_name, walk_name = walk_ob.name, walk.name
+    ad.action = walk
+    ad.action_slot = walk.slots[0]
+    bpy.ops.ed.undo_push(message="before the fill")
+    before = {a.name for a in bpy.data.actions}
+    assert bpy.ops.mx.fill_transition(
+        "EXEC_DEFAULT", True, source="ACTIONS", first=walk.name, second=run.name, gap=GAP
+    ) == {"FINISHED"}
+    check("undo_fill_added_actions", len({a.name for a in bpy.data.actions} - before))
+    bpy.ops.ed.undo()
+    ob = bpy.data.objects[ob_name]  # undo reloads the data: old references are stale
+    check("undo_left_actions", len({a.name for a in bpy.data.actions} - before))
+    check("undo_active_is_walk", ob.animation_data.action.name == walk_name)
+
 
 def gapped_walk(mx, name):
     """The walk imported, a 1 s hole cut into its keys in the middle; returns
