@@ -73,7 +73,7 @@ impl EngineError for DynamicsError {
     fn kind(&self) -> ErrorKind {
         match self {
             DynamicsError::Cancelled => ErrorKind::Cancelled,
-            DynamicsError::Input(_) => ErrorKind::Value,
+            DynamicsError::Input(_) | DynamicsError::Model(_) => ErrorKind::Value,
             DynamicsError::Singular(_) => ErrorKind::Host,
         }
     }
