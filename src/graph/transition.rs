@@ -73,8 +73,9 @@ fn rows(c: &LibClip, from: usize, to: usize) -> Vec<f64> {
     c.file.values[from * n..to * n].to_vec()
 }
 
+/// A rotation channel (`Joint.Xrotation`), by the motion's channel rule.
 fn is_rotation(channel: &str) -> bool {
-    channel.ends_with("rotation")
+    crate::motion::channel::rotation_axis(channel).is_some()
 }
 
 /// Re-expresses b's rotations (rows of `values`) nearest a's at the join
