@@ -56,16 +56,29 @@ pub enum DynamicsError {
     /// The computation was cancelled.
     #[error("cancelled")]
     Cancelled,
-}
-
-impl From<ModelError> for DynamicsError {
-    fn from(e: ModelError) -> Self {
-        DynamicsError::Input(e.to_string())
-    }
+    /// The model rejected the input (its checks of lengths and finiteness):
+    /// kept whole, so callers see which model error it was.
+    #[error(transparent)]
+    Model(#[from] ModelError),
 }
 
 impl From<crate::cancel::Cancelled> for DynamicsError {
     fn from(_: crate::cancel::Cancelled) -> Self {
         DynamicsError::Cancelled
+    }
+}
+
+#[cfg(test)]
+mod error_tests {
+    use super::*;
+
+    #[test]
+    fn model_errors_are_kept_whole_with_their_text() {
+        let e: DynamicsError = ModelError::Invalid("q has 2 entries".into()).into();
+        assert_eq!(
+            e,
+            DynamicsError::Model(ModelError::Invalid("q has 2 entries".into()))
+        );
+        assert_eq!(e.to_string(), "q has 2 entries");
     }
 }

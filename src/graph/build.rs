@@ -254,7 +254,7 @@ fn in_pair_order<'a>(
 /// Runs one shard.
 pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
     let wall = Instant::now();
-    o.settings.check().map_err(GraphError::new)?;
+    o.settings.check()?;
     let clips_dir = clip_folder(&o.clips)?;
     let lib = library::load(&clips_dir)?;
     let dir = store::shard_dir(&o.out, &o.shard);

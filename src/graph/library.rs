@@ -6,7 +6,7 @@
 //! recorded as failed and the rest go on); a folder with no clips, clips of
 //! different skeletons or fewer than two loadable clips are errors.
 
-use super::GraphError;
+use super::error::{ClipError, GraphError};
 use super::planar::RootChannels;
 use crate::mocap::bvh::{self, BvhFile, Skeleton, Units};
 use crate::mocap::{self, Clip};
@@ -88,9 +88,9 @@ pub fn clip_name(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-fn load_clip(path: &Path) -> Result<LibClip, String> {
-    let (file, _) = bvh::read_file_with_warnings(path).map_err(|e| e.to_string())?;
-    let clip = mocap::from_bvh(&file, Units::Auto).map_err(|e| e.to_string())?;
+fn load_clip(path: &Path) -> Result<LibClip, ClipError> {
+    let (file, _) = bvh::read_file_with_warnings(path)?;
+    let clip = mocap::from_bvh(&file, Units::Auto)?;
     Ok(LibClip {
         name: clip_name(path),
         path: path.to_path_buf(),
@@ -100,33 +100,41 @@ fn load_clip(path: &Path) -> Result<LibClip, String> {
     })
 }
 
+/// Where a clip's skeleton differs from the first clip's.
+#[derive(Debug, thiserror::Error)]
+enum SkeletonMismatch {
+    #[error("{got} joints instead of {want}")]
+    JointCount { got: usize, want: usize },
+    #[error(
+        "joint `{got}` (channels {got_channels}) where the first clip has `{want}` (channels {want_channels})"
+    )]
+    Joint {
+        got: String,
+        got_channels: String,
+        want: String,
+        want_channels: String,
+    },
+}
+
 /// Joint names, parents and channels: what makes two clips one skeleton
 /// (OFFSETs may differ slightly between takes; the first clip's are written).
-fn same_skeleton(a: &Skeleton, b: &Skeleton) -> Result<(), String> {
+fn same_skeleton(a: &Skeleton, b: &Skeleton) -> Result<(), SkeletonMismatch> {
     if a.joints.len() != b.joints.len() {
-        return Err(format!(
-            "{} joints instead of {}",
-            b.joints.len(),
-            a.joints.len()
-        ));
+        return Err(SkeletonMismatch::JointCount {
+            got: b.joints.len(),
+            want: a.joints.len(),
+        });
     }
     for (ja, jb) in a.joints.iter().zip(&b.joints) {
         if ja.name != jb.name || ja.parent != jb.parent || ja.channels != jb.channels {
-            return Err(format!(
-                "joint `{}` (channels {}) where the first clip has `{}` (channels {})",
-                jb.name,
-                jb.channels
-                    .iter()
-                    .map(|c| c.name())
-                    .collect::<Vec<_>>()
-                    .join(" "),
-                ja.name,
-                ja.channels
-                    .iter()
-                    .map(|c| c.name())
-                    .collect::<Vec<_>>()
-                    .join(" ")
-            ));
+            let names =
+                |cs: &[bvh::Channel]| cs.iter().map(|c| c.name()).collect::<Vec<_>>().join(" ");
+            return Err(SkeletonMismatch::Joint {
+                got: jb.name.clone(),
+                got_channels: names(&jb.channels),
+                want: ja.name.clone(),
+                want_channels: names(&ja.channels),
+            });
         }
     }
     Ok(())
@@ -146,7 +154,7 @@ pub fn load(dir: &Path) -> Result<Library, GraphError> {
             )));
         }
     }
-    let loaded: Vec<Result<LibClip, String>> = paths.par_iter().map(|p| load_clip(p)).collect();
+    let loaded: Vec<Result<LibClip, ClipError>> = paths.par_iter().map(|p| load_clip(p)).collect();
     let mut clips = vec![];
     let mut failures = vec![];
     let mut first: Option<(String, Skeleton, f64, f64)> = None;
@@ -187,7 +195,7 @@ pub fn load(dir: &Path) -> Result<Library, GraphError> {
             Err(error) => {
                 failures.push(ClipFailure {
                     clip: name.clone(),
-                    error,
+                    error: error.to_string(),
                 });
                 clips.push(None);
             }
@@ -234,8 +242,7 @@ pub fn load(dir: &Path) -> Result<Library, GraphError> {
             }
         }
     }
-    let root = RootChannels::find(&skeleton, &moving, &first_row, metres_per_unit)
-        .map_err(GraphError::new)?;
+    let root = RootChannels::find(&skeleton, &moving, &first_row, metres_per_unit)?;
     clips.par_iter_mut().flatten().for_each(|c| {
         c.points = (0..c.frames())
             .map(|f| bvh::fk::world_positions(&c.file, f, metres_per_unit)[root.joint..].to_vec())

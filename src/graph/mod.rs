@@ -9,11 +9,13 @@
 //! - `shard.rs`: the deterministic share of the pairs (`--shard i/n` or Slurm's array variables)
 //! - `store.rs`: the output folder, atomic writes, resume, merge
 //! - `model.rs`: `graph.json` (nodes are clip segments, edges transitions and continuations)
+//! - `error.rs`: the typed errors (options, clips, root, one transition)
 //! - `build.rs`: a shard's run (rayon, progress bar, log); `info.rs`; `walk.rs`
 //!
 //! Layering: uses `mocap`, `motion`, `spacetime`, `io`; knows nothing of the language.
 
 pub mod build;
+pub mod error;
 pub mod info;
 pub mod library;
 pub mod model;
@@ -31,20 +33,4 @@ pub use settings::Settings;
 pub use shard::Shard;
 pub use store::{merge, read_graph};
 
-/// An error of a library build, merge or walk: a sentence for the user.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GraphError(pub String);
-
-impl GraphError {
-    pub fn new(msg: impl Into<String>) -> GraphError {
-        GraphError(msg.into())
-    }
-}
-
-impl std::fmt::Display for GraphError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for GraphError {}
+pub use error::{ClipError, GraphError, RootError, TransitionError};

@@ -4,6 +4,7 @@
 //!
 //! The floor is x–z and y is up, as in BVH clips and `spacetime::root`.
 
+use super::error::RootError;
 use crate::mocap::bvh::{Channel, Skeleton};
 use crate::motion::rotation::{from_euler, to_euler_near};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -119,13 +120,13 @@ impl RootChannels {
         moving: &[bool],
         row: &[f64],
         metres_per_unit: f64,
-    ) -> Result<RootChannels, String> {
+    ) -> Result<RootChannels, RootError> {
         let starts = sk.channel_starts();
         let mut j = sk
             .joints
             .iter()
             .position(|jt| jt.parent.is_none())
-            .ok_or("the skeleton has no root joint")?;
+            .ok_or(RootError::NoRoot)?;
         // world position of the current joint's parent frame (file units)
         let mut base = Vector3::zeros();
         loop {
@@ -142,11 +143,11 @@ impl RootChannels {
                 let v = row[starts[j] + k];
                 if ch.is_rotation() {
                     if v.abs() > 1e-9 {
-                        return Err(format!(
-                            "the still joint `{}` above the root is rotated ({} = {v}°): turning such a skeleton on the floor is not supported",
-                            joint.name,
-                            ch.name()
-                        ));
+                        return Err(RootError::RotatedStill {
+                            joint: joint.name.clone(),
+                            channel: ch.name().to_string(),
+                            value: v,
+                        });
                     }
                 } else {
                     p[ch.axis()] = v;
@@ -168,10 +169,7 @@ impl RootChannels {
             }
         }
         if pos.contains(&usize::MAX) || rot.len() != 3 {
-            return Err(format!(
-                "the root joint `{}` needs X, Y and Z position and three rotation channels to be turned and moved on the floor",
-                joint.name
-            ));
+            return Err(RootError::Channels(joint.name.clone()));
         }
         Ok(RootChannels {
             joint: j,

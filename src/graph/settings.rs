@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::GraphError;
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Settings {
     /// Transition points kept per ordered pair.
@@ -40,42 +42,65 @@ impl Default for Settings {
     }
 }
 
+/// An invalid `--option`: its flag and the sentence.
+fn bad(option: &'static str, message: String) -> GraphError {
+    GraphError::InvalidOption { option, message }
+}
+
 impl Settings {
     /// Checks the values a user can get wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), GraphError> {
         if self.k == 0 {
-            return Err("--k must be at least 1 (transition points per pair)".into());
+            return Err(bad(
+                "k",
+                "--k must be at least 1 (transition points per pair)".into(),
+            ));
         }
         if self.window == 0 || self.window.is_multiple_of(2) {
-            return Err(format!(
-                "--window must be an odd number of frames (the frame and as many on each side), got {}",
-                self.window
+            return Err(bad(
+                "window",
+                format!(
+                    "--window must be an odd number of frames (the frame and as many on each side), got {}",
+                    self.window
+                ),
             ));
         }
         if !(self.threshold.is_finite() && self.threshold > 0.0) {
-            return Err(format!(
-                "--threshold must be a positive distance in metres, got {}",
-                self.threshold
+            return Err(bad(
+                "threshold",
+                format!(
+                    "--threshold must be a positive distance in metres, got {}",
+                    self.threshold
+                ),
             ));
         }
         if self.min_gap == 0 || self.max_gap < self.min_gap {
-            return Err(format!(
-                "gaps must satisfy 1 <= --min-gap <= --max-gap, got {} and {}",
-                self.min_gap, self.max_gap
+            return Err(bad(
+                "min-gap",
+                format!(
+                    "gaps must satisfy 1 <= --min-gap <= --max-gap, got {} and {}",
+                    self.min_gap, self.max_gap
+                ),
             ));
         }
         if self.context == 0 {
-            return Err("--context must be at least 1 frame".into());
+            return Err(bad("context", "--context must be at least 1 frame".into()));
         }
         if let Some(c) = self.coefficients
             && c < 2
         {
-            return Err(format!("--coefficients must be at least 2, got {c}"));
+            return Err(bad(
+                "coefficients",
+                format!("--coefficients must be at least 2, got {c}"),
+            ));
         }
         if let Some(t) = self.tolerance
             && !(t > 0.0 && t < 1.0)
         {
-            return Err(format!("--tolerance must lie in (0, 1), got {t}"));
+            return Err(bad(
+                "tolerance",
+                format!("--tolerance must lie in (0, 1), got {t}"),
+            ));
         }
         Ok(())
     }

@@ -5,6 +5,8 @@
 
 use std::fmt;
 
+use super::GraphError;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
     pub index: usize,
@@ -21,11 +23,10 @@ impl Shard {
     pub const WHOLE: Shard = Shard { index: 0, count: 1 };
 
     /// `i/n` with 0 <= i < n.
-    pub fn parse(s: &str) -> Result<Shard, String> {
-        let bad = |why: &str| {
-            format!(
-                "bad shard `{s}`: {why}; write i/n with 0 <= i < n, e.g. --shard 0/3 for the first of three"
-            )
+    pub fn parse(s: &str) -> Result<Shard, GraphError> {
+        let bad = |why: &str| GraphError::BadShard {
+            given: s.to_string(),
+            why: why.to_string(),
         };
         let (i, n) = s.split_once('/').ok_or_else(|| bad("no `/`"))?;
         let i: usize = i
@@ -52,7 +53,7 @@ impl Shard {
     pub fn from_flag_or_env(
         flag: Option<&str>,
         env: impl Fn(&str) -> Option<String>,
-    ) -> Result<Shard, String> {
+    ) -> Result<Shard, GraphError> {
         if let Some(f) = flag {
             return Shard::parse(f);
         }
@@ -62,17 +63,16 @@ impl Shard {
                 let min = env("SLURM_ARRAY_TASK_MIN")
                     .and_then(|m| m.trim().parse::<usize>().ok())
                     .unwrap_or(0);
-                let i: usize = i
-                    .trim()
-                    .parse()
-                    .map_err(|_| format!("SLURM_ARRAY_TASK_ID=`{i}` is not a whole number"))?;
+                let i: usize = i.trim().parse().map_err(|_| {
+                    GraphError::Slurm(format!("SLURM_ARRAY_TASK_ID=`{i}` is not a whole number"))
+                })?;
                 Shard::parse(&format!("{}/{}", i.saturating_sub(min), n.trim())).map_err(|e| {
-                    format!("from SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT: {e} (submit with --array=0-(n-1))")
+                    GraphError::Slurm(format!("from SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT: {e} (submit with --array=0-(n-1))"))
                 })
             }
-            (Some(_), None) => {
-                Err("SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not".into())
-            }
+            (Some(_), None) => Err(GraphError::Slurm(
+                "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not".into(),
+            )),
             _ => Ok(Shard::WHOLE),
         }
     }
@@ -119,7 +119,8 @@ mod tests {
         assert_eq!(Shard::parse("2/3").unwrap(), Shard { index: 2, count: 3 });
         for bad in ["4/3", "3/3", "1/0", "x/3", "3", "-1/3"] {
             let e = Shard::parse(bad).unwrap_err();
-            assert!(e.contains("bad shard"), "{bad}: {e}");
+            assert!(e.to_string().contains("bad shard"), "{bad}: {e}");
+            assert_eq!(e.option(), Some("shard"));
         }
         let env = |k: &str| match k {
             "SLURM_ARRAY_TASK_ID" => Some("2".to_string()),

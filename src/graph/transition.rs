@@ -10,6 +10,7 @@
 //! continue the root's path; the alignment recorded is the one realised, fitted
 //! between b's frame j and the transition's last frame.
 
+use super::error::TransitionError;
 use super::library::{LibClip, Library};
 use super::planar::{Planar, fit};
 use super::search::Point;
@@ -72,8 +73,9 @@ fn rows(c: &LibClip, from: usize, to: usize) -> Vec<f64> {
     c.file.values[from * n..to * n].to_vec()
 }
 
+/// A rotation channel (`Joint.Xrotation`), by the motion's channel rule.
 fn is_rotation(channel: &str) -> bool {
-    channel.ends_with("rotation")
+    crate::motion::channel::rotation_axis(channel).is_some()
 }
 
 /// Re-expresses b's rotations (rows of `values`) nearest a's at the join
@@ -131,18 +133,19 @@ pub fn fill(
     point: &Point,
     gap: usize,
     s: &Settings,
-) -> Result<Transition, String> {
+) -> Result<Transition, TransitionError> {
     let (i, j, align) = (point.i, point.j, &point.align);
     let dt = lib.frame_time;
     let nch = lib.skeleton.channel_count();
     let ca = s.context.min(i).max(1);
     let cb = s.context.min(b.frames() - 1 - j).max(1);
     if i == 0 || j + 1 >= b.frames() {
-        return Err(format!(
-            "no context around the transition (a frame {i} of {}, b frame {j} of {})",
-            a.frames(),
-            b.frames()
-        ));
+        return Err(TransitionError::NoContext {
+            i,
+            a_frames: a.frames(),
+            j,
+            b_frames: b.frames(),
+        });
     }
     // b's frames j ..= j + cb, moved onto a's floor position and heading
     let mut vb = rows(b, j, j + cb + 1);
@@ -166,12 +169,12 @@ pub fn fill(
         values: vb,
     };
     let mut clip_b = mocap::from_bvh(&fb, Units::MetresPerUnit(lib.metres_per_unit))
-        .map_err(|e| format!("b's frames: {e}"))?;
+        .map_err(TransitionError::Frames)?;
     // from_bvh unwraps from the first row, which already sits nearest a: no further turns
     let t0 = i as f64 * dt;
     let t1 = t0 + (gap + 1) as f64 * dt;
-    clip_b.mu = affine(t1, 1.0, &clip_b.mu).map_err(|e| e.to_string())?;
-    let before = clip_in_place(t0 - ca as f64 * dt, t0, &a.clip.mu).map_err(|e| e.to_string())?;
+    clip_b.mu = affine(t1, 1.0, &clip_b.mu)?;
+    let before = clip_in_place(t0 - ca as f64 * dt, t0, &a.clip.mu)?;
     let cut = plus(&before, &clip_b.mu);
     // SP splits its quadrature into as many chunks as its pool has threads, and the sums'
     // order moves the last bits; on a pool of its own with one thread the transition is
@@ -179,22 +182,20 @@ pub fn fill(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
-        .map_err(|e| format!("cannot start SP's thread: {e}"))?;
+        .map_err(|e| TransitionError::Thread(e.to_string()))?;
     let (filled, report) = pool
         .install(|| sp(&cut, &lib.body, &sp_options(s)))
-        .map_err(|e| format!("SP: {e}"))?;
+        .map_err(TransitionError::Sp)?;
     drop(pool);
-    let piece = clip_in_place(t0, t1, &filled).map_err(|e| e.to_string())?;
-    let energy =
-        torque_energy(&piece, &lib.body, None).map_err(|e| format!("torque energy: {e}"))?;
+    let piece = clip_in_place(t0, t1, &filled)?;
+    let energy = torque_energy(&piece, &lib.body, None).map_err(TransitionError::Energy)?;
     let (file, _) = mocap::to_motion::to_bvh(&piece, &lib.skeleton, lib.metres_per_unit, dt)
-        .map_err(|e| format!("writing the transition: {e}"))?;
+        .map_err(TransitionError::Write)?;
     if file.frame_count() != gap + 2 {
-        return Err(format!(
-            "the transition has {} frames, expected {}",
-            file.frame_count(),
-            gap + 2
-        ));
+        return Err(TransitionError::FrameCount {
+            got: file.frame_count(),
+            want: gap + 2,
+        });
     }
     let last =
         bvh::fk::world_positions(&file, gap + 1, lib.metres_per_unit)[lib.root.joint..].to_vec();

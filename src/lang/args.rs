@@ -30,6 +30,9 @@ pub struct Args {
     positional: Vec<ArgValue>,
     named: Vec<(String, Span, ArgValue, bool)>,
     cursor: usize,
+    /// Positional arguments taken so far, by the parameter name they were
+    /// taken as: an engine error naming a parameter points at its argument.
+    taken: Vec<(String, Span)>,
 }
 
 /// A typed handle to a host object argument (derefs to `T`).
@@ -70,6 +73,7 @@ impl Args {
                 .map(|(n, s, v)| (n, s, v, false))
                 .collect(),
             cursor: 0,
+            taken: vec![],
         }
     }
 
@@ -107,9 +111,21 @@ impl Args {
         }
         if self.cursor < self.positional.len() {
             self.cursor += 1;
-            return Some(self.positional[self.cursor - 1].clone());
+            let arg = self.positional[self.cursor - 1].clone();
+            self.taken.push((name.to_string(), arg.span));
+            return Some(arg);
         }
         None
+    }
+
+    /// Where the caller wrote parameter `name`'s argument (named, or taken
+    /// positionally as `name`), if they did.
+    pub fn span_of(&self, name: &str) -> Option<Span> {
+        self.named
+            .iter()
+            .find(|(n, ..)| n == name)
+            .map(|(_, _, v, _)| v.span)
+            .or_else(|| self.taken.iter().find(|(n, _)| n == name).map(|t| t.1))
     }
 
     /// Whether the call names `name` (`support: …`), without taking it.

@@ -13,7 +13,7 @@ use super::ast::*;
 use super::eval::{Context, Evaluator};
 use super::parser;
 use super::value::{Closure, Value};
-use crate::motion::TimeFunction;
+use crate::motion::{FnError, TimeFunction};
 
 /// Source id used for functions compiled back from a motion file.
 pub const COMPILED_SOURCE: SourceId = u32::MAX;
@@ -39,15 +39,15 @@ impl MxTimeFn {
 }
 
 impl TimeFunction for MxTimeFn {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, FnError> {
         let mut ev = Evaluator::new(self.ctx.clone());
         match ev.call(&self.f, vec![Value::Number(t)], Span::default()) {
             Ok(Value::Number(x)) => Ok(x),
-            Ok(other) => Err(format!(
+            Ok(other) => Err(FnError::Host(format!(
                 "the function returned {}, not a number",
                 super::args::describe(&other)
-            )),
-            Err(e) => Err(e.message),
+            ))),
+            Err(e) => Err(FnError::Host(e.message)),
         }
     }
 

@@ -8,8 +8,9 @@
 
 use crate::lie::Se3;
 use crate::model::body::Inertia;
-use crate::model::joint::{Joint, JointAxis};
+use crate::model::joint::{AxisMotion, Joint, JointAxis};
 use nalgebra::Vector3;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// Why a model could not be built or used.
@@ -56,6 +57,11 @@ pub struct Model {
     links: Vec<Link>,
     children: Vec<Vec<usize>>,
     coordinate_names: Vec<String>,
+    /// Coordinate name → index: `coordinate_index` is called per DOF name
+    /// when motions meet models (hundreds of names × every operation).
+    coordinate_lookup: HashMap<String, usize>,
+    /// Per coordinate, the link whose joint it belongs to.
+    coordinate_links: Vec<usize>,
     /// Per coordinate, the coordinate before it on the path to the root (the
     /// previous coordinate of the same joint, else the last one of the nearest
     /// ancestor joint with coordinates): the mass matrix walks these chains.
@@ -129,12 +135,19 @@ impl Model {
                 "joint `{joint_name}` has {dof} coordinates; at most 6 are supported"
             )));
         }
+        let idx = self.links.len();
         for s in joint.coordinate_suffixes().iter().take(dof) {
-            self.coordinate_names.push(if s.is_empty() {
+            let name = if s.is_empty() {
                 joint_name.to_string()
             } else {
                 format!("{joint_name}.{s}")
-            });
+            };
+            // first wins, as the linear scan this replaces did
+            self.coordinate_lookup
+                .entry(name.clone())
+                .or_insert(self.coordinate_names.len());
+            self.coordinate_names.push(name);
+            self.coordinate_links.push(idx);
         }
         // The last coordinate of the nearest ancestor joint that has any.
         let mut before = None;
@@ -154,7 +167,6 @@ impl Model {
                 Some(self.nq + k - 1)
             });
         }
-        let idx = self.links.len();
         if idx == 0 {
             self.depth_first = true;
         }
@@ -225,6 +237,11 @@ impl Model {
                 )));
             }
         }
+        self.coordinate_lookup = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| (n.clone(), i))
+            .collect();
         self.coordinate_names = names;
         Ok(())
     }
@@ -284,7 +301,30 @@ impl Model {
 
     /// Index of a coordinate by name.
     pub fn coordinate_index(&self, name: &str) -> Option<usize> {
-        self.coordinate_names.iter().position(|n| n == name)
+        self.coordinate_lookup.get(name).copied()
+    }
+
+    /// The link whose joint carries coordinate `c` (`None` past `nq`).
+    pub fn coordinate_link(&self, c: usize) -> Option<usize> {
+        self.coordinate_links.get(c).copied()
+    }
+
+    /// What coordinate `c` moves, when its joint is a single revolute or
+    /// prismatic axis: rotation or translation. `None` for coordinates of
+    /// multi-DOF and function-based joints, whose coordinates need not be
+    /// either (and past `nq`).
+    pub fn coordinate_motion(&self, c: usize) -> Option<AxisMotion> {
+        let l = &self.links[self.coordinate_link(c)?];
+        match (l.dof, &l.axis) {
+            (1, Some(a)) => Some(a.motion),
+            _ => None,
+        }
+    }
+
+    /// The coordinates of link `i`'s joint (empty for a fixed joint).
+    pub fn joint_coordinates(&self, i: usize) -> std::ops::Range<usize> {
+        let l = &self.links[i];
+        l.q_index..l.q_index + l.dof
     }
 
     /// Total mass of all links.
@@ -324,5 +364,56 @@ impl Model {
             )));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::joints::{Fixed, Prismatic, Revolute, Spherical};
+
+    /// base (slider x) → fixed → ball (3 coordinates) → elbow (hinge).
+    fn arm() -> Model {
+        let mut m = Model::new("arm");
+        let x = Vector3::x();
+        let id = Se3::identity();
+        let i = Inertia::default();
+        let slide = Arc::new(Prismatic::new(x).unwrap());
+        let b = m.add_link("base", None, "slide", slide, id, i).unwrap();
+        let f = m.add_link("plate", Some(b), "weld", Arc::new(Fixed::new(id)), id, i);
+        let ball = Arc::new(Spherical::new(crate::model::joints::EulerOrder([2, 0, 1])));
+        let s = m.add_link("upper", Some(f.unwrap()), "shoulder", ball, id, i);
+        let hinge = Arc::new(Revolute::new(x).unwrap());
+        m.add_link("fore", Some(s.unwrap()), "elbow", hinge, id, i)
+            .unwrap();
+        m
+    }
+
+    #[test]
+    fn coordinates_know_their_link_and_motion() {
+        let m = arm();
+        assert_eq!(m.nq(), 5);
+        let names = m.coordinate_names().to_vec();
+        for (c, n) in names.iter().enumerate() {
+            assert_eq!(m.coordinate_index(n), Some(c), "{n}");
+        }
+        assert_eq!(m.coordinate_index("nope"), None);
+        let links: Vec<_> = (0..5).map(|c| m.coordinate_link(c).unwrap()).collect();
+        assert_eq!(links, [0, 2, 2, 2, 3]);
+        assert_eq!(m.coordinate_link(5), None);
+        assert_eq!(m.coordinate_motion(0), Some(AxisMotion::Translation));
+        assert_eq!(m.coordinate_motion(1), None, "a ball's coordinate");
+        assert_eq!(m.coordinate_motion(4), Some(AxisMotion::Rotation));
+        assert_eq!(m.joint_coordinates(1), 1..1, "a fixed joint has none");
+        assert_eq!(m.joint_coordinates(2), 1..4);
+    }
+
+    #[test]
+    fn renamed_coordinates_are_found_by_their_new_names() {
+        let mut m = arm();
+        let names: Vec<String> = (0..5).map(|k| format!("c{k}")).collect();
+        m.set_coordinate_names(names).unwrap();
+        assert_eq!(m.coordinate_index("c3"), Some(3));
+        assert_eq!(m.coordinate_index("slide"), None);
     }
 }

@@ -5,14 +5,14 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::error::{MotionError, finite};
+use super::error::{FnError, MotionError, finite};
 use super::time_tol;
 
 /// A scalar function of time supplied from outside the motion library — the
 /// interpreter implements it for mx functions of time.
 pub trait TimeFunction: Send + Sync + std::fmt::Debug {
-    /// The value at time `t`, or a message saying why it cannot be computed.
-    fn eval(&self, t: f64) -> Result<f64, String>;
+    /// The value at time `t`, or why it cannot be computed.
+    fn eval(&self, t: f64) -> Result<f64, FnError>;
     /// Self-contained mx source of the function, so a motion holding it can
     /// be written to JSON and compiled again on load. `None`: not saveable.
     fn source(&self) -> Option<String> {
@@ -117,9 +117,9 @@ fn call(f: &dyn TimeFunction, t: f64) -> Result<f64, MotionError> {
             message: format!("returned {v}, not a finite number"),
             dof: None,
         }),
-        Err(message) => Err(MotionError::Function {
+        Err(e) => Err(MotionError::Function {
             t,
-            message,
+            message: e.to_string(),
             dof: None,
         }),
     }
@@ -544,7 +544,7 @@ mod tests {
     #[derive(Debug)]
     struct Sin(f64);
     impl TimeFunction for Sin {
-        fn eval(&self, t: f64) -> Result<f64, String> {
+        fn eval(&self, t: f64) -> Result<f64, FnError> {
             Ok((self.0 * t).sin())
         }
     }
@@ -567,7 +567,7 @@ mod tests {
     #[derive(Debug)]
     struct Bad;
     impl TimeFunction for Bad {
-        fn eval(&self, t: f64) -> Result<f64, String> {
+        fn eval(&self, t: f64) -> Result<f64, FnError> {
             if t > 1.0 {
                 Err("boom".into())
             } else {

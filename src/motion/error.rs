@@ -125,9 +125,48 @@ pub enum MotionError {
     #[error("{op}: {message}")]
     Compose { op: &'static str, message: String },
 
+    /// An operator's argument out of its range (a weight outside [0, 1], a
+    /// warp that is not increasing); `option` is the argument's name as the
+    /// language spells it, so a diagnostic can point at it.
+    #[error("{op}: {message}")]
+    InvalidOption {
+        op: &'static str,
+        option: &'static str,
+        message: String,
+    },
+
     /// A computation was cancelled through its [`crate::cancel::CancelToken`].
     #[error("cancelled")]
     Cancelled,
+}
+
+/// Why a function of time ([`crate::motion::TimeFunction`]) gave no value.
+#[derive(Clone, Debug, PartialEq, Error)]
+pub enum FnError {
+    /// The host's message (an mx runtime error, a value that is no number).
+    #[error("{0}")]
+    Host(String),
+    /// A motion the function evaluates (a reversed, warped or sampled curve) failed.
+    #[error(transparent)]
+    Motion(Box<MotionError>),
+}
+
+impl From<String> for FnError {
+    fn from(message: String) -> Self {
+        FnError::Host(message)
+    }
+}
+
+impl From<&str> for FnError {
+    fn from(message: &str) -> Self {
+        FnError::Host(message.to_string())
+    }
+}
+
+impl From<MotionError> for FnError {
+    fn from(e: MotionError) -> Self {
+        FnError::Motion(Box::new(e))
+    }
 }
 
 fn suggestion_text(s: &Option<String>) -> String {
@@ -138,6 +177,15 @@ fn suggestion_text(s: &Option<String>) -> String {
 }
 
 impl MotionError {
+    /// The argument this error is about, when one argument is at fault.
+    pub fn option(&self) -> Option<&'static str> {
+        match self {
+            MotionError::InvalidOption { option, .. } => Some(option),
+            MotionError::BadRate { .. } | MotionError::TooManySamples { .. } => Some("rate"),
+            _ => None,
+        }
+    }
+
     /// Attach the motion's name (as the user knows it) to a clip error.
     pub fn with_name(self, motion_name: &str) -> Self {
         match self {

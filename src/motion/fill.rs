@@ -137,7 +137,7 @@ struct SlerpChannel {
 }
 
 impl super::curve::TimeFunction for SlerpChannel {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, super::error::FnError> {
         Ok(self.path.euler_at(t)[self.index])
     }
 }

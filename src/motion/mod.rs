@@ -2,7 +2,8 @@
 //! DOFs (lists of intervals), motion units (named DOFs), the set operations
 //! ∧ − + and the time operations affine, clip, clip-in-place, concatenate;
 //! the animator's operators beyond Rose (blend, crossfade, align, layer,
-//! mask, mirror, reverse, warp, resample) in [`compose`]; hold and loop
+//! mask, mirror, reverse, warp, resample) in [`compose`]; DOF names
+//! (`Joint.Xrotation`, sides for mirroring) parsed in [`channel`]; hold and loop
 //! extrapolation in [`extrapolate`].
 //!
 //! This module knows nothing of the language: the interpreter wraps mx
@@ -15,6 +16,7 @@
 //! - Times closer than [`time_tol`] are the same time in set operations and
 //!   containment, so floating-point rounding never creates sliver gaps.
 
+pub mod channel;
 pub mod compose;
 pub mod curve;
 pub mod cyclify;
@@ -33,7 +35,7 @@ pub mod sample;
 pub use compose::Weight;
 pub use curve::{Curve, HermiteCurve, SampledCurve, TimeFunction};
 pub use dof::Dof;
-pub use error::MotionError;
+pub use error::{FnError, MotionError};
 pub use extrapolate::{Extrapolation, extrapolate};
 pub use fill::{fill_hermite, fill_linear, fill_slerp};
 pub use func::Func;

@@ -14,56 +14,9 @@
 use nalgebra::{Matrix3, Rotation3, Unit, UnitQuaternion, Vector3};
 use std::f64::consts::{PI, TAU};
 
-/// The three rotation channels of one joint, in the motion's order.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EulerJoint {
-    /// The joint's name (the DOF names' part before the last `.`).
-    pub joint: String,
-    /// DOF names, in channel order.
-    pub dofs: [String; 3],
-    /// The axis (0 = x, 1 = y, 2 = z) of each channel; three distinct axes.
-    pub axes: [usize; 3],
-}
-
-/// The axis of a rotation channel name (`…Xrotation` → 0), if it is one.
-pub fn rotation_axis(dof: &str) -> Option<usize> {
-    let channel = dof.rsplit('.').next()?;
-    match channel.to_ascii_lowercase().as_str() {
-        "xrotation" => Some(0),
-        "yrotation" => Some(1),
-        "zrotation" => Some(2),
-        _ => None,
-    }
-}
-
-/// Joints with exactly three rotation channels about distinct axes, in the
-/// order their first channel appears in `names`. Joints with one or two
-/// rotation channels are not Euler joints (each channel is then a plain
-/// angle about a fixed axis).
-pub fn euler_joints<'a>(names: impl IntoIterator<Item = &'a str>) -> Vec<EulerJoint> {
-    let mut found: indexmap::IndexMap<&str, Vec<(&str, usize)>> = indexmap::IndexMap::new();
-    for n in names {
-        if let (Some(axis), Some((joint, _))) = (rotation_axis(n), n.rsplit_once('.')) {
-            found.entry(joint).or_default().push((n, axis));
-        }
-    }
-    found
-        .into_iter()
-        .filter_map(|(joint, chans)| {
-            let [a, b, c] = chans.as_slice() else {
-                return None;
-            };
-            if a.1 == b.1 || b.1 == c.1 || a.1 == c.1 {
-                return None;
-            }
-            Some(EulerJoint {
-                joint: joint.to_string(),
-                dofs: [a.0.to_string(), b.0.to_string(), c.0.to_string()],
-                axes: [a.1, b.1, c.1],
-            })
-        })
-        .collect()
-}
+// The channel naming rules live in `super::channel`; these names stay for
+// the callers that have always found them here.
+pub use super::channel::{EulerJoint, euler_joints, rotation_axis};
 
 fn axis_vector(axis: usize) -> Unit<Vector3<f64>> {
     match axis {

@@ -29,6 +29,7 @@
 use crate::lie::Se3;
 use crate::mocap::{self, bvh::Units, positions::joint_points};
 use crate::model::Model;
+use crate::motion::channel::Channel;
 use crate::motion::{Curve, Dof, Interval, Mu};
 use crate::spacetime::{SpOptions, sp, torque_energy};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
@@ -363,9 +364,10 @@ pub fn score(
         .iter()
         .map(|&l| {
             let joint = &case.body.link(l).name;
-            case.root_dofs
-                .iter()
-                .any(|d| d.rsplit_once('.').is_some_and(|(j, _)| j == joint))
+            case.root_dofs.iter().any(|d| {
+                let c = Channel::parse(d);
+                c.suffix.is_some() && c.joint == joint
+            })
         })
         .collect();
     let mut buf = vec![];

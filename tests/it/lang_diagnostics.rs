@@ -86,3 +86,33 @@ case!(
     error_inside_function_of_time,
     "let m = mu({x: interval(fn(t) = 1 / (t - t), 0, 1)})\nsample(m, 0.5)"
 );
+
+/// The source text an engine error points at: the engine names the
+/// parameter at fault and the diagnostic finds the argument, named or
+/// positional, without the built-in checking the value itself.
+fn pointed_at(src: &str) -> (String, String) {
+    let mut mx = Interpreter::new();
+    mx.capture_output();
+    let e = match mx.eval_named("bad.mx", src) {
+        Ok(v) => panic!("expected an error from {src:?}, got {}", v.repr()),
+        Err(d) => d.error().clone(),
+    };
+    let s = e.span.expect("a span");
+    (src[s.start as usize..s.end as usize].to_string(), e.message)
+}
+
+#[test]
+fn engine_errors_point_at_the_argument_they_name() {
+    let two = "let a = mu({x: interval(1, 0, 1)})\nlet b = mu({x: interval(2, 0, 1)})\n";
+    // blend's weight: positional; the range is the engine's check
+    let (at, msg) = pointed_at(&format!("{two}blend(a, b, 1.5)"));
+    assert_eq!(at, "1.5");
+    assert!(msg.contains("weight must lie in [0, 1], got 1.5"), "{msg}");
+    // layer's weight: named (it used to point at the whole call)
+    let (at, _) = pointed_at(&format!("{two}layer(a, b, w: -1)"));
+    assert_eq!(at, "-1");
+    // resample's rate
+    let (at, msg) = pointed_at(&format!("{two}resample(a, 0)"));
+    assert_eq!(at, "0");
+    assert!(msg.contains("sampling rate"), "{msg}");
+}

@@ -310,7 +310,7 @@ fn unknown_dof_suggests() {
 #[derive(Debug)]
 struct Lin;
 impl TimeFunction for Lin {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, mx::motion::FnError> {
         Ok(t)
     }
 }

@@ -159,7 +159,7 @@ proptest! {
         #[derive(Debug)]
         struct Id;
         impl TimeFunction for Id {
-            fn eval(&self, t: f64) -> Result<f64, String> { Ok(t) }
+            fn eval(&self, t: f64) -> Result<f64, mx::motion::FnError> { Ok(t) }
         }
         let m = clip(&s, 0.0, true);
         let w = compose::warp(&m, Arc::new(Id)).unwrap();
@@ -241,7 +241,7 @@ fn a_warp_slows_the_motion_down() {
     #[derive(Debug)]
     struct Half;
     impl TimeFunction for Half {
-        fn eval(&self, t: f64) -> Result<f64, String> {
+        fn eval(&self, t: f64) -> Result<f64, mx::motion::FnError> {
             Ok(t / 2.0)
         }
     }
@@ -628,7 +628,7 @@ fn hold_and_loop_extend_a_motion_and_compose_with_the_algebra() {
 #[derive(Debug)]
 struct Sine;
 impl TimeFunction for Sine {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, mx::motion::FnError> {
         Ok((2.0 * std::f64::consts::PI * t).sin())
     }
 }

@@ -14,7 +14,7 @@ fn c(v: f64, a: f64, b: f64) -> Interval {
 #[derive(Debug)]
 struct Slope(f64);
 impl TimeFunction for Slope {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, mx::motion::FnError> {
         Ok(self.0 * t)
     }
     fn source(&self) -> Option<String> {
@@ -32,7 +32,7 @@ fn compile(src: &str) -> Result<Arc<dyn TimeFunction>, String> {
 #[derive(Debug)]
 struct Host;
 impl TimeFunction for Host {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, mx::motion::FnError> {
         Ok(t)
     }
 }

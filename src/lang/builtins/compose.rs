@@ -7,27 +7,25 @@ use std::sync::Arc;
 
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{MxError, MxResult};
-use crate::lang::host::errors::motion_error;
+use crate::lang::host::errors::{diagnostic, motion_error};
 use crate::lang::host::motion::Motion;
 use crate::lang::registry::Registry;
 use crate::lang::timefn::MxTimeFn;
 use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::motion::compose::{self, Weight};
-use crate::motion::{Dof, Extrapolation, MotionError, Mu, TimeFunction};
+use crate::motion::{Dof, Extrapolation, FnError, MotionError, Mu, TimeFunction};
 
 fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
     a.mu(name)
 }
 
-/// A compose error at `span` with a help line.
-fn fail(e: MotionError, span: crate::lang::ast::Span, help: &str) -> MxError {
+/// A compose error with the operator's help line: at the argument the
+/// engine names (an out-of-range weight points at `w`), else at `span`.
+fn fail(e: MotionError, a: &Args, span: crate::lang::ast::Span, help: &str) -> MxError {
     match e {
-        MotionError::Compose { .. } => {
-            MxError::new(crate::lang::diagnostics::ErrorKind::Motion, e.to_string())
-                .at(span)
-                .label("here")
-                .help(help.to_string())
+        MotionError::Compose { .. } | MotionError::InvalidOption { .. } => {
+            diagnostic(&e, a, span).help(help.to_string())
         }
         other => motion_error(other, span),
     }
@@ -38,24 +36,26 @@ fn fail(e: MotionError, span: crate::lang::ast::Span, help: &str) -> MxError {
 struct DofFn(Dof);
 
 impl TimeFunction for DofFn {
-    fn eval(&self, t: f64) -> Result<f64, String> {
+    fn eval(&self, t: f64) -> Result<f64, FnError> {
         match self.0.sample("warp", t) {
             Ok(Some(v)) => Ok(v[0]),
-            Ok(None) => Err(format!("the warp's data is not defined at t = {t}")),
-            Err(e) => Err(e.to_string()),
+            Ok(None) => Err(FnError::Host(format!(
+                "the warp's data is not defined at t = {t}"
+            ))),
+            Err(e) => Err(e.into()),
         }
     }
 }
 
-/// A number or function of time as a weight; numbers checked to lie in [0, 1].
+/// A number or function of time as a weight; the engine checks it lies in
+/// [0, 1] (its error names `w`, so the diagnostic points here).
 fn weight(a: &Args, arg: &ArgValue, ev: &crate::lang::eval::Evaluator) -> MxResult<Weight> {
     match &arg.value {
-        Value::Number(w) if (0.0..=1.0).contains(w) => Ok(Weight::Const(*w)),
-        Value::Number(w) => Err(MxError::value(format!("the weight must lie in [0, 1], got {w}"))
-            .at(arg.span)
-            .label("outside [0, 1]")
-            .help("0 gives the first motion, 1 the second; a function of time `fn(t) = …` may vary in between")),
-        v if v.is_callable() => Ok(Weight::Func(Arc::new(MxTimeFn::new(v.clone(), ev.ctx.clone())))),
+        Value::Number(w) => Ok(Weight::Const(*w)),
+        v if v.is_callable() => Ok(Weight::Func(Arc::new(MxTimeFn::new(
+            v.clone(),
+            ev.ctx.clone(),
+        )))),
         _ => Err(a.type_error("w", "a number in [0, 1] or a function of time", arg)),
     }
 }
@@ -95,7 +95,7 @@ fn mixing(reg: &mut Registry) {
             let warg = a.arg("w")?;
             let w = weight(a, &warg, ev)?;
             compose::blend(&x, &y, &w).map(|m| Value::object(Motion::Mu(m))).map_err(|e| {
-                fail(e, a.call_span(), "blend needs DOFs both motions name (`dofs(m)` lists them) and a weight in [0, 1]")
+                fail(e, a, a.call_span(), "blend needs DOFs both motions name (`dofs(m)` lists them) and a weight in [0, 1]: 0 gives the first motion, 1 the second; a function of time `fn(t) = …` may vary in between")
             })
         },
     );
@@ -113,7 +113,7 @@ fn mixing(reg: &mut Registry) {
             };
             let up = up_axis(a)?;
             compose::crossfade(&x, &y, d, up).map(|m| Value::object(Motion::Mu(m))).map_err(|e| {
-                fail(e, darg.span, "the overlap must be positive and fit inside both motions; `span(m)` gives their spans")
+                fail(e, a, darg.span, "the overlap must be positive and fit inside both motions; `span(m)` gives their spans")
             })
         },
     );
@@ -127,7 +127,7 @@ fn mixing(reg: &mut Registry) {
             let up = up_axis(a)?;
             compose::align(&x, &y, up)
                 .map(|m| Value::object(Motion::Mu(m)))
-                .map_err(|e| fail(e, a.call_span(), "both motions need root position channels (`Hips.Xposition` …)"))
+                .map_err(|e| fail(e, a, a.call_span(), "both motions need root position channels (`Hips.Xposition` …)"))
         },
     );
     reg.add(
@@ -148,7 +148,7 @@ fn mixing(reg: &mut Registry) {
             };
             compose::layer(&base, &delta, w, reference.as_ref())
                 .map(|m| Value::object(Motion::Mu(m)))
-                .map_err(|e| fail(e, a.call_span(), "w lies in [0, 1]; base and delta need DOFs in common"))
+                .map_err(|e| fail(e, a, a.call_span(), "w lies in [0, 1]; base and delta need DOFs in common"))
         },
     );
     reg.add(
@@ -169,10 +169,9 @@ fn mixing(reg: &mut Registry) {
                 return Err(a.type_error("w", "a number in [0, 1]", &warg));
             };
             let refs: Vec<&str> = pats.iter().map(String::as_str).collect();
-            compose::mask(&m, &refs, w).map(|m| Value::object(Motion::Mu(m))).map_err(|e| match e {
-                MotionError::Compose { .. } => fail(e, warg.span, "w lies in [0, 1]"),
-                e => motion_error(e, parg.span),
-            })
+            compose::mask(&m, &refs, w)
+                .map(|m| Value::object(Motion::Mu(m)))
+                .map_err(|e| fail(e, a, parg.span, "w lies in [0, 1]"))
         },
     );
 }
@@ -203,7 +202,7 @@ fn reshaping(reg: &mut Registry) {
             };
             compose::mirror(&m, axis)
                 .map(|m| Value::object(Motion::Mu(m)))
-                .map_err(|e| fail(e, marg.span, "mirror needs joint names with sides, like LeftArm/RightArm or Arm_L/Arm_R"))
+                .map_err(|e| fail(e, a, marg.span, "mirror needs joint names with sides, like LeftArm/RightArm or Arm_L/Arm_R"))
         },
     );
     reg.topic(Topic::Language);
@@ -238,7 +237,7 @@ fn reshaping(reg: &mut Registry) {
             };
             compose::warp(&m, f)
                 .map(|m| Value::object(Motion::Mu(m)))
-                .map_err(|e| fail(e, farg.span, "a time warp must be strictly increasing over the whole motion"))
+                .map_err(|e| fail(e, a, farg.span, "a time warp must be strictly increasing over the whole motion"))
         },
     );
     reg.add(
@@ -264,7 +263,7 @@ fn reshaping(reg: &mut Registry) {
             };
             crate::motion::extrapolate(&m, ts, tf, mode)
                 .map(|m| Value::object(Motion::Mu(m)))
-                .map_err(|e| fail(e, marg.span, "extrapolate to a finite span [ts, tf] with ts < tf"))
+                .map_err(|e| fail(e, a, marg.span, "extrapolate to a finite span [ts, tf] with ts < tf"))
         },
     );
     reg.add(
@@ -278,7 +277,7 @@ fn reshaping(reg: &mut Registry) {
             };
             compose::resample(&m, rate)
                 .map(|m| Value::object(Motion::Mu(m)))
-                .map_err(|e| motion_error(e, rarg.span))
+                .map_err(|e| diagnostic(&e, a, rarg.span))
         },
     );
 }

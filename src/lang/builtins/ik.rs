@@ -17,6 +17,7 @@ use crate::lang::host::sp_report::{num, record};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::{HostObject, Value};
+use crate::motion::channel::Channel;
 use crate::motion::{Dof, Mu};
 
 /// `ik_report(m)`: reads like a record, prints as text.
@@ -185,7 +186,12 @@ fn targets_of(a: &Args, arg: &ArgValue) -> MxResult<Vec<Target>> {
     };
     let mut links: Vec<&str> = vec![];
     for n in m.names() {
-        let Some((link, axis)) = n.rsplit_once('.') else {
+        let Channel {
+            joint: link,
+            suffix: Some(axis),
+            ..
+        } = Channel::parse(n)
+        else {
             return Err(MxError::value(format!("target DOF `{n}` is not named Link.x, Link.y or Link.z"))
                 .at(arg.span)
                 .label("unnamed link")
@@ -214,7 +220,10 @@ fn targets_of(a: &Args, arg: &ArgValue) -> MxResult<Vec<Target>> {
             let sub: Mu = m
                 .dofs
                 .iter()
-                .filter(|(n, _)| n.rsplit_once('.').map(|p| p.0) == Some(*l))
+                .filter(|(n, _)| {
+                    let c = Channel::parse(n);
+                    c.suffix.is_some() && c.joint == *l
+                })
                 .map(|(n, d)| (n.clone(), d.clone()))
                 .collect();
             mk(l, &sub, arg.span)

@@ -1,38 +1,126 @@
-//! Engine errors as diagnostics, with advice by kind: shared by every
-//! built-in file that calls the engine part they come from.
+//! Engine errors as diagnostics, through one trait: each engine error type
+//! says its kind, its advice and (when it knows) the argument at fault, and
+//! [`diagnostic`] turns any of them into a diagnostic pointing at that
+//! argument. Built-ins therefore pass engine errors through instead of
+//! checking the engine's options a second time.
 
 use crate::dynamics::DynamicsError;
+use crate::graph::GraphError;
 use crate::lang::args::Args;
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError};
 use crate::motion::MotionError;
+use crate::spacetime::SpError;
 
-/// A motion error as a diagnostic at `span`, with advice by kind.
+/// What the language needs from an engine error to report it.
+pub trait EngineError: std::fmt::Display {
+    /// The diagnostic's kind.
+    fn kind(&self) -> ErrorKind;
+    /// Advice for the help line; `None`: the call's usage.
+    fn advice(&self) -> Option<&'static str> {
+        None
+    }
+    /// The parameter at fault (`"w"`, `"rate"`), when the engine knows it.
+    fn argument(&self) -> Option<&'static str> {
+        None
+    }
+}
+
+/// `e` as a diagnostic of the call `a`: at the argument the engine names
+/// when the caller wrote it, else at `span`.
+pub fn diagnostic(e: &dyn EngineError, a: &Args, span: Span) -> MxError {
+    let at_argument = e.argument().and_then(|n| Some((n, a.span_of(n)?)));
+    let err = MxError::new(e.kind(), e.to_string());
+    let err = match at_argument {
+        Some((name, s)) => err.at(s).label(format!("this `{name}`")),
+        None => err.at(span).label("in this call"),
+    };
+    match e.advice() {
+        Some(h) => err.help(h),
+        None => err.help(format!("usage: {}", a.signature())),
+    }
+}
+
+impl EngineError for MotionError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            MotionError::Cancelled => ErrorKind::Cancelled,
+            _ => ErrorKind::Motion,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        Some(match self {
+            MotionError::ClipOutside { .. } => "clip a window inside the span; `span(m)` gives it",
+            MotionError::Conflict { .. } => {
+                "a DOF defined twice there must be resolved first, e.g. `a + (b - a)` or `clip`"
+            }
+            MotionError::Undefined { .. } => {
+                "sample only where the motion is defined; `gaps(m)` lists the holes"
+            }
+            MotionError::UnknownDof { .. } | MotionError::NoMatch { .. } => {
+                "`dofs(m)` lists the DOF names"
+            }
+            MotionError::Cancelled => "cancelled by the user",
+            _ => "see `:help` for the motion functions",
+        })
+    }
+    fn argument(&self) -> Option<&'static str> {
+        self.option()
+    }
+}
+
+impl EngineError for DynamicsError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            DynamicsError::Cancelled => ErrorKind::Cancelled,
+            DynamicsError::Input(_) | DynamicsError::Model(_) => ErrorKind::Value,
+            DynamicsError::Singular(_) => ErrorKind::Host,
+        }
+    }
+}
+
+impl EngineError for SpError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            SpError::Cancelled => ErrorKind::Cancelled,
+            SpError::Conflict(_) => ErrorKind::Motion,
+            SpError::Invalid(_) => ErrorKind::Value,
+            SpError::Evaluation(_) => ErrorKind::Host,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            SpError::Cancelled => Some("cancelled by the user (Ctrl-C)"),
+            SpError::Conflict(_) => {
+                Some("`conflicts(m)` lists where the motion is multiply defined")
+            }
+            _ => None,
+        }
+    }
+}
+
+impl EngineError for GraphError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            GraphError::InvalidOption { .. } | GraphError::BadShard { .. } => ErrorKind::Value,
+            _ => ErrorKind::Host,
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        self.option()
+    }
+}
+
+/// A motion error as a diagnostic at `span`, with advice by kind (for
+/// callers without the call's arguments at hand).
 pub fn motion_error(e: MotionError, span: Span) -> MxError {
-    let help = match &e {
-        MotionError::ClipOutside { .. } => "clip a window inside the span; `span(m)` gives it",
-        MotionError::Conflict { .. } => {
-            "a DOF defined twice there must be resolved first, e.g. `a + (b - a)` or `clip`"
-        }
-        MotionError::Undefined { .. } => {
-            "sample only where the motion is defined; `gaps(m)` lists the holes"
-        }
-        MotionError::UnknownDof { .. } | MotionError::NoMatch { .. } => {
-            "`dofs(m)` lists the DOF names"
-        }
-        MotionError::Cancelled => "cancelled by the user",
-        _ => "see `:help` for the motion functions",
-    };
-    let kind = if matches!(e, MotionError::Cancelled) {
-        ErrorKind::Cancelled
-    } else {
-        ErrorKind::Motion
-    };
-    MxError::new(kind, e.to_string())
+    let help = e.advice().unwrap_or_default();
+    MxError::new(e.kind(), e.to_string())
         .at(span)
         .label("in this call")
         .help(help)
 }
+
 /// A file error at `span` (a motion error inside it keeps its advice).
 pub fn file_error(e: crate::io::FileError, span: Span) -> MxError {
     match e {
@@ -45,12 +133,7 @@ pub fn file_error(e: crate::io::FileError, span: Span) -> MxError {
 
 /// A dynamics error on the call `a`.
 pub fn dyn_error(e: DynamicsError, a: &Args) -> MxError {
-    let kind = match e {
-        DynamicsError::Cancelled => ErrorKind::Cancelled,
-        DynamicsError::Input(_) => ErrorKind::Value,
-        DynamicsError::Singular(_) => ErrorKind::Host,
-    };
-    MxError::new(kind, e.to_string())
+    MxError::new(e.kind(), e.to_string())
         .at(a.call_span())
         .help(format!("usage: {}", a.signature()))
 }
