@@ -125,7 +125,7 @@ pub fn run(mut mx: mx::Interpreter) -> ExitCode {
                 if !command(&mut mx, line.trim(), n) {
                     break;
                 }
-                *scope.lock().unwrap_or_else(|p| p.into_inner()) = session_scope(&mx);
+                scope.lock().unwrap_or_else(|p| p.into_inner()).refresh(&mx);
             }
             Err(ReadlineError::Interrupted) => continue,
             Err(ReadlineError::Eof) => break,

@@ -37,25 +37,33 @@ pub struct Scope {
 impl Scope {
     /// The names, signatures and bound motions of `interp`; paths relative to `folder`.
     pub fn of(interp: &Interpreter, folder: PathBuf) -> Scope {
-        let names = interp.names();
-        let mut motions = Vec::new();
-        for n in &names {
-            if let Some(v) = interp.get(n)
-                && let Some(Motion::Mu(mu)) = v.as_object::<Motion>()
-            {
-                motions.push((n.clone(), mu.names().map(String::from).collect()));
-            }
-        }
         let params = interp
             .help_entries()
             .into_iter()
             .map(|e| (e.name, params_of(&e.signature)))
             .collect();
-        Scope {
-            names,
+        let mut scope = Scope {
             params,
-            motions,
             folder,
+            ..Scope::default()
+        };
+        scope.refresh(interp);
+        scope
+    }
+
+    /// Take the names and bound motions again after an input. The signatures
+    /// stay: built-ins do not change within a session, and reading them
+    /// means rendering every doc (and parsing the prelude's).
+    pub fn refresh(&mut self, interp: &Interpreter) {
+        self.names = interp.names();
+        self.motions.clear();
+        for n in &self.names {
+            if let Some(v) = interp.get(n)
+                && let Some(Motion::Mu(mu)) = v.as_object::<Motion>()
+            {
+                self.motions
+                    .push((n.clone(), mu.names().map(String::from).collect()));
+            }
         }
     }
 }
@@ -664,8 +672,10 @@ mod tests {
     fn the_scope_holds_the_sessions_motions_and_signatures() {
         let mut i = Interpreter::new();
         let walk = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/walk.bvh");
+        let mut s = Scope::of(&i, PathBuf::from("."));
+        assert!(s.motions.is_empty());
         i.eval_str(&format!("let walk = load(\"{walk}\")")).unwrap();
-        let s = Scope::of(&i, PathBuf::from("."));
+        s.refresh(&i);
         let (_, dofs) = s
             .motions
             .iter()
