@@ -1,6 +1,7 @@
 //! The interactive REPL (rustyline): persistent history in the user's data
-//! folder, multi-line input while brackets are open, tab completion of names
-//! in scope and built-ins, `:help` (by topic), `:type`, `:info`, `:load`, `:time`, `:quit`.
+//! folder, multi-line input while brackets are open, tab completion (names in
+//! scope and built-ins; inside strings, file paths and DOF names: see
+//! `mx::lang::completion`), `:help` (by topic), `:type`, `:info`, `:load`, `:time`, `:quit`.
 //! Ctrl-C during an evaluation cancels it (through the interpreter's
 //! cancellation token) and returns to the prompt; at the prompt it clears the line.
 
@@ -18,13 +19,11 @@ use rustyline::{Config, Context, Editor, Helper};
 
 use mx::Interpreter;
 use mx::lang::ErrorKind;
-
-const COMMANDS: &[&str] = &[
-    ":help", ":type", ":info", ":load", ":time", ":plot", ":quit",
-];
+use mx::lang::completion::{self, COMMANDS, Scope};
 
 struct MxHelper {
-    names: Arc<Mutex<Vec<String>>>,
+    /// What Tab completes from, taken again after each input.
+    scope: Arc<Mutex<Scope>>,
 }
 
 impl Completer for MxHelper {
@@ -35,39 +34,16 @@ impl Completer for MxHelper {
         pos: usize,
         _: &Context<'_>,
     ) -> rustyline::Result<(usize, Vec<Pair>)> {
-        let before = &line[..pos];
-        let start = before
-            .char_indices()
-            .rev()
-            .find(|(_, c)| !(c.is_alphanumeric() || *c == '_' || *c == ':'))
-            .map(|(i, c)| i + c.len_utf8())
-            .unwrap_or(0);
-        let word = &before[start..];
-        if word.is_empty() {
-            return Ok((pos, vec![]));
-        }
-        let mut out: Vec<Pair> = Vec::new();
-        if word.starts_with(':') {
-            for c in COMMANDS.iter().filter(|c| c.starts_with(word)) {
-                out.push(Pair {
-                    display: c.to_string(),
-                    replacement: c.to_string(),
-                });
-            }
-        } else {
-            let names = self.names.lock().unwrap_or_else(|p| p.into_inner());
-            let mut seen = std::collections::HashSet::new();
-            for n in names.iter().filter(|n| n.starts_with(word)) {
-                if seen.insert(n.clone()) {
-                    out.push(Pair {
-                        display: n.clone(),
-                        replacement: n.clone(),
-                    });
-                }
-            }
-        }
-        out.sort_by(|a, b| a.display.cmp(&b.display));
-        Ok((start, out))
+        let scope = self.scope.lock().unwrap_or_else(|p| p.into_inner());
+        let (start, found) = completion::complete(line, pos, &scope);
+        let pairs = found
+            .into_iter()
+            .map(|c| Pair {
+                display: c.display,
+                replacement: c.replacement,
+            })
+            .collect();
+        Ok((start, pairs))
     }
 }
 
@@ -103,7 +79,7 @@ fn history_path() -> Option<std::path::PathBuf> {
 
 pub fn run(mut mx: mx::Interpreter) -> ExitCode {
     let token = mx.cancel_token();
-    let names = Arc::new(Mutex::new(mx.names()));
+    let scope = Arc::new(Mutex::new(session_scope(&mx)));
     let config = Config::builder().auto_add_history(false).build();
     let mut rl: Editor<MxHelper, rustyline::history::DefaultHistory> =
         match Editor::with_config(config) {
@@ -114,7 +90,7 @@ pub fn run(mut mx: mx::Interpreter) -> ExitCode {
             }
         };
     rl.set_helper(Some(MxHelper {
-        names: names.clone(),
+        scope: scope.clone(),
     }));
     {
         let t = token.clone();
@@ -149,7 +125,7 @@ pub fn run(mut mx: mx::Interpreter) -> ExitCode {
                 if !command(&mut mx, line.trim(), n) {
                     break;
                 }
-                *names.lock().unwrap_or_else(|p| p.into_inner()) = mx.names();
+                scope.lock().unwrap_or_else(|p| p.into_inner()).refresh(&mx);
             }
             Err(ReadlineError::Interrupted) => continue,
             Err(ReadlineError::Eof) => break,
@@ -160,6 +136,12 @@ pub fn run(mut mx: mx::Interpreter) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// The session's names, signatures and motions; paths relative to the current
+/// folder (the REPL reads files from there, issue 28).
+fn session_scope(mx: &Interpreter) -> Scope {
+    Scope::of(mx, std::env::current_dir().unwrap_or_default())
 }
 
 fn report(d: mx::lang::Diagnostic) {

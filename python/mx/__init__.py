@@ -55,8 +55,9 @@ __version__ = "0.1.0"
 def sp(motion: Motion, body: Body, progress: Optional[bool] = None, **options: Any) -> Tuple[Motion, Dict[str, Any]]:
     """Fill every interior gap of ``motion`` with a spacetime transition.
 
-    Returns ``(filled_motion, report)``; the report is a dict (``groups``,
-    ``root``, ``hermite``, ``undefined``, ``text``). Options are those of mx's
+    Returns ``(filled_motion, report)``; the report is a dict with every field
+    of mx's ``sp_report`` (``groups``, ``root``, ``pinned``, ``contacts``,
+    ``hermite``, ``constant``, ``undefined``, ``text``). Options are those of mx's
     ``SP`` (below). A tqdm bar shows the elapsed time after half a second when
     tqdm is installed (``progress=False`` hides it). Ctrl-C cancels the solve
     and raises KeyboardInterrupt.

@@ -1,12 +1,10 @@
 //! `mx.Body`: a multibody model (from URDF, `body_of(clip)`, `human(clip)`
 //! or mx code) with inverse/forward dynamics and the mass matrix on one
-//! state or a batch of states, computed in parallel with the GIL released.
-
-use std::sync::{Arc, Mutex};
+//! state or a batch of states, computed in parallel with the GIL released
+//! (the class itself is in `objects.rs`).
 
 use mx::dynamics::{DynamicsError, Workspace, forward_dynamics, inverse_dynamics, mass_matrix};
 use mx::lang::Value;
-use mx::lang::builtins::body::Body;
 use mx::mocap::{Missing, positions};
 use mx::model::Model;
 use nalgebra::{DMatrix, Vector3};
@@ -15,29 +13,12 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 
-use crate::convert::{Builtins, to_py};
+use crate::arrays::f64_array;
+use crate::convert::to_py;
 use crate::errors::{raise_diag, type_error, value_error};
-use crate::motion::{PyMotion, f64_array, html_escape};
-
-#[pyclass(name = "Body", module = "mx", frozen)]
-pub struct PyBody {
-    pub value: Value,
-    model: Arc<Model>,
-    /// Reused by single-state calls (a batch gives each thread its own).
-    ws: Mutex<Workspace>,
-}
-
-impl PyBody {
-    pub fn new(value: Value) -> Self {
-        let model = value
-            .as_object::<Body>()
-            .expect("a PyBody holds a body value")
-            .model
-            .clone();
-        let ws = Mutex::new(Workspace::new(&model));
-        PyBody { value, model, ws }
-    }
-}
+use crate::html::html_escape;
+use crate::objects::{PyBody, PyMotion};
+use crate::runtime::Builtins;
 
 /// Inputs of one dynamics call, each [N, nq] (or [nq]), C-contiguous
 /// float64 arrays whose memory the computation reads in place.

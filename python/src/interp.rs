@@ -1,124 +1,20 @@
-//! `mx.Interpreter`, and running long mx work on a worker thread so the
-//! calling thread can watch for Ctrl-C (KeyboardInterrupt cancels the work
-//! through its `CancelToken`) with the GIL released meanwhile.
+//! `mx.Interpreter`: an mx interpreter of its own (globals persist between
+//! `eval` calls), its work run through the runtime's worker thread, and
+//! Python callables registered as mx functions.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
 
 use mx::Interpreter;
 use mx::cancel::CancelToken;
-use mx::lang::eval::Output;
 use mx::lang::{Diagnostic, ErrorKind, MxError, Value};
 use pyo3::exceptions::PyKeyError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::convert::{from_py, to_py, to_py_in, type_name};
-use crate::errors::{error, raise_diag};
-
-/// Stack of the worker thread (the evaluator also grows its stack on demand).
-const WORKER_STACK: usize = 64 << 20;
-
-/// Run `f` on a worker thread; meanwhile poll Python's signal handlers. A
-/// KeyboardInterrupt cancels `cancel`, waits for `f` to stop and is raised.
-pub fn cancellable<R: Send>(
-    py: Python<'_>,
-    cancel: Option<&CancelToken>,
-    f: impl FnOnce() -> R + Send,
-) -> PyResult<R> {
-    cancellable_ticking(py, cancel, None, f)
-}
-
-/// [`cancellable`], calling `on_tick(elapsed_seconds)` every 0.1 s.
-pub fn cancellable_ticking<R: Send>(
-    py: Python<'_>,
-    cancel: Option<&CancelToken>,
-    on_tick: Option<&Py<PyAny>>,
-    f: impl FnOnce() -> R + Send,
-) -> PyResult<R> {
-    let t0 = Instant::now();
-    std::thread::scope(|s| {
-        let (tx, mut rx) = std::sync::mpsc::channel();
-        let worker = std::thread::Builder::new()
-            .name("mx-eval".into())
-            .stack_size(WORKER_STACK)
-            .spawn_scoped(s, move || {
-                let _ = tx.send(f());
-            })
-            .map_err(|e| error(py, ErrorKind::Host, format!("cannot start a thread: {e}")))?;
-        let mut interrupted: Option<PyErr> = None;
-        let result = loop {
-            // The receiver moves into the GIL-free wait and back out.
-            let (back, got) = py.detach(move || {
-                let got = rx.recv_timeout(Duration::from_millis(100));
-                (rx, got)
-            });
-            rx = back;
-            match got {
-                Ok(r) => break r,
-                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
-                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
-                    let _ = worker.join();
-                    return Err(error(
-                        py,
-                        ErrorKind::Host,
-                        "the mx worker thread stopped unexpectedly",
-                    ));
-                }
-            }
-            if interrupted.is_none() {
-                if let Err(e) = py.check_signals() {
-                    if let Some(c) = cancel {
-                        c.cancel();
-                    }
-                    interrupted = Some(e);
-                } else if let Some(cb) = on_tick
-                    && let Err(e) = cb.call1(py, (t0.elapsed().as_secs_f64(),))
-                {
-                    if let Some(c) = cancel {
-                        c.cancel();
-                    }
-                    interrupted = Some(e);
-                }
-            }
-        };
-        let _ = worker.join();
-        if let Some(c) = cancel {
-            c.reset();
-        }
-        match interrupted {
-            Some(e) => Err(e),
-            None => Ok(result),
-        }
-    })
-}
-
-/// `print` output written to Python's `sys.stdout` (so notebooks and pytest's
-/// capture see it).
-pub fn python_stdout() -> Output {
-    Arc::new(Mutex::new(PyStdout))
-}
-
-struct PyStdout;
-
-impl Write for PyStdout {
-    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
-        let text = String::from_utf8_lossy(b).into_owned();
-        Python::attach(|py| {
-            py.import("sys")
-                .and_then(|sys| sys.getattr("stdout"))
-                .and_then(|out| out.call_method1("write", (text,)))
-                .map(|_| ())
-                .map_err(|e| std::io::Error::other(e.to_string()))
-        })?;
-        Ok(b.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
+use crate::errors::{error, raise_diag, type_error, value_error};
+use crate::runtime::{cancellable, python_stdout};
 
 /// An mx interpreter: globals persist between `eval` calls.
 ///
@@ -272,7 +168,7 @@ impl PyInterpreter {
     ) -> PyResult<()> {
         let bound = r#fn.bind(py);
         if !bound.is_callable() {
-            return Err(crate::errors::type_error(
+            return Err(type_error(
                 py,
                 format!(
                     "register: `fn` must be callable, found {}",
@@ -281,7 +177,7 @@ impl PyInterpreter {
             ));
         }
         if name.is_empty() || !name.chars().all(|c| c.is_alphanumeric() || c == '_') {
-            return Err(crate::errors::value_error(
+            return Err(value_error(
                 py,
                 format!("register: `{name}` is not an mx name (letters, digits, _)"),
             ));

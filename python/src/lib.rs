@@ -7,16 +7,28 @@
 //! share behaviour and error messages. Array work (sampling, batched
 //! dynamics) goes straight to the library with the GIL released.
 
+// Layered bottom up as ARCHITECTURE.md's Python table lists them (errors,
+// runtime, arrays and html, objects, convert, then the classes, then this
+// module); tests/it/layers.rs checks that each file imports only lower ones.
+mod arrays;
 mod body;
 mod convert;
 mod errors;
+mod function;
+mod html;
 mod interp;
 mod motion;
+mod objects;
+mod runtime;
 
+use mx::lang::builtins::sp_report;
 use pyo3::prelude::*;
 
-use crate::convert::{Builtins, to_py};
+use crate::convert::{kwargs, to_py};
 use crate::errors::raise_diag;
+use crate::interp::PyInterpreter;
+use crate::objects::{PyBody, PyFunction, PyMotion, PyObject_};
+use crate::runtime::{Builtins, cancellable, cancellable_ticking};
 
 /// `load(path, **options)`: a motion, a body or another value from a file,
 /// by its extension (`.bvh`, `.csv`, `.json`, `.urdf`, …).
@@ -27,9 +39,9 @@ fn load(
     path: std::path::PathBuf,
     options: Option<&Bound<'_, pyo3::types::PyDict>>,
 ) -> PyResult<Py<PyAny>> {
-    let named = convert::kwargs(options)?;
+    let named = kwargs(options)?;
     let p = mx::Value::str(path.to_string_lossy());
-    let v = interp::cancellable(py, None, || Builtins::get().call("load", vec![p], named))?;
+    let v = cancellable(py, None, || Builtins::get().call("load", vec![p], named))?;
     let v = v.map_err(|e| raise_diag(py, &e))?;
     to_py(py, &v)
 }
@@ -38,7 +50,7 @@ fn load(
 fn body_from_clip(
     py: Python<'_>,
     name: &str,
-    motion: &Bound<'_, motion::PyMotion>,
+    motion: &Bound<'_, PyMotion>,
     mass: f64,
 ) -> PyResult<Py<PyAny>> {
     let pos = vec![motion.get().value.clone()];
@@ -52,14 +64,14 @@ fn body_from_clip(
 /// DOFs, with de Leva segments scaled by its bone lengths.
 #[pyfunction]
 #[pyo3(signature = (motion, mass = 70.0))]
-fn body_of(py: Python<'_>, motion: &Bound<'_, motion::PyMotion>, mass: f64) -> PyResult<Py<PyAny>> {
+fn body_of(py: Python<'_>, motion: &Bound<'_, PyMotion>, mass: f64) -> PyResult<Py<PyAny>> {
     body_from_clip(py, "body_of", motion, mass)
 }
 
 /// `human(motion, mass=70)`: the 44-DOF anatomical model sized from a clip.
 #[pyfunction]
 #[pyo3(signature = (motion, mass = 70.0))]
-fn human(py: Python<'_>, motion: &Bound<'_, motion::PyMotion>, mass: f64) -> PyResult<Py<PyAny>> {
+fn human(py: Python<'_>, motion: &Bound<'_, PyMotion>, mass: f64) -> PyResult<Py<PyAny>> {
     body_from_clip(py, "human", motion, mass)
 }
 
@@ -71,27 +83,28 @@ fn human(py: Python<'_>, motion: &Bound<'_, motion::PyMotion>, mass: f64) -> PyR
 #[pyo3(signature = (motion, body, options = None, on_tick = None))]
 fn _sp(
     py: Python<'_>,
-    motion: &Bound<'_, motion::PyMotion>,
-    body: &Bound<'_, body::PyBody>,
+    motion: &Bound<'_, PyMotion>,
+    body: &Bound<'_, PyBody>,
     options: Option<&Bound<'_, pyo3::types::PyDict>>,
     on_tick: Option<Py<PyAny>>,
 ) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
-    let mut named = convert::kwargs(options)?;
+    let mut named = kwargs(options)?;
     named.insert(0, ("body".into(), body.get().value.clone()));
     let m = motion.get().value.clone();
     let b = Builtins::get();
     let cancel = mx::cancel::CancelToken::new();
     let ctx = b.context_with(cancel.clone());
-    let r = interp::cancellable_ticking(py, Some(&cancel), on_tick.as_ref(), || {
+    let r = cancellable_ticking(py, Some(&cancel), on_tick.as_ref(), || {
         let filled = Builtins::call_in(&ctx, "SP", vec![m], named)?;
         let report = Builtins::call_in(&ctx, "sp_report", vec![filled.clone()], vec![])?;
         Ok::<_, mx::lang::Diagnostic>((filled, report))
     })?;
     let (filled, report) = r.map_err(|e| raise_diag(py, &e))?;
-    // The report reads like a record in mx; in Python it is a plain dict.
+    // The report reads like a record in mx; in Python it is a plain dict with
+    // every field of the report's own list, so a field mx adds reaches Python.
     let dict = pyo3::types::PyDict::new(py);
     if let mx::Value::Object(o) = &report {
-        for key in ["groups", "root", "pinned", "hermite", "undefined", "text"] {
+        for key in sp_report::FIELDS {
             if let Some(v) = o.field(key) {
                 dict.set_item(key, to_py(py, &v)?)?;
             }
@@ -117,11 +130,11 @@ fn _builtins() -> Vec<(String, String, String)> {
 
 #[pymodule]
 fn _mx(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<interp::PyInterpreter>()?;
-    m.add_class::<motion::PyMotion>()?;
-    m.add_class::<body::PyBody>()?;
-    m.add_class::<convert::PyFunction>()?;
-    m.add_class::<convert::PyObject_>()?;
+    m.add_class::<PyInterpreter>()?;
+    m.add_class::<PyMotion>()?;
+    m.add_class::<PyBody>()?;
+    m.add_class::<PyFunction>()?;
+    m.add_class::<PyObject_>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(body_of, m)?)?;
     m.add_function(wrap_pyfunction!(human, m)?)?;

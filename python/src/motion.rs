@@ -1,6 +1,6 @@
 //! `mx.Motion`: an mx motion (a motion unit, or a single DOF/interval) with
 //! NumPy sampling, construction from arrays, the algebra as operators and
-//! the motion functions as methods.
+//! the motion functions as methods (the class itself is in `objects.rs`).
 
 use mx::lang::ast::{BinOp, Span};
 use mx::lang::builtins::motion::{Motion, motion_error};
@@ -12,13 +12,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyCFunction, PyDict, PyTuple};
 use rayon::prelude::*;
 
-use crate::convert::{Builtins, from_py, kwargs, to_py};
+use crate::arrays::f64_array;
+use crate::convert::{from_py, kwargs, to_py, type_name};
 use crate::errors::{raise_diag, type_error, value_error};
-
-#[pyclass(name = "Motion", module = "mx", frozen)]
-pub struct PyMotion {
-    pub value: Value,
-}
+use crate::html::html_escape;
+use crate::objects::PyMotion;
+use crate::runtime::{Builtins, call_value, cancellable};
 
 impl PyMotion {
     fn motion(&self) -> &Motion {
@@ -68,53 +67,6 @@ fn spans(py: Python<'_>, v: Result<Value, Diagnostic>) -> PyResult<Vec<(String, 
         out.push((dof, num("start"), num("stop")));
     }
     Ok(out)
-}
-
-/// The dtype kind of a NumPy array or scalar (`f`, `i`, `u`, `b`), or
-/// MxTypeError when it holds anything but real numbers.
-pub fn real_dtype(py: Python<'_>, arr: &Bound<'_, PyAny>, what: &str) -> PyResult<String> {
-    let dtype = arr.getattr("dtype")?;
-    let kind: String = dtype.getattr("kind")?.extract()?;
-    if matches!(kind.as_str(), "f" | "i" | "u" | "b") {
-        Ok(kind)
-    } else {
-        Err(type_error(
-            py,
-            format!(
-                "`{what}` must hold real numbers, found dtype {}",
-                dtype.str()?
-            ),
-        ))
-    }
-}
-
-/// A float64 array from any array-like of real numbers (bool, int, float).
-pub fn f64_array<'py>(
-    py: Python<'py>,
-    obj: &Bound<'py, PyAny>,
-    what: &str,
-) -> PyResult<Bound<'py, numpy::PyArrayDyn<f64>>> {
-    if let Ok(a) = obj.cast::<numpy::PyArrayDyn<f64>>() {
-        return Ok(a.clone());
-    }
-    let np = py.import("numpy")?;
-    let arr = np
-        .getattr("asarray")?
-        .call1((obj,))
-        .map_err(|e| type_error(py, format!("`{what}` must be an array of numbers ({e})")))?;
-    let kind = real_dtype(py, &arr, what)?;
-    let arr = if kind == "f"
-        && arr
-            .getattr("dtype")?
-            .getattr("itemsize")?
-            .extract::<usize>()?
-            == 8
-    {
-        arr
-    } else {
-        arr.call_method1("astype", ("float64",))?
-    };
-    Ok(arr.cast_into::<numpy::PyArrayDyn<f64>>()?)
 }
 
 #[pymethods]
@@ -337,7 +289,7 @@ impl PyMotion {
     ) -> PyResult<()> {
         let named = kwargs(options)?;
         let pos = vec![self.value.clone(), Value::str(path.to_string_lossy())];
-        let r = crate::interp::cancellable(py, None, || Builtins::get().call("save", pos, named))?;
+        let r = cancellable(py, None, || Builtins::get().call("save", pos, named))?;
         r.map_err(|e| raise_diag(py, &e))?;
         Ok(())
     }
@@ -429,8 +381,7 @@ impl PyMotion {
                 }
                 let named = kwargs(kw)?;
                 let ctx = Builtins::get().context_with(mx::cancel::CancelToken::new());
-                let v = crate::convert::call_value(&ctx, &f, pos, named)
-                    .map_err(|e| raise_diag(py, &e))?;
+                let v = call_value(&ctx, &f, pos, named).map_err(|e| raise_diag(py, &e))?;
                 to_py(py, &v)
             },
         )?;
@@ -483,7 +434,7 @@ impl PyMotion {
                 py,
                 format!(
                     "the motion algebra combines two motions, not a motion and a {}",
-                    crate::convert::type_name(other)
+                    type_name(other)
                 ),
             ));
         };
@@ -516,11 +467,4 @@ fn fill(
         };
     }
     Ok(())
-}
-
-pub fn html_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }

@@ -2,6 +2,7 @@
 file root, errors as exceptions with their diagnostics, and SP with Ctrl-C."""
 
 import _thread
+import re
 import threading
 import time
 
@@ -9,6 +10,8 @@ import numpy as np
 import pytest
 
 import mx
+
+from conftest import REPO
 
 
 def test_eval_keeps_globals_and_converts_values():
@@ -147,6 +150,36 @@ def test_sp_fills_the_gap_and_reports(walk_path):
     assert "body_of(clip" in mx.body_of.__doc__ and mx.help_text("sin").startswith("sin(x)")
     with pytest.raises(mx.MxTypeError):
         mx.sp(holed, body, no_such_option=1)
+
+
+def _report_fields():
+    """The field names of `sp_report(m)`, read from the report's own table in
+    the Rust source (src/lang/host/sp_report.rs), not from the bindings."""
+    src = (REPO / "src" / "lang" / "host" / "sp_report.rs").read_text()
+    table = src[src.index("const TABLE"):]
+    table = table[: table.index("];")]
+    names = re.findall(r'^\s*\("(\w+)",', table, re.M)
+    assert len(names) >= 8, f"no field list found in sp_report.rs: {names}"
+    return names
+
+
+def test_sp_report_dict_has_every_field_of_sp_report(walk_path):
+    holed, body = _arm_gap(walk_path)
+    _, report = mx.sp(holed, body, progress=False)
+    fields = _report_fields()
+    assert "constant" in fields and "contacts" in fields
+    assert list(report) == fields, "mx.sp's report has exactly sp_report's fields, in its order"
+    # and each holds what mx's own sp_report(m).field holds
+    i = mx.Interpreter()
+    i["h"], i["b"] = holed, body
+    i.eval("let r = sp_report(SP(h, body: b))")
+    for f in fields:
+        if f == "groups":  # seconds and evaluation counts differ between two solves
+            assert [g["dofs"] for g in report[f]] == [g["dofs"] for g in i.eval(f"r.{f}")]
+        elif f == "text":  # ends in the solve's milliseconds
+            assert report[f].split(":")[0] == i.eval(f"r.{f}").split(":")[0]
+        else:
+            assert report[f] == i.eval(f"r.{f}"), f
 
 
 def test_keyboard_interrupt_cancels_sp(walk_path):

@@ -6,6 +6,7 @@ pub mod args;
 pub mod ast;
 pub mod builtins;
 pub mod busy;
+pub mod completion;
 pub mod diagnostics;
 pub mod env;
 pub mod eval;

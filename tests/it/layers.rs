@@ -1,6 +1,7 @@
 //! The library's layers, enforced: each top-level module of `src/` may use only
 //! the modules listed before it in ARCHITECTURE.md's module table, and the files
-//! of one folder import each other without loops.
+//! of one folder import each other without loops. The Python bindings' files
+//! (`python/src/`) are held to their own table the same way.
 //!
 //! This reads the source rather than the compiled crate, so it names the file and
 //! line of an offending `crate::…` (or `super::…`) path. Why a test and not one
@@ -21,15 +22,20 @@ fn root() -> PathBuf {
 
 // ---------------------------------------------------------------- the layer order
 
-/// The module names of ARCHITECTURE.md's table, in order; names sharing a row
-/// (`main.rs`, `repl.rs`) share a rank.
-fn layer_ranks(architecture: &str) -> BTreeMap<String, usize> {
+/// The library's table in ARCHITECTURE.md starts with this header row…
+const LIBRARY_TABLE: &str = "| module |";
+/// …and the Python bindings' with this one.
+const PYTHON_TABLE: &str = "| python module |";
+
+/// The module names of ARCHITECTURE.md's table that starts with `header`, in
+/// order; names sharing a row (`main.rs`, `repl.rs`) share a rank.
+fn layer_ranks(architecture: &str, header: &str) -> BTreeMap<String, usize> {
     let mut ranks = BTreeMap::new();
     let mut in_table = false;
     let mut rank = 0;
     for line in architecture.lines() {
         let line = line.trim();
-        if line.starts_with("| module |") {
+        if line.starts_with(header) {
             in_table = true;
             continue;
         }
@@ -60,7 +66,7 @@ fn layer_ranks(architecture: &str) -> BTreeMap<String, usize> {
     }
     assert!(
         rank > 3,
-        "ARCHITECTURE.md: no `| module | owns |` table found"
+        "ARCHITECTURE.md: no `{header} owns |` table found"
     );
     ranks
 }
@@ -406,20 +412,37 @@ fn module_of(rel: &Path) -> Vec<String> {
     parts
 }
 
-fn load_crate() -> Vec<File> {
-    let src = root().join("src");
+/// The files of the crate whose sources are in `src` (relative to the repository).
+fn load_files(src: &str) -> Vec<File> {
+    let dir = root().join(src);
     let mut paths = Vec::new();
-    rust_files(&src, &mut paths);
+    rust_files(&dir, &mut paths);
     paths
         .into_iter()
         .map(|p| {
-            let rel = p.strip_prefix(&src).unwrap().to_path_buf();
+            let rel = p.strip_prefix(&dir).unwrap().to_path_buf();
             let text = fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             File {
-                rel: format!("src/{}", rel.display()),
+                rel: format!("{src}/{}", rel.display()),
                 module: module_of(&rel),
                 paths: written_paths(&text),
             }
+        })
+        .collect()
+}
+
+fn load_crate() -> Vec<File> {
+    load_files("src")
+}
+
+/// Files made from sources in memory (`name.rs` → text), for the checker's own tests.
+fn files_from(sources: &[(&str, &str)]) -> Vec<File> {
+    sources
+        .iter()
+        .map(|(name, text)| File {
+            rel: name.to_string(),
+            module: module_of(Path::new(name)),
+            paths: written_paths(text),
         })
         .collect()
 }
@@ -537,46 +560,43 @@ fn edges(files: &[File]) -> Vec<Edge> {
 
 // ---------------------------------------------------------------- the checks
 
-#[test]
-fn no_module_imports_one_listed_after_it() {
-    let arch = fs::read_to_string(root().join("ARCHITECTURE.md")).expect("read ARCHITECTURE.md");
-    let ranks = layer_ranks(&arch);
-    let files = load_crate();
-    let mut unlisted = BTreeSet::new();
-    for f in &files {
-        if let Some(top) = f.module.first()
-            && !ranks.contains_key(top)
-        {
-            unlisted.insert(f.rel.clone());
-        }
-    }
-    assert!(
-        unlisted.is_empty(),
-        "these files belong to no module of ARCHITECTURE.md's table; add a row for their module: {unlisted:?}"
-    );
+/// The row a module belongs to: its top-level name, `lib` for the crate root.
+fn top_of(module: &[String]) -> String {
+    module.first().cloned().unwrap_or_else(|| "lib".into())
+}
+
+/// Files whose module has no row in the table (the crate root may go unlisted).
+fn unlisted(files: &[File], ranks: &BTreeMap<String, usize>) -> BTreeSet<String> {
+    files
+        .iter()
+        .filter(|f| !f.module.is_empty() && !ranks.contains_key(&top_of(&f.module)))
+        .map(|f| f.rel.clone())
+        .collect()
+}
+
+/// Every import of a module listed after the importing one, as `file:line: path (why)`.
+fn order_violations(files: &[File], ranks: &BTreeMap<String, usize>) -> Vec<String> {
     let mut wrong = Vec::new();
-    for e in edges(&files) {
-        let (Some(from), Some(to)) = (e.from.first(), e.to.first()) else {
+    for e in edges(files) {
+        let (from, to) = (top_of(&e.from), top_of(&e.to));
+        let (Some(rf), Some(rt)) = (ranks.get(&from), ranks.get(&to)) else {
             continue;
         };
-        if ranks[from] < ranks[to] {
+        if rf < rt {
             wrong.push(format!("{}  (`{from}` is listed before `{to}`)", e.at));
         }
     }
-    assert!(
-        wrong.is_empty(),
-        "imports against the layer order of ARCHITECTURE.md:\n  {}",
-        wrong.join("\n  ")
-    );
+    wrong
 }
 
-#[test]
-fn files_of_one_folder_import_each_other_without_loops() {
-    let files = load_crate();
+/// Every import loop between files of one folder, each as its walk and the
+/// lines that make it. `top_level`: also between the crate's top-level files
+/// (the library leaves those to the layer order; the bindings' files share rows).
+fn loop_violations(files: &[File], top_level: bool) -> Vec<String> {
     // sibling graph: for an edge a::x::… → a::y::…, the siblings x → y under a
     let mut graph: BTreeMap<Vec<String>, BTreeMap<String, BTreeMap<String, String>>> =
         BTreeMap::new();
-    for e in edges(&files).into_iter().filter(|e| !e.in_tests) {
+    for e in edges(files).into_iter().filter(|e| !e.in_tests) {
         let common = e.from.iter().zip(&e.to).take_while(|(a, b)| a == b).count();
         let (Some(x), Some(y)) = (e.from.get(common), e.to.get(common)) else {
             continue; // a module using its parent or its own children
@@ -592,7 +612,7 @@ fn files_of_one_folder_import_each_other_without_loops() {
     }
     let mut loops = Vec::new();
     for (parent, g) in &graph {
-        if parent.is_empty() {
+        if parent.is_empty() && !top_level {
             continue; // the top level: the layer order forbids its loops
         }
         if LOOPS_ALLOWED_UNDER
@@ -605,15 +625,76 @@ fn files_of_one_folder_import_each_other_without_loops() {
             let steps: Vec<String> = cycle.windows(2).map(|w| g[&w[0]][&w[1]].clone()).collect();
             loops.push(format!(
                 "in {}: {}\n    {}",
-                parent.join("::"),
+                if parent.is_empty() {
+                    "the crate root".to_string()
+                } else {
+                    parent.join("::")
+                },
                 cycle.join(" → "),
                 steps.join("\n    ")
             ));
         }
     }
+    loops
+}
+
+#[test]
+fn no_module_imports_one_listed_after_it() {
+    let arch = fs::read_to_string(root().join("ARCHITECTURE.md")).expect("read ARCHITECTURE.md");
+    let ranks = layer_ranks(&arch, LIBRARY_TABLE);
+    let files = load_crate();
+    let unlisted = unlisted(&files, &ranks);
+    assert!(
+        unlisted.is_empty(),
+        "these files belong to no module of ARCHITECTURE.md's table; add a row for their module: {unlisted:?}"
+    );
+    let wrong = order_violations(&files, &ranks);
+    assert!(
+        wrong.is_empty(),
+        "imports against the layer order of ARCHITECTURE.md:\n  {}",
+        wrong.join("\n  ")
+    );
+}
+
+#[test]
+fn files_of_one_folder_import_each_other_without_loops() {
+    let loops = loop_violations(&load_crate(), false);
     assert!(
         loops.is_empty(),
         "import loops between files of one folder:\n  {}",
+        loops.join("\n  ")
+    );
+}
+
+/// The Python bindings (`python/src`, issue 24): each file imports only the
+/// rows above it in ARCHITECTURE.md's Python table, files sharing a row do not
+/// import each other in a loop, and every row names a file that exists.
+#[test]
+fn python_bindings_import_downward_without_loops() {
+    let arch = fs::read_to_string(root().join("ARCHITECTURE.md")).expect("read ARCHITECTURE.md");
+    let ranks = layer_ranks(&arch, PYTHON_TABLE);
+    let files = load_files("python/src");
+    let unlisted = unlisted(&files, &ranks);
+    assert!(
+        unlisted.is_empty(),
+        "these files of python/src have no row in ARCHITECTURE.md's Python table: {unlisted:?}"
+    );
+    let present: BTreeSet<String> = files.iter().map(|f| top_of(&f.module)).collect();
+    let missing: Vec<&String> = ranks.keys().filter(|m| !present.contains(*m)).collect();
+    assert!(
+        missing.is_empty(),
+        "ARCHITECTURE.md's Python table names files python/src does not have: {missing:?}"
+    );
+    let wrong = order_violations(&files, &ranks);
+    assert!(
+        wrong.is_empty(),
+        "python/src imports against the layer order of ARCHITECTURE.md:\n  {}",
+        wrong.join("\n  ")
+    );
+    let loops = loop_violations(&files, true);
+    assert!(
+        loops.is_empty(),
+        "import loops in python/src:\n  {}",
         loops.join("\n  ")
     );
 }
@@ -722,10 +803,68 @@ fn the_loop_finder_finds_a_loop_and_only_a_loop() {
     }
 }
 
+/// The loop the bindings had (convert ↔ motion, body ↔ motion) is caught: an
+/// import up the table by the order check, a loop within one row by the loop check.
+#[test]
+fn the_checker_catches_a_made_up_loop_in_the_bindings() {
+    let table = "| python module | owns |\n| --- | --- |\n| `errors` | a |\n| `convert` | b |\n| `motion` · `body` | c |\n| `lib.rs` | d |\n";
+    let ranks = layer_ranks(table, PYTHON_TABLE);
+    let downward = files_from(&[
+        ("errors.rs", "pub fn raise() {}"),
+        ("convert.rs", "use crate::errors::raise;"),
+        (
+            "motion.rs",
+            "use crate::convert::to_py; use crate::errors::raise;",
+        ),
+        ("body.rs", "use crate::{convert::to_py, motion::PyMotion};"),
+        ("lib.rs", "mod body; use crate::motion::PyMotion;"),
+    ]);
+    assert!(order_violations(&downward, &ranks).is_empty());
+    assert!(loop_violations(&downward, true).is_empty());
+
+    let up = files_from(&[
+        ("errors.rs", ""),
+        (
+            "convert.rs",
+            "fn f() { let m = crate::motion::PyMotion::new(); }",
+        ),
+        ("motion.rs", "use crate::convert::to_py;"),
+    ]);
+    let wrong = order_violations(&up, &ranks);
+    assert_eq!(wrong.len(), 1, "{wrong:?}");
+    assert!(
+        wrong[0].starts_with("convert.rs:1: crate::motion::PyMotion::new"),
+        "{wrong:?}"
+    );
+
+    let sideways = files_from(&[
+        ("motion.rs", "use crate::body::short_list;"),
+        ("body.rs", "use crate::motion::{PyMotion, f64_array};"),
+        ("lib.rs", "use crate::errors::x;"),
+    ]);
+    assert!(
+        order_violations(&sideways, &ranks).is_empty(),
+        "one row: no order between them"
+    );
+    let loops = loop_violations(&sideways, true);
+    assert_eq!(loops.len(), 1, "{loops:?}");
+    assert!(loops[0].contains("body → motion → body"), "{loops:?}");
+    assert!(
+        loop_violations(&sideways, false).is_empty(),
+        "the library's check leaves the top level to the order"
+    );
+    // an upward import into the crate root counts too
+    let into_root = files_from(&[
+        ("motion.rs", "use crate::load;"),
+        ("lib.rs", "pub fn load() {}"),
+    ]);
+    assert_eq!(order_violations(&into_root, &ranks).len(), 1);
+}
+
 #[test]
 fn the_table_gives_ranks_in_order() {
     let arch = "x\n| module | owns |\n| --- | --- |\n| `lie` | a |\n| `spline` | b |\n| `model` | c |\n| `main.rs`, `repl.rs` | d |\n\nafter";
-    let r = layer_ranks(arch);
+    let r = layer_ranks(arch, LIBRARY_TABLE);
     assert!(r["lie"] < r["spline"] && r["spline"] < r["model"]);
     assert_eq!(r["main"], r["repl"]);
     assert!(!r.contains_key("after"));

@@ -147,3 +147,40 @@ fn repl_takes_help_and_exit_as_people_type_them() {
         p.expect(Eof).unwrap();
     }
 }
+
+/// Tab inside a string (issue 28): a file path in `load("…` (relative to the
+/// folder the REPL runs in), and a DOF name of a motion bound in the session
+/// in `only("…`.
+#[test]
+fn tab_completes_paths_and_dof_names_inside_strings() {
+    let data = tempfile::tempdir().unwrap();
+    let folder = tempfile::tempdir().unwrap();
+    std::fs::create_dir(folder.path().join("clips")).unwrap();
+    let walk = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/walk.bvh");
+    std::fs::copy(walk, folder.path().join("clips/walk.bvh")).unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mx"));
+    cmd.current_dir(folder.path())
+        .env("XDG_DATA_HOME", data.path())
+        .env("HOME", data.path())
+        .env("NO_COLOR", "1")
+        .env("TERM", "xterm");
+    let mut p = Session::spawn(cmd).expect("spawn mx in a pty");
+    p.set_expect_timeout(Some(Duration::from_secs(20)));
+    p.expect("mx> ").unwrap();
+    // `cl` → `clips/`, then `wa` → `walk.bvh`: the line runs only if both completed.
+    p.send("let w = load(\"cl").unwrap();
+    p.send("\t").unwrap();
+    p.expect("clips/").unwrap();
+    p.send("wa").unwrap();
+    p.send("\t").unwrap();
+    p.expect("walk.bvh").unwrap();
+    p.send_line("\"); print(\"loaded\" + \"!\")").unwrap();
+    p.expect("loaded!").unwrap();
+    // `LeftFoot.Z` → `LeftFoot.Zrotation`, one of w's DOFs.
+    p.send("print(dofs(w.only(\"LeftFoot.Z").unwrap();
+    p.send("\t").unwrap();
+    p.send_line("\")))").unwrap();
+    p.expect("[\"LeftFoot.Zrotation\"]").unwrap();
+    p.send_line(":quit").unwrap();
+    p.expect(Eof).unwrap();
+}

@@ -51,6 +51,24 @@ fn spans(list: &[Undefined]) -> Value {
 }
 
 impl SpReportValue {
+    fn pinned(&self) -> Value {
+        Value::list(
+            self.0
+                .pinned
+                .iter()
+                .map(|p| {
+                    record(vec![
+                        ("t0", num(p.t0)),
+                        ("t1", num(p.t1)),
+                        ("auto", Value::Bool(p.auto)),
+                        ("mismatch", num(p.mismatch)),
+                        ("tolerance", num(p.tolerance)),
+                    ])
+                })
+                .collect(),
+        )
+    }
+
     fn groups(&self) -> Value {
         Value::list(
             self.0
@@ -174,17 +192,34 @@ impl SpReportValue {
     }
 }
 
-/// The fields `sp_report(m)` has, in the order `keys` would show them.
-pub const FIELDS: [&str; 8] = [
-    "groups",
-    "root",
-    "pinned",
-    "contacts",
-    "hermite",
-    "constant",
-    "undefined",
-    "text",
+/// How one field of the report is read.
+type Getter = fn(&SpReportValue) -> Value;
+
+/// The fields of `sp_report(m)`, in the order `keys` would show them, each
+/// with how it is read: the one list that [`HostObject::field`] answers from
+/// and the Python bindings build their report dict from (`mx.sp`), so a
+/// field added here reaches both.
+const TABLE: [(&str, Getter); 8] = [
+    ("groups", SpReportValue::groups),
+    ("root", SpReportValue::root),
+    ("pinned", SpReportValue::pinned),
+    ("contacts", SpReportValue::contacts),
+    ("hermite", |r| spans(&r.0.hermite)),
+    ("constant", |r| spans(&r.0.constant)),
+    ("undefined", |r| spans(&r.0.undefined)),
+    ("text", |r| Value::str(r.summary())),
 ];
+
+/// The names of [`TABLE`]'s fields, in order.
+pub const FIELDS: [&str; TABLE.len()] = {
+    let mut names = [""; TABLE.len()];
+    let mut i = 0;
+    while i < TABLE.len() {
+        names[i] = TABLE[i].0;
+        i += 1;
+    }
+    names
+};
 
 impl HostObject for SpReportValue {
     fn type_name(&self) -> &'static str {
@@ -197,31 +232,10 @@ impl HostObject for SpReportValue {
         self
     }
     fn field(&self, name: &str) -> Option<Value> {
-        match name {
-            "groups" => Some(self.groups()),
-            "root" => Some(self.root()),
-            "pinned" => Some(Value::list(
-                self.0
-                    .pinned
-                    .iter()
-                    .map(|p| {
-                        record(vec![
-                            ("t0", num(p.t0)),
-                            ("t1", num(p.t1)),
-                            ("auto", Value::Bool(p.auto)),
-                            ("mismatch", num(p.mismatch)),
-                            ("tolerance", num(p.tolerance)),
-                        ])
-                    })
-                    .collect(),
-            )),
-            "contacts" => Some(self.contacts()),
-            "hermite" => Some(spans(&self.0.hermite)),
-            "constant" => Some(spans(&self.0.constant)),
-            "undefined" => Some(spans(&self.0.undefined)),
-            "text" => Some(Value::str(self.summary())),
-            _ => None,
-        }
+        TABLE
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, read)| read(self))
     }
 }
 
@@ -230,6 +244,22 @@ mod tests {
     use super::*;
     use crate::lang::host::motion::Motion;
     use crate::motion::Mu;
+
+    /// Every listed field is read, and nothing outside the list: the Python
+    /// report dict (built from `FIELDS`) then has every field mx has.
+    #[test]
+    fn the_field_list_is_what_the_report_answers() {
+        let r = SpReportValue(Arc::new(SpReport::default()));
+        for name in FIELDS {
+            assert!(r.field(name).is_some(), "`{name}` is listed but not read");
+        }
+        assert!(FIELDS.contains(&"constant") && FIELDS.contains(&"contacts"));
+        let mut unique = FIELDS.to_vec();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), FIELDS.len(), "a field is listed twice");
+        assert!(r.field("no_such_field").is_none());
+    }
 
     #[test]
     fn a_report_follows_its_value_not_an_equal_one() {
