@@ -103,9 +103,9 @@ impl<'a> Resolver<'a> {
                 .chain(self.all_known.iter().map(String::as_str)),
         ) {
             Some(s) => e.help(format!("did you mean `{s}`?")),
-            None => {
-                e.help("define it first with `let` or `fn`; `:help` in the REPL lists the built-ins")
-            }
+            None => e.help(
+                "define it first with `let` or `fn`; `:help` in the REPL lists the built-ins",
+            ),
         };
         self.errors.push(e);
     }

@@ -152,7 +152,10 @@ print(f(a), walk)
             + from;
         // the message is printed above its location
         let message_start = err[..k].rfind("× ").unwrap_or(0);
-        assert!(err[message_start..k].contains(what), "{loc}: no `{what}`:\n{err}");
+        assert!(
+            err[message_start..k].contains(what),
+            "{loc}: no `{what}`:\n{err}"
+        );
         from = k + loc.len();
     }
     // names bound by a broken statement (`b`, `f`) are not reported again

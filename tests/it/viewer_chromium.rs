@@ -414,7 +414,10 @@ fn camera_presets_and_time_come_from_the_url_and_go_back_into_it() {
     let (sw, sh) = extent(&side);
     let (_, th) = extent(&top);
     assert!(th < 0.6 * fh && th < 0.6 * sh, "{front}\n{side}\n{top}");
-    assert!((fw - sw).abs() > 5.0, "front and side differ: {front}\n{side}");
+    assert!(
+        (fw - sw).abs() > 5.0,
+        "front and side differ: {front}\n{side}"
+    );
     // No fragment: the default orbit, and the address gains the time.
     let plain = check_page(&page, "", 500);
     assert_eq!(field(&plain, "view"), "orbit", "{plain}");
@@ -434,24 +437,30 @@ fn keys_buttons_and_the_slider_update_the_view_and_the_address() {
     let page = dir.path().join("walk.html");
     view_walk("view(w, body_of(w), PAGE)", &page);
     let driver = r#"<script>
-(function () {
+(async function () {
   const out = [];
-  const note = what => { const s = window.mxViewer.state(); out.push(what + " " + s.view + " " + s.hash + " " + s.yaw.toFixed(3) + " " + s.pitch.toFixed(3)); };
+  // the address is written at once for keys and buttons, within 100 ms
+  // for the slider: wait (virtual time) before reading it
+  const settle = () => new Promise(r => setTimeout(r, 150));
+  const note = async what => {
+    await settle();
+    const s = window.mxViewer.state();
+    out.push(what + " " + s.view + " " + s.hash + " " + s.yaw.toFixed(3) + " " + s.pitch.toFixed(3));
+  };
   document.dispatchEvent(new KeyboardEvent("keydown", { key: "2" }));
-  note("key2");
+  await note("key2");
   document.getElementById("view-top").click();
-  note("top-button");
+  await note("top-button");
   document.dispatchEvent(new KeyboardEvent("keydown", { key: "1" }));
-  note("key1");
+  await note("key1");
   const slider = document.getElementById("slider");
-  slider.value = "30";
-  slider.dispatchEvent(new Event("input"));
-  note("slider");
+  for (const v of ["10", "20", "30"]) { slider.value = v; slider.dispatchEvent(new Event("input")); }
+  await note("slider");
   const stage = document.getElementById("stage");
   stage.dispatchEvent(new MouseEvent("mousedown", { clientX: 100, clientY: 100, bubbles: true }));
   window.dispatchEvent(new MouseEvent("mousemove", { clientX: 140, clientY: 100 }));
   window.dispatchEvent(new MouseEvent("mouseup", {}));
-  note("orbit");
+  await note("orbit");
   const pre = document.createElement("pre");
   pre.id = "mx-test";
   pre.textContent = out.join(";");
@@ -468,10 +477,7 @@ fn keys_buttons_and_the_slider_update_the_view_and_the_address() {
         .and_then(|t| t.split("</pre>").next())
         .unwrap_or_else(|| panic!("the driver did not run:\n{stderr}"))
         .replace("&amp;", "&");
-    let steps: Vec<Vec<&str>> = report
-        .split(';')
-        .map(|s| s.split(' ').collect())
-        .collect();
+    let steps: Vec<Vec<&str>> = report.split(';').map(|s| s.split(' ').collect()).collect();
     let half_pi = format!("{:.3}", std::f64::consts::FRAC_PI_2);
     let expect = [
         ("key2", "side", "#view=side&t=0.5"),
@@ -549,7 +555,8 @@ fn curves_are_chosen_by_dof_joint_or_glob_and_their_labels_never_overlap() {
         .unwrap_err()
         .render_plain();
     assert!(
-        err.contains("no DOF or joint matches `LeftLegg`") && err.contains("did you mean `LeftLeg`?"),
+        err.contains("no DOF or joint matches `LeftLegg`")
+            && err.contains("did you mean `LeftLeg`?"),
         "{err}"
     );
 }
@@ -566,8 +573,14 @@ fn the_gap_sp_filled_is_shaded_and_named_in_the_legend() {
     let data = page_data(&page);
     let filled = data["tracks"][0]["filled"].as_array().unwrap();
     assert_eq!(filled.len(), 1, "{filled:?}");
-    let (a, b) = (filled[0][0].as_f64().unwrap(), filled[0][1].as_f64().unwrap());
-    assert!((a - 0.8).abs() < 0.05 && (b - 1.2).abs() < 0.05, "{filled:?}");
+    let (a, b) = (
+        filled[0][0].as_f64().unwrap(),
+        filled[0][1].as_f64().unwrap(),
+    );
+    assert!(
+        (a - 0.8).abs() < 0.05 && (b - 1.2).abs() < 0.05,
+        "{filled:?}"
+    );
     let inside = check_page(&page, "#t=1.0", 500);
     assert_eq!(field(&inside, "filled"), "[filled]", "{inside}");
     // The 0.4 s of 2 s over the plot's height: about 30,000 pixels.
@@ -599,11 +612,7 @@ fn default_curves_on_cmu_leave_out_fingers_thumbs_and_toes() {
     let data = mx::io::viewer::from_motion(&clip.mu, &body, "cmu", &[]).unwrap();
     assert_eq!(data.curves.len(), 6);
     for c in &data.curves {
-        assert!(
-            !mx::io::viewer::curves::is_extremity(&c.name),
-            "{}",
-            c.name
-        );
+        assert!(!mx::io::viewer::curves::is_extremity(&c.name), "{}", c.name);
         // unwrapped: no step between samples of more than π
         for piece in &c.pieces {
             for w in piece.windows(2) {

@@ -68,9 +68,11 @@ pub fn glob(pattern: &str, text: &str) -> bool {
 /// Bandai `Toe_L`; `…Index1`, `…Pinky2`).
 pub fn is_extremity(dof: &str) -> bool {
     let j = joint_of(dof).to_ascii_lowercase();
-    ["thumb", "finger", "toe", "index", "middle", "ring", "pinky", "little"]
-        .iter()
-        .any(|w| j.contains(w))
+    [
+        "thumb", "finger", "toe", "index", "middle", "ring", "pinky", "little",
+    ]
+    .iter()
+    .any(|w| j.contains(w))
 }
 
 /// Whether a DOF is an angle whose wraps between −π and π can be unwrapped
@@ -160,7 +162,11 @@ mod tests {
             "elbow_joint",
         ];
         assert_eq!(
-            select(&names, &["*Knee.Xrotation", "Hips", "elbow_joint", "Hips.Xrotation"]).unwrap(),
+            select(
+                &names,
+                &["*Knee.Xrotation", "Hips", "elbow_joint", "Hips.Xrotation"]
+            )
+            .unwrap(),
             [
                 "LeftKnee.Xrotation",
                 "RightKnee.Xrotation",
@@ -184,7 +190,11 @@ mod tests {
         ] {
             assert!(is_extremity(n), "{n}");
         }
-        for n in ["LeftKnee.Xrotation", "Hips.Xposition", "RightHand.Zrotation"] {
+        for n in [
+            "LeftKnee.Xrotation",
+            "Hips.Xposition",
+            "RightHand.Zrotation",
+        ] {
             assert!(!is_extremity(n), "{n}");
         }
         assert!(is_angle("Hips.Zrotation") && !is_angle("Hips.Xposition"));

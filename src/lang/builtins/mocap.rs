@@ -470,9 +470,23 @@ fn view_curves(a: &mut Args, mus: &[Mu]) -> MxResult<Vec<String>> {
     let Some(c) = a.opt_named("curves") else {
         return Ok(vec![]);
     };
-    let bad = |a: &Args| a.type_error("curves", "a list of DOF names, joint names or globs (strings)", &c);
-    let Value::List(items) = &c.value else { return Err(bad(a)) };
-    let patterns: Vec<&str> = items.iter().map(|v| match v { Value::Str(s) => Ok(&**s), _ => Err(bad(a)) }).collect::<MxResult<_>>()?;
+    let bad = |a: &Args| {
+        a.type_error(
+            "curves",
+            "a list of DOF names, joint names or globs (strings)",
+            &c,
+        )
+    };
+    let Value::List(items) = &c.value else {
+        return Err(bad(a));
+    };
+    let patterns: Vec<&str> = items
+        .iter()
+        .map(|v| match v {
+            Value::Str(s) => Ok(&**s),
+            _ => Err(bad(a)),
+        })
+        .collect::<MxResult<_>>()?;
     let mut names: Vec<&str> = Vec::new();
     for m in mus {
         for n in m.dofs.keys() {
@@ -500,7 +514,12 @@ fn filled_spans(r: &crate::spacetime::SpReport) -> Vec<[f64; 2]> {
         .groups
         .iter()
         .map(|g| [g.t0, g.t1])
-        .chain(r.hermite.iter().chain(&r.constant).map(|u| [u.start, u.stop]))
+        .chain(
+            r.hermite
+                .iter()
+                .chain(&r.constant)
+                .map(|u| [u.start, u.stop]),
+        )
         .filter(|[a, b]| a.is_finite() && b.is_finite() && a <= b)
         .collect();
     spans.sort_by(|x, y| x[0].total_cmp(&y[0]));

@@ -20,9 +20,9 @@ pub use super::nesting::MAX_NESTING;
 use super::nesting::check_nesting;
 use build::Builder;
 pub use complete::is_incomplete;
-pub use recover::MAX_SYNTAX_ERRORS;
 use errors::syntax_error;
 use grammar::{MxParser, Rule};
+pub use recover::MAX_SYNTAX_ERRORS;
 
 /// Parse a whole program from source `file`.
 pub fn parse_program(src: &str, file: SourceId) -> MxResult<Program> {

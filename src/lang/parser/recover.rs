@@ -189,7 +189,11 @@ mod tests {
     fn every_broken_statement_is_reported_and_the_rest_parse() {
         let src = "let a = 1\nprint(a 2)\nlet = 3\nlet b = [1, 2\nlet c = a +* 2\nprint(b, c)\n";
         let (program, errors) = parse_statements(src, 0);
-        assert_eq!(positions(src), vec![(2, 9), (3, 5), (4, 9), (5, 12)], "{errors:?}");
+        assert_eq!(
+            positions(src),
+            vec![(2, 9), (3, 5), (4, 9), (5, 12)],
+            "{errors:?}"
+        );
         // `let a`, `print(b, c)` parse; `b` and `c` are bound by placeholders.
         let names: Vec<String> = program
             .stmts
