@@ -627,3 +627,16 @@ fn default_curves_on_cmu_leave_out_fingers_thumbs_and_toes() {
     }
     check(&html(&data).unwrap(), 1000);
 }
+
+/// The README's first session views into `out/` before anything saved
+/// there: `view` (and `plot`) create the folders they write into, as `save` does.
+#[test]
+fn view_and_plot_create_the_folders_they_write_into() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("out/deeper/walk.html");
+    view_walk("view(w, body_of(w), PAGE)", &page);
+    assert!(page.exists());
+    let svg = dir.path().join("plots/hips.svg");
+    view_walk("plot(w.only(\"Hips.Xposition\"), PAGE)", &svg);
+    assert!(svg.exists());
+}

@@ -395,6 +395,7 @@ fn pictures(reg: &mut Registry) {
             let parg = a.arg("path")?;
             let Value::Str(p) = &parg.value else { return Err(a.type_error("path", "an .svg file name", &parg)) };
             let path = ev.resolve_path(p, parg.span)?;
+            super::core::create_parent_folder(&path, parg.span)?;
             let rate = to_motion::sample_period(&m).map(|d| 1.0 / d).unwrap_or(60.0).min(240.0);
             crate::io::plot::plot_motion(&m, &[], rate, &path)
                 .map_err(|e| MxError::new(ErrorKind::Io, e.to_string()).at(parg.span))?;
@@ -457,6 +458,7 @@ fn pictures(reg: &mut Registry) {
             for (track, v) in data.tracks.iter_mut().zip(values) {
                 track.filled = report_of(v).map(|r| filled_spans(&r)).unwrap_or_default();
             }
+            super::core::create_parent_folder(&path, parg.span)?;
             crate::io::viewer::write_html(&data, &path).map_err(|e| MxError::new(ErrorKind::Io, e.to_string()).at(parg.span))?;
             Ok(Value::Nil)
         },
