@@ -640,3 +640,40 @@ fn view_and_plot_create_the_folders_they_write_into() {
     view_walk("plot(w.only(\"Hips.Xposition\"), PAGE)", &svg);
     assert!(svg.exists());
 }
+
+/// Python's notebook view embeds the page as an iframe's `srcdoc`: it
+/// draws there, and has no address of its own to rewrite.
+#[test]
+fn the_page_embedded_as_srcdoc_draws_and_keeps_no_address() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("walk.html");
+    view_walk("view(w, body_of(w), PAGE)", &page);
+    let inner = std::fs::read_to_string(&page)
+        .unwrap()
+        .replace('&', "&amp;")
+        .replace('"', "&quot;");
+    let outer = dir.path().join("notebook.html");
+    std::fs::write(
+        &outer,
+        format!(
+            "<!DOCTYPE html><html><head><title>notebook</title></head><body>\
+             <iframe id=\"f\" srcdoc=\"{inner}\" style=\"width:1000px;height:560px\"></iframe>\
+             <script>document.getElementById(\"f\").addEventListener(\"load\", function () {{\
+               const d = this.contentDocument;\
+               const pre = document.createElement(\"pre\"); pre.id = \"mx-test\";\
+               pre.textContent = d.title + \" inner=\" + this.contentWindow.location.href + \" outer=\" + location.hash;\
+               document.body.appendChild(pre);\
+             }});</script></body></html>"
+        ),
+    )
+    .unwrap();
+    let (dom, stderr) = open_at(&outer, "");
+    let report = dom
+        .split("<pre id=\"mx-test\">")
+        .nth(1)
+        .and_then(|t| t.split("</pre>").next())
+        .unwrap_or_else(|| panic!("no report:\n{dom}\n{stderr}"));
+    assert!(report.starts_with("mx-viewer-ok"), "{report}");
+    assert!(report.contains("inner=about:srcdoc outer="), "{report}");
+    assert!(report.ends_with("outer="), "{report}");
+}
