@@ -206,8 +206,11 @@ fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, GraphError> 
     if let Some(t) = threads {
         b = b.num_threads(t);
     }
-    b.build()
-        .map_err(|e| GraphError::new(format!("cannot start {threads:?} threads: {e}")))
+    b.build().map_err(|e| {
+        // the number, not `Some(4)`
+        let n = threads.map_or("the default number of".into(), |t| t.to_string());
+        GraphError::new(format!("cannot start {n} threads: {e}"))
+    })
 }
 
 /// One JSON line of the `--log` for a finished pair.

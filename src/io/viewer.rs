@@ -16,6 +16,14 @@
 //! it. A URL fragment `#t=3.5` opens the page at that time; the title then
 //! also names the time and frame shown, which tracks are undefined there and
 //! how many pixels each track's colour covers.
+//!
+//! Camera presets front/side/top (buttons, keys 1/2/3) and the time are in
+//! the URL fragment, read on load and kept up to date (`#view=side&t=2.5`),
+//! so a view can be shared as a link. Spans a transition filled (SP's
+//! report, [`Track::filled`]) are shaded on the curves in their own colour.
+//! Which curves are drawn is [`curves`]' choice.
+
+pub mod curves;
 
 use super::plot::Series;
 use serde::Serialize;
@@ -54,6 +62,10 @@ pub struct Track {
     /// `undefined[frame]`: the motion is undefined there and the pose is the
     /// last defined one (empty: defined everywhere).
     pub undefined: Vec<bool>,
+    /// Spans `[start, stop]` (seconds) a transition filled (SP's gaps):
+    /// shaded on the curves, and named in the legend while the clock is in
+    /// one (empty: none known).
+    pub filled: Vec<[f64; 2]>,
 }
 
 /// A DOF curve for the page (the JSON form of a plot [`Series`]).
@@ -148,6 +160,16 @@ pub fn html(data: &ViewerData) -> Result<String, ViewerError> {
                 tr.undefined.len()
             )));
         }
+        if tr
+            .filled
+            .iter()
+            .any(|[a, b]| !(a.is_finite() && b.is_finite() && a <= b))
+        {
+            return Err(ViewerError::Invalid(format!(
+                "`{}` has a filled span that is not [start, stop] with start ≤ stop",
+                tr.label
+            )));
+        }
         if let Some(f) = tr.positions.iter().position(|fr| fr.len() != n) {
             return Err(ViewerError::Invalid(format!(
                 "frame {f} has {} points, expected {n}",
@@ -203,7 +225,8 @@ pub fn write_html(data: &ViewerData, path: &Path) -> Result<(), ViewerError> {
 
 /// The viewer of motion `mu` on `body`: joint positions by forward kinematics
 /// (coordinates the motion lacks stay 0, gaps hold the last value), and below
-/// the figure the DOF curves `curve_names` (default: the 6 DOFs that move most).
+/// the figure the DOF curves `curve_names` (default: the 6 DOFs that move
+/// most, see [`curves::most_moving`]).
 pub fn from_motion(
     mu: &crate::motion::Mu,
     body: &crate::model::Model,
@@ -261,6 +284,7 @@ pub fn overlay(
             label: label.to_string(),
             positions,
             undefined: p.undefined.clone(),
+            filled: vec![],
         });
         points.get_or_insert((p.names, p.parents, p.links));
     }
@@ -271,7 +295,7 @@ pub fn overlay(
         .max_by(|&a, &b| g[a].abs().total_cmp(&g[b].abs()))
         .unwrap_or(1);
     let picked: Vec<&str> = if curve_names.is_empty() {
-        most_moving(first, &times, if motions.len() > 1 { 3 } else { 6 })
+        curves::most_moving(first, &times, if motions.len() > 1 { 3 } else { 6 })
     } else {
         curve_names.to_vec()
     };
@@ -287,6 +311,16 @@ pub fn overlay(
         curves.extend(series.iter().map(|s| {
             let mut c = CurveData::from(s);
             c.track = k;
+            // the angle, not its wraps between −π and π
+            if curves::is_angle(&c.name) {
+                for piece in &mut c.pieces {
+                    let mut v: Vec<f64> = piece.iter().map(|p| p[1]).collect();
+                    curves::unwrap(&mut v);
+                    for (p, v) in piece.iter_mut().zip(v) {
+                        p[1] = v;
+                    }
+                }
+            }
             if motions.len() > 1 {
                 c.name = format!("{label}: {}", c.name);
             }
@@ -303,25 +337,6 @@ pub fn overlay(
         up,
         curves,
     })
-}
-
-/// The `n` DOFs of `mu` with the largest range over `times`.
-fn most_moving<'a>(mu: &'a crate::motion::Mu, times: &[f64], n: usize) -> Vec<&'a str> {
-    let mut ranked: Vec<(f64, &str)> = mu
-        .dofs
-        .iter()
-        .map(|(name, d)| {
-            let vals: Vec<f64> = times
-                .iter()
-                .filter_map(|&t| d.sample_value(name, t).ok().flatten())
-                .collect();
-            let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
-            let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-            (if hi >= lo { hi - lo } else { 0.0 }, name.as_str())
-        })
-        .collect();
-    ranked.sort_by(|a, b| b.0.total_cmp(&a.0));
-    ranked.into_iter().take(n).map(|(_, n)| n).collect()
 }
 
 /// Leaves out points whose link has no mass and stays put in every track
@@ -418,6 +433,7 @@ mod tests {
                 label: "t".into(),
                 positions: vec![vec![[0.0, 1.0, 0.0], [0.0, 0.0, 0.0]]; 3],
                 undefined: vec![],
+                filled: vec![],
             }],
             up: 1,
             curves: vec![],
@@ -458,5 +474,8 @@ mod tests {
         let mut d = tiny();
         d.tracks.clear();
         assert!(html(&d).is_err());
+        let mut d = tiny();
+        d.tracks[0].filled = vec![[2.7, 2.6]];
+        assert!(html(&d).unwrap_err().to_string().contains("filled span"));
     }
 }

@@ -223,18 +223,20 @@ impl Interpreter {
         r.program(&program).map_err(|e| self.diagnostic(e))
     }
 
-    /// Like [`Self::check_named`], but every statement's error (`mx check`):
-    /// empty when the script resolves. A syntax error stops at the first.
+    /// Like [`Self::check_named`], but every independent error (`mx check`):
+    /// each statement that does not parse (the parser reads on at the next
+    /// statement) and each use of an unknown name in the statements that
+    /// do, in source order; empty when the script resolves.
     pub fn check_all_named(&mut self, name: &str, src: &str) -> Vec<Diagnostic> {
-        let program = match self.parse_named(name, src) {
-            Ok(p) => p,
-            Err(d) => return vec![d],
-        };
+        let id = self.add_source(name, src);
+        let (program, mut errors) = parser::parse_program_recovering(src, id);
         let globals = self.globals.clone();
         let registry = self.ctx.registry.clone();
         let known = move |n: &str| globals.get(n).is_some() || registry.lookup(n).is_some();
         let mut r = Resolver::new(&known, self.names());
-        let errors = r.program_all(&program);
+        errors.extend(r.program_all(&program));
+        // stable: a syntax error and a name at one place keep that order
+        errors.sort_by_key(|e| e.span.map_or(u32::MAX, |s| s.start));
         errors.into_iter().map(|e| self.diagnostic(e)).collect()
     }
 

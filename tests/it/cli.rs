@@ -109,6 +109,61 @@ let ok = a
     assert!(!err.contains("unknown name `a`"), "{err}");
 }
 
+/// `mx check` reads on past syntax errors (to the next statement) and
+/// resolves the names of every statement that parses: each independent
+/// error is reported once, in source order, at its line and column.
+#[test]
+fn check_reports_every_syntax_error_and_unknown_name_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("typos.mx"),
+        "let walk = 1
+print(walk 2)
+let = 3
+let a = wakl + runn
+let b = [1, 2
+print(a, b, jmp)
+fn f(x) = x +* 1
+print(f(a), walk)
+",
+    )
+    .unwrap();
+    let o = mx(&["check", "typos.mx"], dir.path());
+    assert_eq!(o.status.code(), Some(1));
+    assert!(o.stdout.is_empty(), "check must not run the script");
+    let err = text(&o.stderr);
+    assert!(err.contains("7 errors in typos.mx"), "{err}");
+    // (line:col, what is reported there), in the order they must appear
+    let expected = [
+        ("2:12", "expected"),
+        ("3:5", "expected a name"),
+        ("4:9", "unknown name `wakl`"),
+        ("4:16", "unknown name `runn`"),
+        ("5:9", "this `[` is never closed"),
+        ("6:13", "unknown name `jmp`"),
+        ("7:14", "expected"),
+    ];
+    let mut from = 0;
+    for (at, what) in expected {
+        let loc = format!("typos.mx:{at}");
+        let k = err[from..]
+            .find(&loc)
+            .unwrap_or_else(|| panic!("{loc} ({what}) missing or out of order:\n{err}"))
+            + from;
+        // the message is printed above its location
+        let message_start = err[..k].rfind("× ").unwrap_or(0);
+        assert!(
+            err[message_start..k].contains(what),
+            "{loc}: no `{what}`:\n{err}"
+        );
+        from = k + loc.len();
+    }
+    // names bound by a broken statement (`b`, `f`) are not reported again
+    for name in ["`b`", "`f`", "`a`"] {
+        assert!(!err.contains(&format!("unknown name {name}")), "{err}");
+    }
+}
+
 #[test]
 fn the_tour_runs_and_its_outputs_are_right() {
     // The tour and its data copied to a temporary folder and run there as a

@@ -104,7 +104,8 @@ fn check_page(page: &Path, fragment: &str, min_pixels: usize) -> String {
         assert!(!console_error, "console error: {l}");
     }
     eprintln!("{title}");
-    title.to_string()
+    // the DOM dump escapes `&` (the address in `hash=`)
+    title.replace("&amp;", "&")
 }
 
 /// The value of `key=` in the page's self-check title.
@@ -145,6 +146,7 @@ fn synthetic_figure_is_drawn() {
             label: "synthetic".into(),
             positions,
             undefined: vec![],
+            filled: vec![],
         }],
         up: 1,
         curves: vec![],
@@ -179,6 +181,7 @@ fn shared_clip_is_drawn() {
             label: "wave".into(),
             positions,
             undefined: vec![],
+            filled: vec![],
         }],
         up: 1,
         curves: vec![],
@@ -369,4 +372,308 @@ fn bandai_still_massless_root_is_not_drawn_as_a_bone() {
             .all(|&p| p < data.joint_names.len())
     );
     check(&html(&data).unwrap(), 1000);
+}
+
+/// The JSON the page embeds.
+fn page_data(page: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(page).unwrap();
+    let json = text
+        .split("const DATA = ")
+        .nth(1)
+        .unwrap()
+        .split(";\n")
+        .next()
+        .unwrap();
+    serde_json::from_str(json).unwrap()
+}
+
+/// `(w, h)` of the figure's extent on the stage in the self-check title.
+fn extent(title: &str) -> (f64, f64) {
+    let (w, h) = field(title, "extent").split_once('x').unwrap();
+    (w.parse().unwrap(), h.parse().unwrap())
+}
+
+#[test]
+fn camera_presets_and_time_come_from_the_url_and_go_back_into_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("walk.html");
+    view_walk("view(w, body_of(w), PAGE)", &page);
+    let side = check_page(&page, "#view=side&t=1.5", 500);
+    assert_eq!(field(&side, "view"), "side", "{side}");
+    assert_eq!(field(&side, "time"), "1.500", "{side}");
+    assert_eq!(field(&side, "hash"), "#view=side&t=1.5", "{side}");
+    // Either order is read; the page writes the address back in one form.
+    let top = check_page(&page, "#t=1.5&view=top", 500);
+    assert_eq!(field(&top, "view"), "top", "{top}");
+    assert_eq!(field(&top, "hash"), "#view=top&t=1.5", "{top}");
+    let front = check_page(&page, "#view=front&t=1.5", 500);
+    assert_eq!(field(&front, "view"), "front", "{front}");
+    // The presets look from different sides: from above a standing figure
+    // is short on screen, from the front and side it is tall.
+    let (fw, fh) = extent(&front);
+    let (sw, sh) = extent(&side);
+    let (_, th) = extent(&top);
+    assert!(th < 0.6 * fh && th < 0.6 * sh, "{front}\n{side}\n{top}");
+    assert!(
+        (fw - sw).abs() > 5.0,
+        "front and side differ: {front}\n{side}"
+    );
+    // No fragment: the default orbit, and the address gains the time.
+    let plain = check_page(&page, "", 500);
+    assert_eq!(field(&plain, "view"), "orbit", "{plain}");
+    assert_eq!(field(&plain, "hash"), "#t=0", "{plain}");
+    // An unknown view is ignored, not an error.
+    let odd = check_page(&page, "#view=diagonal&t=2", 500);
+    assert_eq!(field(&odd, "view"), "orbit", "{odd}");
+    assert_eq!(field(&odd, "hash"), "#t=2", "{odd}");
+}
+
+/// Keys 1/2/3, the buttons, the slider and a mouse orbit, driven by a
+/// script the test appends to the page (after the viewer's own): each
+/// changes the view or the time and the address follows at once.
+#[test]
+fn keys_buttons_and_the_slider_update_the_view_and_the_address() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("walk.html");
+    view_walk("view(w, body_of(w), PAGE)", &page);
+    let driver = r#"<script>
+(async function () {
+  const out = [];
+  // the address is written at once for keys and buttons, within 100 ms
+  // for the slider: wait (virtual time) before reading it
+  const settle = () => new Promise(r => setTimeout(r, 150));
+  const note = async what => {
+    await settle();
+    const s = window.mxViewer.state();
+    out.push(what + " " + s.view + " " + s.hash + " " + s.yaw.toFixed(3) + " " + s.pitch.toFixed(3));
+  };
+  document.dispatchEvent(new KeyboardEvent("keydown", { key: "2" }));
+  await note("key2");
+  document.getElementById("view-top").click();
+  await note("top-button");
+  document.dispatchEvent(new KeyboardEvent("keydown", { key: "1" }));
+  await note("key1");
+  const slider = document.getElementById("slider");
+  for (const v of ["10", "20", "30"]) { slider.value = v; slider.dispatchEvent(new Event("input")); }
+  await note("slider");
+  const stage = document.getElementById("stage");
+  stage.dispatchEvent(new MouseEvent("mousedown", { clientX: 100, clientY: 100, bubbles: true }));
+  window.dispatchEvent(new MouseEvent("mousemove", { clientX: 140, clientY: 100 }));
+  window.dispatchEvent(new MouseEvent("mouseup", {}));
+  await note("orbit");
+  const pre = document.createElement("pre");
+  pre.id = "mx-test";
+  pre.textContent = out.join(";");
+  document.body.appendChild(pre);
+})();
+</script>
+</body>"#;
+    let text = std::fs::read_to_string(&page).unwrap();
+    std::fs::write(&page, text.replacen("</body>", driver, 1)).unwrap();
+    let (dom, stderr) = open_at(&page, "#t=0.5");
+    let report = dom
+        .split("<pre id=\"mx-test\">")
+        .nth(1)
+        .and_then(|t| t.split("</pre>").next())
+        .unwrap_or_else(|| panic!("the driver did not run:\n{stderr}"))
+        .replace("&amp;", "&");
+    let steps: Vec<Vec<&str>> = report.split(';').map(|s| s.split(' ').collect()).collect();
+    let half_pi = format!("{:.3}", std::f64::consts::FRAC_PI_2);
+    let expect = [
+        ("key2", "side", "#view=side&t=0.5"),
+        ("top-button", "top", "#view=top&t=0.5"),
+        ("key1", "front", "#view=front&t=0.5"),
+        ("slider", "front", "#view=front&t=1"),
+    ];
+    for (step, (what, view, hash)) in steps.iter().zip(expect) {
+        assert_eq!(step[..3], [what, view, hash], "{report}");
+    }
+    assert_eq!(steps[0][3], half_pi, "side looks along x: {report}");
+    assert_eq!(steps[1][4], half_pi, "top looks down: {report}");
+    // Orbiting leaves the preset: the address keeps only the time.
+    assert_eq!(steps[4][..3], ["orbit", "", "#t=1"], "{report}");
+}
+
+#[test]
+fn curves_are_chosen_by_dof_joint_or_glob_and_their_labels_never_overlap() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("chosen.html");
+    view_walk(
+        "view(w, body_of(w), PAGE, curves: [\"RightLeg.Xrotation\", \"Left?pLeg.Xrot*\", \"Hips\", \"RightLeg\"])",
+        &page,
+    );
+    let data = page_data(&page);
+    let names: Vec<&str> = data["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    // In the patterns' order: a DOF, a glob, a joint's six DOFs, then the
+    // rest of a joint whose first DOF was already asked for.
+    assert_eq!(names.len(), 10, "{names:?}");
+    assert_eq!(names[..2], ["RightLeg.Xrotation", "LeftUpLeg.Xrotation"]);
+    let mut hips = names[2..8].to_vec();
+    hips.sort();
+    assert_eq!(
+        hips,
+        [
+            "Hips.Xposition",
+            "Hips.Xrotation",
+            "Hips.Yposition",
+            "Hips.Yrotation",
+            "Hips.Zposition",
+            "Hips.Zrotation"
+        ]
+    );
+    let mut rest = names[8..].to_vec();
+    rest.sort();
+    assert_eq!(rest, ["RightLeg.Yrotation", "RightLeg.Zrotation"]);
+    let title = check_page(&page, "", 500);
+    assert_eq!(field(&title, "labels"), "10", "{title}");
+    assert_eq!(field(&title, "more"), "0", "{title}");
+    let gap: f64 = field(&title, "label_gap").parse().unwrap();
+    assert!(gap >= 13.0, "{title}");
+    // Every DOF: more curves than names fit; the rest are counted.
+    let all = dir.path().join("all.html");
+    view_walk("view(w, body_of(w), PAGE, curves: [\"*\"])", &all);
+    let n = page_data(&all)["curves"].as_array().unwrap().len();
+    let title = check_page(&all, "", 500);
+    let shown: usize = field(&title, "labels").parse().unwrap();
+    let more: usize = field(&title, "more").parse().unwrap();
+    assert!(more > 0 && shown + more == n, "{n} curves: {title}");
+    let gap: f64 = field(&title, "label_gap").parse().unwrap();
+    assert!(gap >= 13.0, "{title}");
+    // A pattern that matches nothing is an error at the option, with a suggestion.
+    let mut mx = mx::Interpreter::new();
+    let err = mx
+        .eval_str(&format!(
+            "{{ let w = load({:?}); view(w, body_of(w), {:?}, curves: [\"LeftLegg\"]) }}",
+            walk_path(),
+            dir.path().join("x.html").display().to_string()
+        ))
+        .unwrap_err()
+        .render_plain();
+    assert!(
+        err.contains("no DOF or joint matches `LeftLegg`")
+            && err.contains("did you mean `LeftLeg`?"),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_gap_sp_filled_is_shaded_and_named_in_the_legend() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("filled.html");
+    view_walk(
+        "let gapped = w - clip_in_place(0.8s, 1.2s, w.only(\"RightLeg.Xrotation\")); \
+         view(SP(gapped, body: body_of(w), coefficients: 3, samples: 8), body_of(w), PAGE, curves: [\"RightLeg\"])",
+        &page,
+    );
+    let data = page_data(&page);
+    let filled = data["tracks"][0]["filled"].as_array().unwrap();
+    assert_eq!(filled.len(), 1, "{filled:?}");
+    let (a, b) = (
+        filled[0][0].as_f64().unwrap(),
+        filled[0][1].as_f64().unwrap(),
+    );
+    assert!(
+        (a - 0.8).abs() < 0.05 && (b - 1.2).abs() < 0.05,
+        "{filled:?}"
+    );
+    let inside = check_page(&page, "#t=1.0", 500);
+    assert_eq!(field(&inside, "filled"), "[filled]", "{inside}");
+    // The 0.4 s of 2 s over the plot's height: about 30,000 pixels.
+    let shade: usize = field(&inside, "shade").parse().unwrap();
+    assert!(shade > 10_000, "the span is shaded: {inside}");
+    let outside = check_page(&page, "#t=0.3", 500);
+    assert_eq!(field(&outside, "filled"), "[]", "{outside}");
+    // A motion SP did not make has no shading.
+    let plain = dir.path().join("plain.html");
+    view_walk("view(w, body_of(w), PAGE)", &plain);
+    // (a few anti-aliased pixels of a green curve match the shade)
+    let title = check_page(&plain, "#t=1.0", 500);
+    let plain_shade: usize = field(&title, "shade").parse().unwrap();
+    assert!(plain_shade < 500, "{title}");
+    assert_eq!(field(&title, "filled"), "[]", "{title}");
+}
+
+/// On a CMU clip the default curves skip fingers, thumbs and toes (their
+/// Euler angles wrap and swing ±π there) and are the body's big movers.
+#[test]
+fn default_curves_on_cmu_leave_out_fingers_thumbs_and_toes() {
+    let Some(dir) = common::shared_dir() else {
+        return;
+    };
+    use mx::mocap::{body_of::body_of, to_motion};
+    let path = dir.join("data/mocap/cmu_131_01_start_walk_stop.bvh");
+    let clip = to_motion::load(&path, bvh::Units::Auto).unwrap();
+    let (body, _) = body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
+    let data = mx::io::viewer::from_motion(&clip.mu, &body, "cmu", &[]).unwrap();
+    assert_eq!(data.curves.len(), 6);
+    for c in &data.curves {
+        assert!(!mx::io::viewer::curves::is_extremity(&c.name), "{}", c.name);
+        // unwrapped: no step between samples of more than π
+        for piece in &c.pieces {
+            for w in piece.windows(2) {
+                assert!(
+                    (w[1][1] - w[0][1]).abs() < std::f64::consts::PI,
+                    "{} jumps at {}",
+                    c.name,
+                    w[0][0]
+                );
+            }
+        }
+    }
+    check(&html(&data).unwrap(), 1000);
+}
+
+/// The README's first session views into `out/` before anything saved
+/// there: `view` (and `plot`) create the folders they write into, as `save` does.
+#[test]
+fn view_and_plot_create_the_folders_they_write_into() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("out/deeper/walk.html");
+    view_walk("view(w, body_of(w), PAGE)", &page);
+    assert!(page.exists());
+    let svg = dir.path().join("plots/hips.svg");
+    view_walk("plot(w.only(\"Hips.Xposition\"), PAGE)", &svg);
+    assert!(svg.exists());
+}
+
+/// Python's notebook view embeds the page as an iframe's `srcdoc`: it
+/// draws there, and has no address of its own to rewrite.
+#[test]
+fn the_page_embedded_as_srcdoc_draws_and_keeps_no_address() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("walk.html");
+    view_walk("view(w, body_of(w), PAGE)", &page);
+    let inner = std::fs::read_to_string(&page)
+        .unwrap()
+        .replace('&', "&amp;")
+        .replace('"', "&quot;");
+    let outer = dir.path().join("notebook.html");
+    std::fs::write(
+        &outer,
+        format!(
+            "<!DOCTYPE html><html><head><title>notebook</title></head><body>\
+             <iframe id=\"f\" srcdoc=\"{inner}\" style=\"width:1000px;height:560px\"></iframe>\
+             <script>document.getElementById(\"f\").addEventListener(\"load\", function () {{\
+               const d = this.contentDocument;\
+               const pre = document.createElement(\"pre\"); pre.id = \"mx-test\";\
+               pre.textContent = d.title + \" inner=\" + this.contentWindow.location.href + \" outer=\" + location.hash;\
+               document.body.appendChild(pre);\
+             }});</script></body></html>"
+        ),
+    )
+    .unwrap();
+    let (dom, stderr) = open_at(&outer, "");
+    let report = dom
+        .split("<pre id=\"mx-test\">")
+        .nth(1)
+        .and_then(|t| t.split("</pre>").next())
+        .unwrap_or_else(|| panic!("no report:\n{dom}\n{stderr}"));
+    assert!(report.starts_with("mx-viewer-ok"), "{report}");
+    assert!(report.contains("inner=about:srcdoc outer="), "{report}");
+    assert!(report.ends_with("outer="), "{report}");
 }

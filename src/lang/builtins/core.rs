@@ -502,18 +502,30 @@ fn files(reg: &mut Registry) {
                 return Err(MxError::new(ErrorKind::Io, format!("cannot save .{ext} files (only load)")).at(arg.span).help(formats_help(ev)));
             };
             let p = ev.resolve_path(path, arg.span)?;
-            // Scripts write under folders they name (`out/…`): create them.
-            if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir).map_err(|e| {
-                    MxError::new(ErrorKind::Io, format!("cannot create folder {}: {e}", dir.display()))
-                        .at(arg.span)
-                        .help("check the path and the folder's permissions")
-                })?;
-            }
+            create_parent_folder(&p, arg.span)?;
             save(&x, &p, a, ev).map_err(|e| e.or_at(arg.span))?;
             Ok(Value::Nil)
         },
     );
+}
+
+/// Scripts write under folders they name (`out/…`): `save`, `view` and
+/// `plot` create them.
+pub(crate) fn create_parent_folder(
+    p: &std::path::Path,
+    span: crate::lang::ast::Span,
+) -> MxResult<()> {
+    if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            MxError::new(
+                ErrorKind::Io,
+                format!("cannot create folder {}: {e}", dir.display()),
+            )
+            .at(span)
+            .help("check the path and the folder's permissions")
+        })?;
+    }
+    Ok(())
 }
 
 fn formats_help(ev: &Evaluator) -> String {

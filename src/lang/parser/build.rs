@@ -35,7 +35,11 @@ fn binary_op(rule: Rule) -> Option<(BinOp, u8)> {
 
 pub struct Builder<'s> {
     pub file: SourceId,
+    /// The whole source (spans index it).
     pub src: &'s str,
+    /// Where in `src` the text pest parsed starts: pest's positions are
+    /// relative to it (non-zero when `mx check` parses statement by statement).
+    pub offset: usize,
 }
 
 fn unescape(s: &str) -> Result<String, String> {
@@ -93,7 +97,7 @@ impl Builder<'_> {
 
     fn span(&self, p: &Pair<Rule>) -> Span {
         let s = p.as_span();
-        Span::new(self.file, s.start(), s.end())
+        Span::new(self.file, self.offset + s.start(), self.offset + s.end())
     }
 
     pub fn stmt(&self, p: Pair<Rule>) -> MxResult<Stmt> {
@@ -338,7 +342,7 @@ impl Builder<'_> {
         for q in p.into_inner() {
             match q.as_rule() {
                 Rule::kw_else => {}
-                Rule::kw_elif => starts.push(q.as_span().start() as u32),
+                Rule::kw_elif => starts.push(self.span(&q).start),
                 Rule::expr => cond = Some(self.expr(q)?),
                 Rule::block => match cond.take() {
                     Some(c) => branches.push((c, self.block(q)?)),

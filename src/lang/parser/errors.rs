@@ -31,10 +31,30 @@ fn rule_name(r: &Rule) -> Option<&'static str> {
 }
 
 pub fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> MxError {
+    syntax_error_from(e, src, 0, file)
+}
+
+/// Where pest's error is, relative to the text it parsed.
+pub fn error_pos(e: &pest::error::Error<Rule>) -> usize {
+    match e.location {
+        pest::error::InputLocation::Pos(p) => p,
+        pest::error::InputLocation::Span((a, _)) => a,
+    }
+}
+
+/// [`syntax_error`] for pest's error on `src[from..]` (one statement of a
+/// script parsed on its own): the span is shifted into `src`, and brackets
+/// left open are looked for from `from` on, not in earlier statements.
+pub fn syntax_error_from(
+    e: pest::error::Error<Rule>,
+    src: &str,
+    from: usize,
+    file: SourceId,
+) -> MxError {
     use pest::error::{ErrorVariant, InputLocation};
     let (start, end) = match e.location {
-        InputLocation::Pos(p) => (p, p),
-        InputLocation::Span((a, b)) => (a, b),
+        InputLocation::Pos(p) => (from + p, from + p),
+        InputLocation::Span((a, b)) => (from + a, from + b),
     };
     // Point at the whole offending token, not just its first byte.
     let rest = src.get(start..).unwrap_or("");
@@ -117,7 +137,7 @@ pub fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> M
                 "add a `\"` before the end of the line (write `\\\"` for a quote inside a string)",
             );
     }
-    if let Some((pos, open)) = unclosed_bracket(src)
+    if let Some((pos, open)) = unclosed_bracket(&src[from..]).map(|(p, c)| (from + p, c))
         && pos < start
     {
         let close = match open {
@@ -144,7 +164,7 @@ pub fn syntax_error(e: pest::error::Error<Rule>, src: &str, file: SourceId) -> M
     } else {
         (start, tok_len)
     };
-    let help = syntax_help(src, start, rest);
+    let help = syntax_help(src, from, start, rest);
     MxError::new(ErrorKind::Syntax, message)
         .at(Span::new(file, start, start + tok_len))
         .label("not expected here")
@@ -198,8 +218,8 @@ fn join_or(items: &[&str]) -> String {
 }
 
 /// A help line for the most common syntax slips.
-fn syntax_help(src: &str, pos: usize, rest: &str) -> String {
-    let before_raw = src.get(..pos).unwrap_or("");
+fn syntax_help(src: &str, from: usize, pos: usize, rest: &str) -> String {
+    let before_raw = src.get(from..pos).unwrap_or("");
     let before = before_raw.trim_end();
     let line_rest = rest.split('\n').next().unwrap_or("");
     if rest.starts_with('"') && !line_rest[1..].contains('"') {

@@ -2,13 +2,15 @@
 //! (`grammar/mx.pest`, `grammar.rs`); `build.rs` builds the tree, with an
 //! operator-precedence loop for the operator trees; `nesting.rs` bounds
 //! pest's recursion before it runs; `errors.rs` turns syntax errors into
-//! [`MxError`]s with the span pest reports and a help line; `complete.rs`
-//! answers the REPL's "is this input complete?".
+//! [`MxError`]s with the span pest reports and a help line; `recover.rs`
+//! parses on past syntax errors for `mx check`; `complete.rs` answers the
+//! REPL's "is this input complete?".
 
 mod build;
 mod complete;
 mod errors;
 mod grammar;
+mod recover;
 
 use pest::Parser;
 
@@ -20,6 +22,7 @@ use build::Builder;
 pub use complete::is_incomplete;
 use errors::syntax_error;
 use grammar::{MxParser, Rule};
+pub use recover::MAX_SYNTAX_ERRORS;
 
 /// Parse a whole program from source `file`.
 pub fn parse_program(src: &str, file: SourceId) -> MxResult<Program> {
@@ -35,7 +38,11 @@ fn parse_program_inner(src: &str, file: SourceId) -> MxResult<Program> {
     let program = pairs
         .next()
         .ok_or_else(|| MxError::new(ErrorKind::Syntax, "empty parse"))?;
-    let b = Builder { file, src };
+    let b = Builder {
+        file,
+        src,
+        offset: 0,
+    };
     let mut stmts = Vec::new();
     for p in program.into_inner() {
         if p.as_rule() == Rule::EOI {
@@ -44,6 +51,31 @@ fn parse_program_inner(src: &str, file: SourceId) -> MxResult<Program> {
         stmts.push(b.stmt(p)?);
     }
     Ok(Program { stmts })
+}
+
+/// Parse a whole program, reading on past syntax errors (`mx check`): the
+/// statements that parse and every syntax error, in source order (at most
+/// [`MAX_SYNTAX_ERRORS`], then a note). A broken `let x`/`fn f` statement
+/// still binds its name in the program returned (to an empty list: the
+/// program is for name resolution, not for running). A program that parses
+/// is returned as [`parse_program`] returns it, with no errors.
+pub fn parse_program_recovering(src: &str, file: SourceId) -> (Program, Vec<MxError>) {
+    if let Err(e) = check_nesting(src, file) {
+        return (Program { stmts: vec![] }, vec![e]);
+    }
+    stacker::grow(PARSE_STACK, || match parse_program_inner(src, file) {
+        Ok(p) => (p, vec![]),
+        Err(first) => {
+            let (program, errors) = recover::parse_statements(src, file);
+            // The statement-wise pass must find at least the error the
+            // whole-program parse found.
+            if errors.is_empty() {
+                (program, vec![first])
+            } else {
+                (program, errors)
+            }
+        }
+    })
 }
 
 /// Reserved (not committed) for pest's recursion: [`MAX_NESTING`] levels of
