@@ -5,7 +5,11 @@
 //!
 //! The gradient is exact: the model's adjoint gives ∂(Σwτ²)/∂(q, q̇, q̈) per
 //! node, and each gap coordinate's q, q̇, q̈ is linear in its free coefficients
-//! (the basis rows stored here), so ∂e/∂x = Σ_nodes w_k (g_q·B + g_q̇·B' + g_q̈·B'').
+//! (the basis rows of the [`GapLayout`]), so ∂e/∂x = Σ_nodes w_k (g_q·B + g_q̇·B' + g_q̈·B'').
+//!
+//! The layout (`layout.rs`) is shared with the support IK; the torque term
+//! (`torque_term.rs`) and SP's kinematic prior (`prior.rs`) are summed node
+//! by node here; the Gauss–Newton preconditioner is `gauss_newton.rs`.
 
 use super::error::{SpError, invalid};
 use super::torque::TorqueModel;

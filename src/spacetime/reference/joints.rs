@@ -41,8 +41,9 @@ impl Joints {
     pub fn of_model(model: &Model, names: &[String]) -> Self {
         let mut joints = Joints::by_name(names);
         for link in model.links().iter().filter(|l| l.dof > 1) {
-            let coords = link.q_index..(link.q_index + link.dof).min(names.len());
-            for c in coords.clone().skip(1) {
+            // (a body with more coordinates than names joins only those named)
+            let end = (link.q_index + link.dof).min(names.len());
+            for c in link.q_index + 1..end {
                 joints.join(link.q_index, c);
             }
         }
