@@ -710,7 +710,8 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     };
     let rotation = |c: usize| !is_translation(model, c);
     let example = |group: &[GapDof]| -> Result<Option<Example>, SpError> {
-        super::reference::choose(
+        super::reference::choose_for(
+            model,
             &out,
             names,
             &rotation,

@@ -48,6 +48,7 @@ mod motion_laws;
 mod motion_mocap;
 mod motion_props;
 mod opensim_couplers;
+mod opensim_example;
 mod opensim_files;
 mod opensim_gcvspline;
 mod opensim_knee;

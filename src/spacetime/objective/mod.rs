@@ -1,0 +1,373 @@
+//! The spacetime objective of one group of overlapping gaps:
+//! e(x) = ∫ Σᵢ wᵢ τᵢ(q, q̇, q̈)² dt over the group's span by composite
+//! Gauss–Legendre quadrature, where the gap DOFs follow their transition
+//! curves (free coefficients x) and every other coordinate is an input.
+//!
+//! The gradient is exact: the model's adjoint gives ∂(Σwτ²)/∂(q, q̇, q̈) per
+//! node, and each gap coordinate's q, q̇, q̈ is linear in its free coefficients
+//! (the basis rows of the [`GapLayout`]), so ∂e/∂x = Σ_nodes w_k (g_q·B + g_q̇·B' + g_q̈·B'').
+//!
+//! The layout (`layout.rs`) is shared with the support IK; the torque term
+//! (`torque_term.rs`) and SP's kinematic prior (`prior.rs`) are summed node
+//! by node here; the Gauss–Newton preconditioner is `gauss_newton.rs`.
+
+use super::error::{SpError, invalid};
+use super::torque::TorqueModel;
+use super::transition::{Continuity, EndState, TransitionCurve};
+
+mod gauss_newton;
+pub mod layout;
+mod prior;
+#[cfg(test)]
+mod tests;
+mod torque_term;
+
+pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
+use prior::KinematicPrior;
+use torque_term::TorqueTerm;
+
+/// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has
+/// the given states at the ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GapDof {
+    pub coord: usize,
+    pub t0: f64,
+    pub t1: f64,
+    pub start: EndState,
+    pub end: EndState,
+}
+
+/// Settings shared by every gap of a solve.
+#[derive(Clone, Debug)]
+pub struct TransitionSettings {
+    /// Free B-spline coefficients per DOF (`coefficients:`).
+    pub coefficients: usize,
+    /// Gauss points per quadrature segment (`samples:`).
+    pub samples: usize,
+    pub continuity: Continuity,
+}
+
+impl Default for TransitionSettings {
+    fn default() -> Self {
+        // Rose's Fig. 8 value (5 coefficients), which the benchmark
+        // (benches/spacetime.rs) shows converging fastest; more coefficients
+        // lower the energy further mainly by letting hands and feet oscillate.
+        TransitionSettings {
+            coefficients: 5,
+            samples: 20,
+            continuity: Continuity::C1,
+        }
+    }
+}
+
+/// Fills q, q̇, q̈ of every coordinate that is not a gap at time t; a
+/// coordinate undefined at t is left NaN (an error unless it is a gap DOF of
+/// the transition being solved).
+pub type Inputs<'a> =
+    dyn Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a;
+
+/// The objective of one group of gaps: the torque term plus SP's kinematic
+/// prior, over one [`GapLayout`].
+pub struct Objective<'a, M: TorqueModel> {
+    layout: GapLayout,
+    torque: TorqueTerm<'a, M>,
+    /// Per gap DOF, the weights (c_v, c_a) of the kinematic prior
+    /// ∫ c_v (q̇ − ṙ)² + c_a (q̈ − r̈)² dt added to the torque term
+    /// ([`Objective::with_prior`], [`Objective::rescale_prior`]) and the
+    /// example's [ṙ, r̈] it follows ([`Objective::with_example`]).
+    prior: KinematicPrior,
+}
+
+/// Scratch vectors of one node evaluation (one thread's).
+pub struct NodeScratch<W> {
+    pub ws: W,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    gq: Vec<f64>,
+    gv: Vec<f64>,
+    ga: Vec<f64>,
+}
+
+/// Scratch memory of one solve: one [`NodeScratch`] and one partial gradient
+/// per chunk of quadrature nodes. The chunks are evaluated in parallel (the
+/// nodes are independent inverse-dynamics problems); a fixed chunking keeps
+/// the sums, hence the solver's path, the same from run to run.
+pub struct Scratch<W> {
+    parts: Vec<(NodeScratch<W>, Vec<f64>)>,
+}
+
+impl<W> Scratch<W> {
+    /// The first chunk's node scratch (for serial work: preconditioner, tests).
+    pub fn node(&mut self) -> &mut NodeScratch<W> {
+        &mut self.parts[0].0
+    }
+}
+
+/// Fewest nodes worth a thread of their own: below this, the fork–join costs
+/// more than the inverse dynamics it spreads.
+const MIN_NODES_PER_CHUNK: usize = 8;
+
+/// Checks the gaps and the torque weights against a body of `n` coordinates.
+fn check<M: TorqueModel>(model: &M, dofs: &[GapDof], weights: &[f64]) -> Result<(), SpError> {
+    let n = model.nq();
+    if dofs.is_empty() {
+        return Err(invalid("a transition needs at least one gap DOF"));
+    }
+    if weights.len() != n {
+        return Err(invalid(format!(
+            "torque weights have {} entries but the body has {n} coordinates",
+            weights.len()
+        )));
+    }
+    if weights.iter().any(|w| !w.is_finite() || *w < 0.0) {
+        return Err(invalid("torque weights must be finite and non-negative"));
+    }
+    for (i, d) in dofs.iter().enumerate() {
+        if d.coord >= n {
+            return Err(invalid(format!(
+                "gap coordinate {} is outside the body's {n} coordinates",
+                d.coord
+            )));
+        }
+        if dofs[..i].iter().any(|e| e.coord == d.coord) {
+            return Err(invalid(format!(
+                "coordinate {} has two overlapping gaps in one transition",
+                d.coord
+            )));
+        }
+        let s = [d.start.q, d.start.v, d.start.a, d.end.q, d.end.v, d.end.a];
+        if s.iter().any(|x| !x.is_finite()) {
+            return Err(invalid(format!(
+                "the motion around the gap of coordinate {} on [{}, {}] is not finite",
+                d.coord, d.t0, d.t1
+            )));
+        }
+    }
+    Ok(())
+}
+
+impl<'a, M: TorqueModel> Objective<'a, M> {
+    /// Set up the objective: checks the gaps, lays the quadrature nodes
+    /// (see [`composite_nodes`]), samples the inputs once, and tabulates the basis rows.
+    pub fn new(
+        model: &'a M,
+        dofs: Vec<GapDof>,
+        settings: &TransitionSettings,
+        weights: Vec<f64>,
+        inputs: &Inputs<'_>,
+    ) -> Result<Self, SpError> {
+        check(model, &dofs, &weights)?;
+        Self::build(model, GapLayout::new(dofs, settings)?, weights, inputs)
+    }
+
+    /// The objective over a layout built beforehand (and possibly shared
+    /// with the support IK): checks its gaps, samples the inputs once.
+    pub fn on_layout(
+        model: &'a M,
+        layout: GapLayout,
+        weights: Vec<f64>,
+        inputs: &Inputs<'_>,
+    ) -> Result<Self, SpError> {
+        check(model, &layout.dofs, &weights)?;
+        Self::build(model, layout, weights, inputs)
+    }
+
+    fn build(
+        model: &'a M,
+        layout: GapLayout,
+        weights: Vec<f64>,
+        inputs: &Inputs<'_>,
+    ) -> Result<Self, SpError> {
+        let torque = TorqueTerm::new(model, weights, &layout, inputs)?;
+        let prior = KinematicPrior::none(&layout);
+        Ok(Objective {
+            layout,
+            torque,
+            prior,
+        })
+    }
+
+    /// Adds the kinematic prior Σ_d ∫ c_v,d q̇_d² + c_a,d q̈_d² dt over the gap
+    /// DOFs, `per_coord[c] = [c_v, c_a]` for model coordinate c (empty: none).
+    /// See `sp::prior_weights` for what the weights are and why.
+    pub fn with_prior(mut self, per_coord: &[[f64; 2]]) -> Result<Self, SpError> {
+        self.prior
+            .set(&self.layout.dofs, self.torque.model.nq(), per_coord)?;
+        Ok(self)
+    }
+
+    /// Scales the prior's weights, as given to [`Objective::with_prior`], by
+    /// `scale` in place: the objective equals, bit for bit, one built with
+    /// the weights times `scale` (the continuation's steps, `groups.rs`, need
+    /// not rebuild the objective, its inputs sampled again). The example
+    /// followed, if any, stays.
+    pub fn rescale_prior(&mut self, scale: f64) -> Result<(), SpError> {
+        self.prior.rescale(scale)
+    }
+
+    /// Makes the prior of the gap DOFs of model coordinates `follow` follow an
+    /// example: `trust` (0–1) times the velocities and accelerations of the
+    /// motion of `inputs` `shift` seconds away (see [`super::reference`]).
+    /// They must be defined there at every node; `false` (and the objective
+    /// unchanged) if not.
+    pub fn with_example(
+        &mut self,
+        inputs: &Inputs,
+        shift: f64,
+        follow: &[usize],
+        trust: f64,
+    ) -> Result<bool, SpError> {
+        let nq = self.torque.model.nq();
+        self.prior
+            .follow(&self.layout, nq, inputs, (shift, follow, trust))
+    }
+
+    /// The layout the objective is built on.
+    pub fn layout(&self) -> &GapLayout {
+        &self.layout
+    }
+
+    /// Number of unknowns (gap DOFs × free coefficients), laid out DOF-major.
+    pub fn n_vars(&self) -> usize {
+        self.layout.n_vars()
+    }
+
+    pub fn n_free(&self) -> usize {
+        self.layout.n_free
+    }
+
+    pub fn n_nodes(&self) -> usize {
+        self.layout.nodes.len()
+    }
+
+    pub fn dofs(&self) -> &[GapDof] {
+        &self.layout.dofs
+    }
+
+    pub fn curves(&self) -> &[TransitionCurve] {
+        &self.layout.curves
+    }
+
+    pub fn scratch(&self) -> Scratch<M::Workspace> {
+        let chunks =
+            (self.n_nodes() / MIN_NODES_PER_CHUNK).clamp(1, rayon::current_num_threads().max(1));
+        Scratch {
+            parts: (0..chunks)
+                .map(|_| (self.node_scratch(), vec![0.0; self.n_vars()]))
+                .collect(),
+        }
+    }
+
+    fn node_scratch(&self) -> NodeScratch<M::Workspace> {
+        let model = self.torque.model;
+        let n = model.nq();
+        NodeScratch {
+            ws: model.workspace(),
+            q: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            gq: vec![0.0; n],
+            gv: vec![0.0; n],
+            ga: vec![0.0; n],
+        }
+    }
+
+    /// The starting point: every gap DOF's free coefficients fitted to the
+    /// Hermite curve (cubic for C¹ — exactly representable — quintic for C²).
+    pub fn hermite_start(&self) -> Vec<f64> {
+        self.layout.hermite_start()
+    }
+
+    /// e(x), and ∂e/∂x into `grad` when given.
+    pub fn eval(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+        x: &[f64],
+        grad: Option<&mut [f64]>,
+    ) -> Result<f64, SpError> {
+        debug_assert_eq!(x.len(), self.n_vars());
+        let want_grad = grad.is_some();
+        let nn = self.n_nodes();
+        let chunks = s.parts.len();
+        let e = if chunks == 1 {
+            let (ns, g) = &mut s.parts[0];
+            self.eval_nodes(0..nn, ns, x, want_grad.then_some(g.as_mut_slice()))?
+        } else {
+            use rayon::prelude::*;
+            let partial: Result<Vec<f64>, SpError> = s
+                .parts
+                .par_iter_mut()
+                .enumerate()
+                .map(|(i, (ns, g))| {
+                    let range = i * nn / chunks..(i + 1) * nn / chunks;
+                    self.eval_nodes(range, ns, x, want_grad.then_some(g.as_mut_slice()))
+                })
+                .collect();
+            partial?.iter().sum()
+        };
+        if let Some(out) = grad {
+            out.copy_from_slice(&s.parts[0].1);
+            for (_, g) in &s.parts[1..] {
+                for (o, v) in out.iter_mut().zip(g) {
+                    *o += v;
+                }
+            }
+        }
+        if !e.is_finite() {
+            return Err(SpError::Evaluation(
+                "the torque objective is not finite (the body or the motion gives NaN/∞ torques)"
+                    .into(),
+            ));
+        }
+        Ok(e)
+    }
+
+    /// The part of e (and of ∂e/∂x, into `grad`, overwritten) from the nodes
+    /// in `range`: at each node the torque term, then the prior of every DOF
+    /// whose gap holds it (in that order: the sums are the solver's path).
+    fn eval_nodes(
+        &self,
+        range: std::ops::Range<usize>,
+        s: &mut NodeScratch<M::Workspace>,
+        x: &[f64],
+        mut grad: Option<&mut [f64]>,
+    ) -> Result<f64, SpError> {
+        if let Some(g) = grad.as_deref_mut() {
+            g.fill(0.0);
+        }
+        let layout = &self.layout;
+        let mut e = 0.0;
+        for k in range {
+            self.torque.load_node(layout, k, x, s);
+            let f = self.torque.node_cost(s)?;
+            let wk = layout.qweights[k];
+            e += wk * f;
+            for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
+                if act[k].is_some() {
+                    let c = dof.coord;
+                    e += wk * self.prior.cost(d, k, s.v[c], s.a[c]);
+                }
+            }
+            if let Some(g) = grad.as_deref_mut() {
+                for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
+                    if let Some(r) = &act[k] {
+                        let c = dof.coord;
+                        let [sv, sa] = self.prior.slopes(d, k, s.v[c], s.a[c]);
+                        let (a0, a1, a2) = (wk * s.gq[c], wk * (s.gv[c] + sv), wk * (s.ga[c] + sa));
+                        let gd = &mut g[d * layout.n_free..(d + 1) * layout.n_free];
+                        for j in r.live.clone() {
+                            gd[j] += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
+                        }
+                    }
+                }
+            }
+        }
+        Ok(e)
+    }
+
+    /// Full coefficient vectors of every gap DOF for free coefficients x.
+    pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        self.layout.coefficients(x)
+    }
+}

@@ -1,0 +1,339 @@
+//! The example from a clip library (`SP(…, example: lib)`): the index ranks
+//! stretches by their features, and the best few are scored by ρ over the
+//! gap's context like the motion's own example.
+
+use super::laid::laid_on_gap;
+use super::{
+    CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MIN_CONTEXT_SAMPLES, STEP,
+    gap_coords, gap_span, spread, wrap,
+};
+use crate::library::features::{KeyJoints, key_positions};
+use crate::library::{Library, Match};
+use crate::mocap::bvh::Skeleton;
+use crate::motion::Mu;
+use crate::spacetime::error::SpError;
+use crate::spacetime::objective::GapDof;
+use nalgebra::Vector3;
+use std::sync::Arc;
+
+/// `SP(…, example: lib)`: a clip library the example may come from, and the
+/// skeleton the motion drives (the gap's features are read through it).
+#[derive(Clone)]
+pub struct LibrarySource {
+    pub library: Arc<Library>,
+    pub skeleton: Arc<Skeleton>,
+    pub metres_per_unit: f64,
+}
+
+impl std::fmt::Debug for LibrarySource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LibrarySource({} clips)", self.library.clips.len())
+    }
+}
+
+/// Library stretches tried per gap: the index ranks them by their features,
+/// and the best of these by ρ (the same measure as the motion's own
+/// example's) is the one followed.
+const LIBRARY_CANDIDATES: usize = 5;
+
+/// The library stretch an example is, laid on the gap's clock.
+#[derive(Clone, Debug)]
+pub struct ClipStretch {
+    pub name: String,
+    /// Clip time (s) at the gap's start.
+    pub time: f64,
+    /// Clip time per gap time.
+    pub warp: f64,
+    /// The index's feature mismatch ([`crate::library::Match::mismatch`]).
+    pub features: f64,
+    /// The stretch (with the context either side) on the gap's clock, its
+    /// root turned and moved in the floor plane to where the motion is at t0,
+    /// DOFs named as the body's coordinates.
+    pub motion: Arc<Mu>,
+    names: Arc<Vec<String>>,
+}
+
+impl PartialEq for ClipStretch {
+    fn eq(&self, o: &Self) -> bool {
+        (&self.name, self.time, self.warp, self.features) == (&o.name, o.time, o.warp, o.features)
+    }
+}
+
+impl ClipStretch {
+    /// q, q̇, q̈ of the body's coordinates at gap time t (those it has).
+    pub fn inputs(
+        &self,
+    ) -> impl Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + '_ {
+        move |t, q, v, a| {
+            for (i, n) in self.names.iter().enumerate() {
+                if let Some([x, dx, ddx]) = self
+                    .motion
+                    .sample(n, t)
+                    .map_err(|e| SpError::Evaluation(e.to_string()))?
+                {
+                    q[i] = x;
+                    v[i] = dx;
+                    a[i] = ddx;
+                }
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The floor-plane map (rotation about the vertical, then translation) that
+/// takes a clip's pelvis at one frame onto the motion's at another.
+pub(super) struct FloorMap {
+    pub(super) cos: f64,
+    pub(super) sin: f64,
+    from: Vector3<f64>,
+    to: Vector3<f64>,
+}
+
+impl FloorMap {
+    fn between(a: &[Vector3<f64>; 6], b: &[Vector3<f64>; 6]) -> FloorMap {
+        let flat = |p: &[Vector3<f64>; 6]| {
+            let c = (p[4] + p[5]) / 2.0;
+            let mut across = p[4] - p[5];
+            across.y = 0.0;
+            let n = across.norm().max(1e-12);
+            (Vector3::new(c.x, 0.0, c.z), across / n)
+        };
+        let (ca, ua) = flat(a);
+        let (cb, ub) = flat(b);
+        // (x, z) as x + i z: the turn taking ua to ub
+        FloorMap {
+            cos: ua.x * ub.x + ua.z * ub.z,
+            sin: ua.x * ub.z - ua.z * ub.x,
+            from: ca,
+            to: cb,
+        }
+    }
+
+    pub(super) fn apply(&self, x: f64, z: f64) -> (f64, f64) {
+        let (dx, dz) = (x - self.from.x, z - self.from.z);
+        (
+            self.to.x + dx * self.cos - dz * self.sin,
+            self.to.z + dx * self.sin + dz * self.cos,
+        )
+    }
+}
+
+/// The best library stretch for `gaps`, scored like the motion's own
+/// example (ρ over the context, angles), or `None` when the motion has no
+/// context to match, its skeleton no key joints, or nothing matches within
+/// [`MAX_MISMATCH`]; joints by the name convention ([`Joints::by_name`]).
+pub fn from_library(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    gaps: &[GapDof],
+    src: &LibrarySource,
+) -> Result<Option<Example>, SpError> {
+    from_library_with(m, names, rotation, &Joints::by_name(names), gaps, src)
+}
+
+/// [`from_library`] with the coordinates' joints given.
+pub fn from_library_with(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    joints: &Joints,
+    gaps: &[GapDof],
+    src: &LibrarySource,
+) -> Result<Option<Example>, SpError> {
+    let Some((t0, t1)) = gap_span(gaps) else {
+        return Ok(None);
+    };
+    let lib = &src.library;
+    let Ok(query) = lib.query(m, &src.skeleton, src.metres_per_unit, t0, t1) else {
+        return Ok(None);
+    };
+    let Ok(my_keys) = KeyJoints::find(&src.skeleton) else {
+        return Ok(None);
+    };
+    let Some(Some(mine)) =
+        key_positions(m, &src.skeleton, src.metres_per_unit, &my_keys, &[t0]).pop()
+    else {
+        return Ok(None);
+    };
+    let Some(gap) = LibraryGap::new(m, names, rotation, joints, gaps, (t0, t1), mine) else {
+        return Ok(None);
+    };
+    let mut best: Option<Example> = None;
+    for cand in lib.match_gap(&query, LIBRARY_CANDIDATES) {
+        let bar = best.as_ref().map(|b| b.mismatch);
+        if let Some(ex) = gap.try_stretch(lib, &cand, bar)? {
+            best = Some(ex);
+        }
+    }
+    Ok(best)
+}
+
+/// What every library candidate of one group of gaps is scored against.
+struct LibraryGap<'a> {
+    m: &'a Mu,
+    names: &'a [String],
+    rotation: &'a dyn Fn(usize) -> bool,
+    joints: &'a Joints,
+    span: (f64, f64),
+    /// The motion's key joint positions at t0.
+    mine: [Vector3<f64>; 6],
+    coords: Vec<usize>,
+    angles: Vec<usize>,
+    /// Context times: [`CONTEXT`] either side on the [`STEP`] grid, where
+    /// the motion is defined.
+    context: Vec<f64>,
+    /// The context's own squared spread (the ρ scale).
+    spread: f64,
+    names_arc: Arc<Vec<String>>,
+}
+
+impl<'a> LibraryGap<'a> {
+    /// `None` when no gap coordinate is an angle, the context is too short,
+    /// or it does not move.
+    fn new(
+        m: &'a Mu,
+        names: &'a [String],
+        rotation: &'a dyn Fn(usize) -> bool,
+        joints: &'a Joints,
+        gaps: &[GapDof],
+        (t0, t1): (f64, f64),
+        mine: [Vector3<f64>; 6],
+    ) -> Option<Self> {
+        let coords = gap_coords(gaps);
+        let angles: Vec<usize> = coords.iter().copied().filter(|&c| rotation(c)).collect();
+        if angles.is_empty() {
+            return None;
+        }
+        let reach = (CONTEXT / STEP).round() as i64;
+        let value = |n: &str, t: f64| m.sample_value(n, t).ok().flatten();
+        let context: Vec<f64> = (0..=reach)
+            .map(|k| t0 - k as f64 * STEP)
+            .chain((0..=reach).map(|k| t1 + k as f64 * STEP))
+            .filter(|&t| angles.iter().all(|&c| value(&names[c], t).is_some()))
+            .collect();
+        if context.len() < MIN_CONTEXT_SAMPLES {
+            return None;
+        }
+        let mut total = 0.0;
+        for &c in &angles {
+            let values: Vec<f64> = context
+                .iter()
+                .map(|&t| value(&names[c], t).unwrap_or(0.0))
+                .collect();
+            total += spread(&values);
+        }
+        if total <= 0.0 {
+            return None;
+        }
+        Some(LibraryGap {
+            m,
+            names,
+            rotation,
+            joints,
+            span: (t0, t1),
+            mine,
+            coords,
+            angles,
+            context,
+            spread: total,
+            names_arc: Arc::new(names.to_vec()),
+        })
+    }
+
+    fn value(&self, c: usize, t: f64) -> Option<f64> {
+        self.m.sample_value(&self.names[c], t).ok().flatten()
+    }
+
+    /// The example of candidate `cand` if it matches within
+    /// [`MAX_MISMATCH`], better than `bar` (the best ρ so far), and some
+    /// whole joint follows it.
+    fn try_stretch(
+        &self,
+        lib: &Library,
+        cand: &Match,
+        bar: Option<f64>,
+    ) -> Result<Option<Example>, SpError> {
+        let entry = &lib.clips[cand.clip];
+        let clip = entry.motion().map_err(|e| SpError::Evaluation(e.0))?;
+        let Some(Some(theirs)) = key_positions(
+            &clip.mu,
+            &clip.skeleton,
+            clip.units.metres_per_unit,
+            &entry.keys,
+            &[cand.time],
+        )
+        .pop() else {
+            return Ok(None);
+        };
+        let map = FloorMap::between(&theirs, &self.mine);
+        let names = self.names;
+        let motion = laid_on_gap(
+            &clip,
+            &entry.keys,
+            cand,
+            &map,
+            self.m,
+            names,
+            &self.coords,
+            self.span,
+        )?;
+        let at = |c: usize, t: f64| motion.sample_value(&names[c], t).ok().flatten();
+        let mut e = 0.0;
+        for &c in &self.angles {
+            for &t in &self.context {
+                if let (Some(x), Some(y)) = (at(c, t), self.value(c, t)) {
+                    let d = wrap(x - y);
+                    e += d * d;
+                } else {
+                    e = f64::INFINITY;
+                }
+            }
+        }
+        let rho = e / self.spread;
+        // (a NaN ρ is refused too)
+        let acceptable = rho <= MAX_MISMATCH;
+        if !acceptable || bar.is_some_and(|b| b <= rho) {
+            return Ok(None);
+        }
+        let (t0, t1) = self.span;
+        let close: Vec<bool> = self
+            .coords
+            .iter()
+            .map(|&c| {
+                [t0, t1]
+                    .iter()
+                    .all(|&t| match (at(c, t), self.value(c, t)) {
+                        (Some(x), Some(y)) => {
+                            let d = if (self.rotation)(c) {
+                                wrap(x - y)
+                            } else {
+                                x - y
+                            };
+                            d.abs() <= MAX_END_DIFFERENCE
+                        }
+                        _ => false,
+                    })
+            })
+            .collect();
+        let follow = self.joints.whole(&self.coords, &close);
+        if follow.is_empty() {
+            return Ok(None);
+        }
+        Ok(Some(Example {
+            shift: 0.0,
+            mismatch: rho,
+            follow,
+            of: self.coords.len(),
+            clip: Some(ClipStretch {
+                name: cand.name.clone(),
+                time: cand.time,
+                warp: cand.warp,
+                features: cand.mismatch,
+                motion: Arc::new(motion),
+                names: self.names_arc.clone(),
+            }),
+        }))
+    }
+}

@@ -1,0 +1,189 @@
+//! The motion's own example for a gap: the stretch of the same motion, a
+//! shift Δ away, whose frames around it look most like the frames around the
+//! gap. A walk or a run repeats itself; what the person did in the gap is
+//! then best told by what they did one cycle earlier or later, which no end
+//! state carries (two interpolated ends cannot make a step).
+//!
+//! SP's prior follows the example's velocities and accelerations instead of
+//! zero ([`super::sp::Prior`]): it is minimised by the example plus the
+//! smooth correction that meets the gap's end states. A motion that does not
+//! repeat (a bow, a wave) has no stretch that matches well, and then the
+//! prior stays the plain one.
+//!
+//! The search over the motion itself is `own.rs`, over a clip library
+//! `library.rs` (a library stretch laid on the gap's clock: `laid.rs`); both
+//! keep a joint's channels together (`joints.rs`).
+
+use super::error::SpError;
+use super::objective::GapDof;
+use crate::model::Model;
+use crate::motion::Mu;
+use std::f64::consts::PI;
+
+pub mod joints;
+mod laid;
+mod library;
+mod own;
+#[cfg(test)]
+mod tests;
+
+pub use joints::Joints;
+pub use library::{ClipStretch, LibrarySource, from_library, from_library_with};
+pub use own::{find, find_with};
+
+/// Grid step (s) the motion is compared on: a capture's usual frame time.
+const STEP: f64 = 1.0 / 30.0;
+
+/// Context (s) compared on each side of the gap: the in-betweening protocol's
+/// ten frames at 30 Hz (`$MX_SHARED/data/inbetween/README.md`).
+const CONTEXT: f64 = 0.3;
+
+/// How far (s) from the gap an example is looked for: a long recording is
+/// searched only this near the gap (the cost is linear in the span).
+const SEARCH_SPAN: f64 = 30.0;
+
+/// Longest gap (s) an example is looked for: a cycle copied from the same
+/// motion tells nothing over longer, and the search's grid grows with it.
+const MAX_GAP: f64 = 10.0;
+
+/// Fewest context samples worth comparing (both sides together).
+const MIN_CONTEXT_SAMPLES: usize = 4;
+
+/// Largest mismatch ρ (see [`Example::mismatch`]) of an accepted example.
+/// Measured by `cargo bench --bench inbetween` (50 shared clips, one window
+/// each, root given): with ρ ≤ 0.5 instead, SP came 0.81 × Hermite at
+/// 30-frame gaps against 0.76 here (before [`Example::trust`]); in a first
+/// look, with the example alone corrected to its ends, windows with ρ between
+/// 1 and 3 came farther from the capture than Hermite in 7 of 9 (a turning
+/// walk whose cycles differ).
+pub const MAX_MISMATCH: f64 = 1.0;
+
+/// Largest difference (rad) between a DOF and its example at either end of
+/// the gap for the DOF to follow it: the prior's motion is the example plus
+/// a smooth ramp between the two end differences, so it stays this close to
+/// poses the person took. A joint with a channel farther off keeps the plain
+/// prior on all its channels (channel by channel, a kick's spine turned
+/// 1.6 rad away from any pose of the clip: one Euler channel followed and its
+/// siblings did not). With 0.15 a walk's toe ended 67 cm off where one leg
+/// joint followed and the next did not; with no limit a punch's upper arm
+/// turned 0.62 rad from its sides (`tests/it/inbetween.rs` allows 0.48).
+pub const MAX_END_DIFFERENCE: f64 = 0.25;
+
+/// A rotation coordinate that turns by more than this between two grid
+/// samples is taken to wrap (±π in the data), and such a stretch is no example.
+const MAX_TURN_PER_STEP: f64 = PI / 2.0;
+
+/// The stretch of the motion a group of gaps follows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Example {
+    /// Δ (s): the gap at t follows the motion at t + Δ.
+    pub shift: f64,
+    /// ρ: over the context on both sides of the gap, the squared difference
+    /// between the motion and the motion Δ away, over the context's own
+    /// squared spread about its mean (rotation coordinates, angles wrapped).
+    /// 0 is a perfect repeat; 1 is no better than the context's mean pose.
+    pub mismatch: f64,
+    /// The model coordinates that follow it: those within
+    /// [`MAX_END_DIFFERENCE`] of it at both ends of the gap.
+    pub follow: Vec<usize>,
+    /// The group's gap coordinates (followers or not).
+    pub of: usize,
+    /// A library stretch (`example: lib`) instead of the motion `shift` away.
+    pub clip: Option<ClipStretch>,
+}
+
+impl Example {
+    /// How much of the example the prior follows: 1 − ρ, all of a perfect
+    /// repeat and less of a looser match, so that a context that matched
+    /// by chance (a step the person did not take in the gap) weighs little.
+    pub fn trust(&self) -> f64 {
+        (1.0 - self.mismatch).clamp(0.0, 1.0)
+    }
+}
+
+/// The example for a group of gaps from the motion itself (`self`), a
+/// library, or both (the lower ρ kept); joints by the name convention
+/// ([`Joints::by_name`]).
+pub fn choose(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    gaps: &[GapDof],
+    own: bool,
+    library: Option<&LibrarySource>,
+) -> Result<Option<Example>, SpError> {
+    let joints = Joints::by_name(names);
+    choose_with(m, names, rotation, &joints, gaps, own, library)
+}
+
+/// [`choose`] on a body: a joint's channels are its model's joints as well
+/// as the name convention's ([`Joints::of_model`]), so OpenSim coordinates,
+/// whose names carry no joint, still follow an example joint by joint.
+pub fn choose_for(
+    model: &Model,
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    gaps: &[GapDof],
+    own: bool,
+    library: Option<&LibrarySource>,
+) -> Result<Option<Example>, SpError> {
+    let joints = Joints::of_model(model, names);
+    choose_with(m, names, rotation, &joints, gaps, own, library)
+}
+
+/// [`choose`] with the coordinates' joints given.
+pub fn choose_with(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    joints: &Joints,
+    gaps: &[GapDof],
+    own: bool,
+    library: Option<&LibrarySource>,
+) -> Result<Option<Example>, SpError> {
+    let mine = if own {
+        find_with(m, names, rotation, joints, gaps)?
+    } else {
+        None
+    };
+    let theirs = match library {
+        Some(l) => from_library_with(m, names, rotation, joints, gaps, l)?,
+        None => None,
+    };
+    Ok(match (mine, theirs) {
+        (Some(a), Some(b)) => Some(if b.mismatch < a.mismatch { b } else { a }),
+        (a, b) => a.or(b),
+    })
+}
+
+/// The span (t0, t1) of a group of gaps an example is looked for: none for
+/// no gaps, a zero-length span (no stretch to copy) or one longer than
+/// [`MAX_GAP`] (longer than any cycle).
+fn gap_span(gaps: &[GapDof]) -> Option<(f64, f64)> {
+    let t0 = gaps.iter().map(|g| g.t0).reduce(f64::min)?;
+    let t1 = gaps.iter().map(|g| g.t1).reduce(f64::max)?;
+    (t1 - t0 > 1e-9 && t1 - t0 <= MAX_GAP).then_some((t0, t1))
+}
+
+/// The sorted, distinct coordinates of a group of gaps.
+fn gap_coords(gaps: &[GapDof]) -> Vec<usize> {
+    let mut coords: Vec<usize> = gaps.iter().map(|g| g.coord).collect();
+    coords.sort_unstable();
+    coords.dedup();
+    coords
+}
+
+/// An angle difference wrapped into [−π, π).
+fn wrap(d: f64) -> f64 {
+    (d + PI).rem_euclid(2.0 * PI) - PI
+}
+
+/// One angle's squared spread about its mean over the context `values`
+/// (wrapped relative to the first).
+fn spread(values: &[f64]) -> f64 {
+    let first = values[0];
+    let rel: Vec<f64> = values.iter().map(|&v| wrap(v - first)).collect();
+    let mean = rel.iter().sum::<f64>() / rel.len() as f64;
+    rel.iter().map(|r| (r - mean) * (r - mean)).sum::<f64>()
+}
