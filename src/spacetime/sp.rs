@@ -6,7 +6,7 @@
 
 use super::contact::{Contact, ContactPhase};
 use super::error::{SpError, invalid};
-use super::groups::{PriorTerm, Problem, solve_all};
+use super::solve::{PriorTerm, Problem, solve_all};
 use super::objective::{GapDof, Inputs, TransitionSettings};
 use super::quadrature::GaussLegendre;
 use super::reference::Example;
@@ -734,12 +734,12 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
         prior: Some(&prior),
         inputs,
         opts: &opts.solve,
+        names,
     };
     let solutions = solve_all(&problem, gaps)?;
     let mut result = out.clone();
     for sol in solutions {
-        let mut r = sol.report.clone();
-        r.names = r.coords.iter().map(|&c| names[c].clone()).collect();
+        let r = sol.report.clone();
         // write each DOF's curve back (the objective's order is the report's order)
         for ((&c, coefs), gap) in r.coords.iter().zip(sol.coefficients).zip(sol.curves.iter()) {
             let curve = gap.to_curve(coefs)?;
@@ -924,7 +924,7 @@ fn hold_supports(
     };
     let names = model.coordinate_names();
     let mut left = vec![];
-    for group in super::groups::group_overlapping(gaps) {
+    for group in super::solve::group_overlapping(gaps) {
         let t0 = group.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
         let t1 = group.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
         let configuration = |t: f64| -> Result<Vec<f64>, SpError> {
@@ -1064,7 +1064,7 @@ fn hold_contacts(
     };
     let floor = contact::floor(gravity, height)?;
     let mut left = vec![];
-    for group in super::groups::group_overlapping(gaps) {
+    for group in super::solve::group_overlapping(gaps) {
         let t0 = group.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
         let t1 = group.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
         let snapshot = m.clone();
