@@ -89,11 +89,14 @@ mod tests {
         let mut m = Mu::new();
         // x(t) = 2t on [0, 1]; y = 3 on [0, 0.4] and [0.6, 1]
         m.insert(
-            "x".into(),
-            Dof::from(Interval::curve(Curve::samples(0.0, 1.0, vec![0.0, 2.0]).unwrap(), 0.0, 1.0).unwrap()),
+            "x",
+            Dof::from(
+                Interval::curve(Curve::samples(0.0, 1.0, vec![0.0, 2.0]).unwrap(), 0.0, 1.0)
+                    .unwrap(),
+            ),
         );
         m.insert(
-            "y".into(),
+            "y",
             Dof::new(vec![
                 Interval::constant(3.0, 0.0, 0.4).unwrap(),
                 Interval::constant(3.0, 0.6, 1.0).unwrap(),
@@ -123,7 +126,11 @@ mod tests {
             // "nope" is absent everywhere; y is undefined at 0.5 only
             assert_eq!(first, Some(if t == 0.5 { 0 } else { 1 }));
             let p = s.positions(t).unwrap();
-            assert!(p.iter().zip(&q).all(|(a, b)| a == b || (a.is_nan() && b.is_nan())));
+            assert!(
+                p.iter()
+                    .zip(&q)
+                    .all(|(a, b)| a == b || (a.is_nan() && b.is_nan()))
+            );
         }
     }
 

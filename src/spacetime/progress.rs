@@ -115,7 +115,11 @@ impl Tally {
             parts.push(format!("group {current} of {groups}"));
         }
         if get(&self.step) > 0 {
-            parts.push(format!("solve {} of ≤{}", get(&self.step), get(&self.steps)));
+            parts.push(format!(
+                "solve {} of ≤{}",
+                get(&self.step),
+                get(&self.steps)
+            ));
         }
         if get(&self.iteration) > 0 {
             parts.push(format!(

@@ -143,7 +143,11 @@ mod tests {
     #[test]
     fn progress_tells_groups_steps_iterations_and_evaluations_and_reports_are_named() {
         let arm = TwoLinkArm::default();
-        let inputs = |_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]| Ok(());
+        let inputs = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
+            (q[0], v[0], a[0]) = (t, 1.0, 0.0);
+            (q[1], v[1], a[1]) = (0.3, 0.0, 0.0);
+            Ok(())
+        };
         let seen = Arc::new(Mutex::new(vec![]));
         let log = seen.clone();
         let o = SolveOptions {
@@ -179,7 +183,10 @@ mod tests {
         // one event per iteration, counted from 1, in order
         let r = &all[0].report;
         assert!(r.iterations > 0, "{r:?}");
-        assert_eq!(iterations, (1..=iterations.len() as u64).collect::<Vec<_>>());
+        assert_eq!(
+            iterations,
+            (1..=iterations.len() as u64).collect::<Vec<_>>()
+        );
         let evaluations = seen
             .iter()
             .filter(|e| **e == ProgressEvent::Evaluation)

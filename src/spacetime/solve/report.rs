@@ -224,4 +224,3 @@ pub struct GroupSolution {
     pub coefficients: Vec<Vec<f64>>,
     pub report: GapReport,
 }
-

@@ -89,13 +89,7 @@ pub(super) fn run<M: TorqueModel>(
     opts.cancel.check()?;
     let mut scratch = obj.scratch();
     let t = obj.gauss_newton_at(&mut scratch, &x0)?;
-    let problem = Evaluator::new(
-        obj,
-        t,
-        scratch,
-        opts.cancel.clone(),
-        opts.progress.clone(),
-    );
+    let problem = Evaluator::new(obj, t, scratch, opts.cancel.clone(), opts.progress.clone());
     let eval_err = |e: Error| SpError::Evaluation(e.to_string());
     let y0 = problem.to_y(&x0);
     let (e0, g0x) = problem.eval_x(&x0).map_err(eval_err)?;
