@@ -41,7 +41,7 @@ pub fn body() -> Model {
             Some(p),
             "hip",
             hinge(Vector3::z()),
-            below.clone(),
+            below,
             mass(5.0),
         )
         .unwrap();
@@ -51,7 +51,7 @@ pub fn body() -> Model {
             Some(p),
             "knee",
             hinge(Vector3::z()),
-            below.clone(),
+            below,
             mass(3.0),
         )
         .unwrap();
