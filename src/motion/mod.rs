@@ -27,6 +27,7 @@ pub mod extrapolate;
 pub mod fill;
 pub mod func;
 pub mod interval;
+pub mod joint_sampler;
 pub mod mu;
 pub mod ops;
 pub mod rotation;
@@ -40,6 +41,7 @@ pub use extrapolate::{Extrapolation, extrapolate};
 pub use fill::{fill_hermite, fill_linear, fill_slerp};
 pub use func::Func;
 pub use interval::Interval;
+pub use joint_sampler::JointSampler;
 pub use mu::Mu;
 pub use ops::{
     DofSpan, affine, and, clip, clip_in_place, concatenate, conflicts, gaps, minus, only, plus,

@@ -22,19 +22,18 @@ pub mod objective;
 pub use objective::{GapDof, Objective, TransitionSettings};
 pub mod solve;
 pub use solve::{
-    GapReport, GroupSolution, SolveOptions, StopReason, solve_group, solve_group_from,
+    GapReport, GroupSolution, Problem, SolveOptions, StopReason, group_overlapping, solve_all,
+    solve_group, solve_group_from,
 };
 pub mod root;
 pub use root::{RootCoords, RootTransition};
-pub mod groups;
-pub use groups::{Problem, group_overlapping, solve_all};
 /// The Fig. 8 case shared by the report and `benches/spacetime.rs`.
 #[cfg(feature = "report")]
 pub mod fig8;
 pub mod precond;
 pub mod progress;
 pub mod reference;
-pub use progress::{Progress, ProgressEvent};
+pub use progress::{Progress, ProgressEvent, Tally};
 pub mod contact;
 pub mod sp;
 pub mod support;

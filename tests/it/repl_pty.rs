@@ -99,12 +99,13 @@ fn sp_in_the_repl_info_progress_bar_and_ctrl_c() {
     p.expect("SP report:").unwrap();
     p.expect("gap 1 [0.6000, 1.2000] s, 3 DOFs").unwrap();
 
-    // A long SP shows its bar after 0.5 s; Ctrl-C cancels it and binds nothing.
+    // A long SP shows its bar after 0.5 s (where it is within the group:
+    // solve, iteration, evaluations); Ctrl-C cancels it and binds nothing.
     p.send_line(
         "let big = SP(gap_between(walk, walk, 0.5s), body: body, coefficients: 40, samples: 200)",
     )
     .unwrap();
-    p.expect("gap groups").unwrap();
+    p.expect("objective evaluations").unwrap();
     p.send(ControlCode::EndOfText).unwrap();
     p.expect("cancelled").unwrap();
     p.send_line("big").unwrap();

@@ -5,7 +5,6 @@
 //! interpreter's cancellation token to the solver (Ctrl-C in the REPL).
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::ast::Span;
@@ -25,7 +24,7 @@ use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
 use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::{
     Contact, Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
-    fill_hermite, sp, torque_energy,
+    Tally, fill_hermite, sp, torque_energy,
 };
 
 /// Methods `fill(m, method)` knows.
@@ -458,18 +457,18 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let mut opts = sp_options(a, ev, &model, (&m, &marg))?;
     let busy = Busy::start(
         "SP",
-        "{spinner} {prefix} [{elapsed}] {bar:30} {pos}/{len} gap groups, {msg} (Ctrl-C cancels)",
+        "{spinner} {prefix} [{elapsed}] {bar:30} {msg} (Ctrl-C cancels)",
     );
     let bar = busy.bar().clone();
-    let evals = Arc::new(AtomicU64::new(0));
-    opts.solve.progress = Progress::new(move |e| match e {
-        ProgressEvent::Groups(n) => bar.set_length(n as u64),
-        ProgressEvent::GroupDone => bar.inc(1),
-        ProgressEvent::Evaluation => {
-            let k = evals.fetch_add(1, Ordering::Relaxed) + 1;
-            if k.is_multiple_of(16) {
-                bar.set_message(format!("{k} objective evaluations"));
-            }
+    // within a group: its continuation's solve, the iteration and the evaluations
+    let tally = Arc::new(Tally::default());
+    opts.solve.progress = Progress::new(move |e| {
+        if let ProgressEvent::Groups(n) = e {
+            bar.set_length(n as u64);
+        }
+        if tally.record(e) {
+            bar.set_position(tally.done());
+            bar.set_message(tally.message());
         }
     });
     let result = sp(&m, &model, &opts);

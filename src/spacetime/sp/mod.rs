@@ -1,0 +1,110 @@
+//! SP over a whole motion (Rose §3.2): find every interior gap of every DOF,
+//! move the root kinematically, solve the remaining gap DOFs as spacetime
+//! transitions (overlapping gaps together, disjoint ones in parallel), and
+//! write the curves back into the motion. Also the Hermite baseline
+//! (`fill(m, "hermite")`) and the torque energy of a motion.
+//!
+//! SP, stage by stage, over one [`Filling`] (the motion being filled, the
+//! body, and the report the stages add to):
+//! 0. [`checks`]: conflicts and a motion that cannot drive the body are errors;
+//! 1. [`root_fill`]: the root's gaps (Rose's path, or pinned);
+//! 2. [`offsets`]: constant bone offsets held;
+//! 3. [`supports`] (or [`contacts`] with `contact:`): support limbs held by IK;
+//! 4. [`transitions`]: the rest solved as spacetime transitions, the prior's
+//!    weights from [`prior`], ∫Στ² by [`energy`]'s rule for the baseline;
+//!
+//! and the result is the filled motion with the [`report`].
+
+mod checks;
+mod contacts;
+mod energy;
+mod filling;
+#[cfg(test)]
+mod fixture;
+mod held;
+mod offsets;
+mod options;
+mod prior;
+mod report;
+mod root_fill;
+mod supports;
+mod transitions;
+
+pub use checks::fill_hermite;
+pub use energy::{joint_weights, torque_energy};
+pub use filling::Filling;
+pub use options::{
+    AUTO_TIME_SCALE, DEFAULT_SMOOTHNESS, Prior, ROOT_TOLERANCE_FIXED, ROOT_TOLERANCE_RELATIVE,
+    RootFill, SpOptions, Support, root_tolerance,
+};
+pub use prior::prior_weights;
+pub use report::{GapContacts, PinnedRoot, RootShift, SpReport, Undefined};
+
+use crate::model::Model;
+use crate::motion::Mu;
+use crate::spacetime::contact::Contact;
+use crate::spacetime::error::SpError;
+use crate::spacetime::root::RootCoords;
+
+/// `SP(m, body: b, …)`: the motion with every interior gap filled. Gaps at the
+/// start or end stay undefined (listed in the report).
+pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpError> {
+    checks::check_conflicts(m)?;
+    checks::check_names(m, model)?;
+    let gravity = opts.gravity.unwrap_or(model.default_gravity);
+    // the root as it moves in m: a constant placeholder above it is skipped
+    let root = RootCoords::detect_in(model, &gravity, m);
+    let mut f = Filling::new(m, model, gravity);
+    root_fill::fill_root(&mut f, &root, opts.root)?;
+    let gaps = f.gaps()?;
+    // what the prior's transitions must undercut: the motion filled by Hermite curves
+    let hermite_all = fill_hermite(&f.motion)?;
+    let gaps = offsets::hold_constant_offsets(&mut f, gaps)?;
+    let gaps = if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
+        contacts::hold_contacts(&mut f, opts, gaps)?
+    } else {
+        supports::hold_supports(&mut f, opts, gaps)?
+    };
+    if !gaps.is_empty() {
+        transitions::solve_transitions(&mut f, opts, &root, &hermite_all, gaps)?;
+    }
+    Ok(f.finish())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fixture::{Y_UP, body, motion};
+    use super::*;
+    use crate::spacetime::objective::TransitionSettings;
+
+    #[test]
+    fn the_stages_fill_every_interior_gap_and_report_each() {
+        let model = body();
+        // root, limbs and the bone gapped together
+        let m = motion(&model, &[0, 1, 2, 3, 4, 5], (0.8, 1.2));
+        let opts = SpOptions {
+            gravity: Some(Y_UP),
+            support: Support::Off,
+            prior: Prior::none(),
+            settings: TransitionSettings {
+                coefficients: 3,
+                samples: 8,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let (filled, report) = sp(&m, &model, &opts).unwrap();
+        assert!(crate::motion::gaps(&filled).is_empty());
+        assert_eq!(report.pinned.len(), 1); // one recording: pinned
+        assert_eq!(report.constant.len(), 1); // the bone
+        assert_eq!(report.groups.len(), 1);
+        let g = &report.groups[0];
+        assert_eq!(g.names, vec!["hip".to_string(), "knee".to_string()]);
+        assert!(g.energy <= g.initial_energy, "{g:?}");
+        assert_eq!(g.solves, 1);
+        // no gap, nothing to do
+        let (same, r) = sp(&filled, &model, &opts).unwrap();
+        assert_eq!(same, filled);
+        assert!(r.groups.is_empty() && r.to_string().starts_with("SP: no interior gaps"));
+    }
+}

@@ -1,0 +1,207 @@
+//! Stage 1, the root (Rose §3.2.1): its horizontal translations from the
+//! interpolated velocities (the motion after the gap shifted to continue
+//! them) or pinned where both sides look like one recording; its vertical
+//! and rotations by Hermite curves.
+
+use super::filling::{Filling, hermite_curve};
+use super::options::{RootFill, root_tolerance};
+use super::report::{PinnedRoot, RootShift, Undefined};
+use crate::motion::{Dof, Func};
+use crate::spacetime::error::SpError;
+use crate::spacetime::root::{RootCoords, RootTransition};
+use crate::spacetime::transition::EndState;
+
+/// Shift every interval of `dof` that starts at or after `t` by `delta` in value.
+fn shift_after(dof: &mut Dof, t: f64, delta: f64) {
+    for iv in dof.intervals.iter_mut() {
+        if iv.start >= t - crate::motion::time_tol(t) {
+            for f in iv.funcs.iter_mut() {
+                *f = Func {
+                    offset: f.offset + delta,
+                    ..f.clone()
+                };
+            }
+        }
+    }
+}
+
+/// Fill the root's gaps (§3.2.1): horizontal translations from interpolated
+/// velocities (shifting what follows), the vertical and rotations by Hermite.
+pub(super) fn fill_root(
+    f: &mut Filling<'_>,
+    root: &RootCoords,
+    how: RootFill,
+) -> Result<(), SpError> {
+    let pinned = pinned_gaps(f, root, how)?;
+    let is_pinned = |t0: f64, t1: f64| {
+        pinned.iter().any(|p| {
+            (p.t0 - t0).abs() <= crate::motion::time_tol(t0)
+                && (p.t1 - t1).abs() <= crate::motion::time_tol(t1)
+        })
+    };
+    f.report.pinned.extend(pinned.iter().cloned());
+    let names = f.names;
+    for &c in &root.all {
+        let name = &names[c];
+        let Some(dof) = f.motion.get(name) else {
+            continue;
+        };
+        let gaps = dof.gaps();
+        for (t0, t1) in gaps {
+            let a = f.end_state(name, t0)?;
+            let b = f.end_state(name, t1)?;
+            let curve = if root.horizontal.contains(&c) && !is_pinned(t0, t1) {
+                shift_root(f, name, (t0, t1), a, b)?
+            } else {
+                f.report.hermite.push(Undefined {
+                    dof: name.clone(),
+                    start: t0,
+                    stop: t1,
+                });
+                hermite_curve(t0, t1, &a, &b)?
+            };
+            f.write(name, curve, t0, t1)?;
+        }
+    }
+    Ok(())
+}
+
+/// Rose's path for one horizontal root coordinate over [t0, t1]: shifts the
+/// motion after the gap to where the interpolated velocities end, records
+/// the shift, and returns the gap's curve.
+fn shift_root(
+    f: &mut Filling<'_>,
+    name: &str,
+    (t0, t1): (f64, f64),
+    a: EndState,
+    b: EndState,
+) -> Result<crate::motion::Curve, SpError> {
+    // one horizontal component of p(t); y of RootTransition is unused here
+    let rt = RootTransition::new(t0, t1, [a.q, 0.0], [a.v, 0.0], [b.v, 0.0], a, b)?;
+    let shift = rt.end_xz()[0] - b.q;
+    shift_after(f.dof_mut(name)?, t1, shift);
+    // p(t) is the Hermite cubic with end value p(t2) and the same velocities
+    let end = EndState {
+        q: b.q + shift,
+        ..b
+    };
+    match f.report.root.iter_mut().find(|r| r.t0 == t0 && r.t1 == t1) {
+        Some(r) => r.shift.push((name.to_string(), shift)),
+        None => f.report.root.push(RootShift {
+            t0,
+            t1,
+            shift: vec![(name.to_string(), shift)],
+        }),
+    }
+    hermite_curve(t0, t1, &a, &end)
+}
+
+/// The gaps of the root's horizontal coordinates that keep the motion after
+/// them in place: all of them for [`RootFill::Pinned`], none for
+/// [`RootFill::Shift`], and for [`RootFill::Auto`] those whose recorded x–z
+/// displacement is within [`root_tolerance`] of T (v₀ + v₁)/2. Horizontal
+/// coordinates gapped over the same span are judged together (their vector).
+fn pinned_gaps(
+    f: &Filling<'_>,
+    root: &RootCoords,
+    how: RootFill,
+) -> Result<Vec<PinnedRoot>, SpError> {
+    let names = f.names;
+    // per gap span: (squared mismatch, squared predicted displacement)
+    let mut spans: Vec<(f64, f64, f64, f64)> = vec![];
+    for &c in &root.horizontal {
+        let Some(dof) = f.motion.get(&names[c]) else {
+            continue;
+        };
+        for (t0, t1) in dof.gaps() {
+            let a = f.end_state(&names[c], t0)?;
+            let b = f.end_state(&names[c], t1)?;
+            let predicted = (t1 - t0) * (a.v + b.v) / 2.0;
+            let off = (b.q - a.q) - predicted;
+            let same = |s: &&mut (f64, f64, f64, f64)| {
+                (s.0 - t0).abs() <= crate::motion::time_tol(t0)
+                    && (s.1 - t1).abs() <= crate::motion::time_tol(t1)
+            };
+            match spans.iter_mut().find(same) {
+                Some(s) => {
+                    s.2 += off * off;
+                    s.3 += predicted * predicted;
+                }
+                None => spans.push((t0, t1, off * off, predicted * predicted)),
+            }
+        }
+    }
+    Ok(spans
+        .into_iter()
+        .filter_map(|(t0, t1, off2, pred2)| {
+            let (mismatch, tolerance) = (off2.sqrt(), root_tolerance(pred2.sqrt()));
+            let p = |auto| PinnedRoot {
+                t0,
+                t1,
+                auto,
+                mismatch,
+                tolerance,
+            };
+            match how {
+                RootFill::Shift => None,
+                RootFill::Pinned => Some(p(false)),
+                RootFill::Auto => (mismatch <= tolerance).then(|| p(true)),
+            }
+        })
+        .collect())
+}
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{Y_UP, body, motion};
+    use super::*;
+
+    /// The root's x, y and rz gapped on (0.8, 1.2), the motion after the gap
+    /// moved `dx` along x (recorded elsewhere in the room).
+    fn gapped(dx: f64) -> (crate::model::Model, crate::motion::Mu) {
+        let model = body();
+        let mut m = motion(&model, &[0, 1, 2], (0.8, 1.2));
+        let x = m.dofs.get_mut("x").unwrap();
+        shift_after(x, 1.2, dx);
+        (model, m)
+    }
+
+    fn fill(dx: f64, how: RootFill) -> Filling<'static> {
+        let (model, m) = gapped(dx);
+        let model: &'static crate::model::Model = Box::leak(Box::new(model));
+        let root = RootCoords::detect_in(model, &Y_UP, &m);
+        let mut f = Filling::new(&m, model, Y_UP);
+        fill_root(&mut f, &root, how).unwrap();
+        f
+    }
+
+    #[test]
+    fn one_recording_is_pinned_and_keeps_the_motion_after_the_gap() {
+        let f = fill(0.0, RootFill::Auto);
+        assert_eq!(f.report.pinned.len(), 1, "{:?}", f.report);
+        assert!(f.report.pinned[0].auto && f.report.root.is_empty());
+        let x = f.motion.sample_value("x", 1.5).unwrap().unwrap();
+        assert!((x - 1.1 * 1.5).abs() < 1e-9, "{x}");
+        // y and rz by Hermite; every root gap filled
+        assert_eq!(f.report.hermite.len(), 3);
+        assert!(f.gaps().unwrap().is_empty());
+    }
+
+    #[test]
+    fn two_recordings_are_joined_by_shifting_the_one_after() {
+        let f = fill(3.0, RootFill::Auto);
+        assert!(f.report.pinned.is_empty());
+        let r = &f.report.root;
+        assert_eq!(r.len(), 1);
+        let (name, shift) = &r[0].shift[0];
+        assert_eq!(name, "x");
+        // the walk continues at its own speed: the 3 m jump is taken back
+        assert!((shift + 3.0).abs() < 0.01, "{shift}");
+        let x = f.motion.sample_value("x", 1.5).unwrap().unwrap();
+        assert!((x - 1.1 * 1.5).abs() < 0.01, "{x}");
+        // asked for, a pin keeps even the jump
+        let p = fill(3.0, RootFill::Pinned);
+        assert!(!p.report.pinned[0].auto);
+        let x = p.motion.sample_value("x", 1.5).unwrap().unwrap();
+        assert!((x - (1.1 * 1.5 + 3.0)).abs() < 1e-9, "{x}");
+    }
+}
