@@ -34,7 +34,7 @@ pub fn select<'a>(names: &[&'a str], patterns: &[&str]) -> Result<Vec<&'a str>, 
 /// (`LeftKnee.Xrotation` → `LeftKnee`); a DOF named after its joint
 /// (URDF: `elbow_joint`) is its own joint.
 pub fn joint_of(dof: &str) -> &str {
-    dof.rsplit_once('.').map_or(dof, |(j, _)| j)
+    crate::motion::channel::Channel::parse(dof).joint
 }
 
 /// `*` matches any run of characters, `?` one character; the rest literally.

@@ -11,6 +11,7 @@
 //! both (an OpenSim or other multi-DOF joint).
 
 use crate::model::Model;
+use crate::motion::channel::Channel;
 use std::collections::HashMap;
 
 /// Per coordinate, the joint it belongs to.
@@ -29,7 +30,7 @@ impl Joints {
             .iter()
             .enumerate()
             .map(|(c, n)| {
-                let joint = n.rsplit_once('.').map_or(n.as_str(), |(j, _)| j);
+                let joint = Channel::parse(n).joint;
                 *first.entry(joint).or_insert(c)
             })
             .collect();

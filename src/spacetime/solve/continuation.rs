@@ -174,8 +174,8 @@ impl<'p, M: TorqueModel> EffortCheck<'p, M> {
     }
 }
 
-/// The objective of one continuation step: ∫Στ² and the prior scaled by
-/// `scale`, following `example` where it can (`example` is dropped when the
+/// The continuation's objective: ∫Στ² and the prior scaled by `scale`
+/// (the steps after rescale it in place), following `example` where it can (`example` is dropped when the
 /// objective cannot follow it).
 fn step_objective<'p, M: TorqueModel>(
     problem: &'p Problem<'_, M>,
@@ -210,11 +210,14 @@ fn continuation<M: TorqueModel>(
     let mut check = EffortCheck::new(problem, prior, dofs)?;
     let mut x = check.hermite.clone();
     let mut work = Work::default();
+    // built once: each step rescales the prior in place (bit for bit the
+    // objective built at that scale; `Objective::rescale_prior`)
+    let mut obj = step_objective(problem, prior, dofs, PRIOR_SCHEDULE[0], &mut example)?;
     let mut k = 0;
     loop {
         let scale = PRIOR_SCHEDULE[k];
         step(problem, k, PRIOR_SCHEDULE.len());
-        let obj = step_objective(problem, prior, dofs, scale, &mut example)?;
+        obj.rescale_prior(scale)?;
         let above = x;
         let (mut x_k, last) = run(&obj, above.clone(), problem.opts)?;
         let mut energy = check.energy(&x_k)?;

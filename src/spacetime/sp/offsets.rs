@@ -10,12 +10,7 @@ use crate::spacetime::transition::EndState;
 
 /// Whether model coordinate `c` is the coordinate of a 1-DOF sliding joint.
 pub(super) fn is_translation(model: &Model, c: usize) -> bool {
-    model.links().iter().any(|l| {
-        l.dof == 1
-            && l.q_index == c
-            && l.axis
-                .is_some_and(|a| a.motion == crate::model::joint::AxisMotion::Translation)
-    })
+    model.coordinate_motion(c) == Some(crate::model::joint::AxisMotion::Translation)
 }
 
 /// How far (m) a translation may vary across a gap and still count as a

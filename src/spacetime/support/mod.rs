@@ -87,10 +87,7 @@ fn frame_positions(
 
 /// The link that owns coordinate c.
 pub(crate) fn owner(model: &Model, c: usize) -> Option<usize> {
-    model
-        .links()
-        .iter()
-        .position(|l| c >= l.q_index && c < l.q_index + l.dof)
+    model.coordinate_link(c)
 }
 
 /// Candidate support frames: every link that is not an intermediate link of a
