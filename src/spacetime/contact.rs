@@ -319,7 +319,10 @@ pub fn floor(gravity: &Vector3<f64>, height: f64) -> Result<Floor, SpError> {
         return Err(invalid("contact needs gravity to know which way is up"));
     }
     if !height.is_finite() {
-        return Err(invalid(format!("floor: {height} must be a finite height")));
+        return Err(crate::spacetime::error::invalid_option(
+            "floor",
+            format!("`floor:` must be a finite height in metres, found {height}"),
+        ));
     }
     Ok(Floor {
         up: -gravity / gravity.norm(),

@@ -8,6 +8,14 @@ pub enum SpError {
     /// Bad parameters or data given by the user.
     #[error("{0}")]
     Invalid(String),
+    /// An option of `SP(…)` out of its range, or naming what the body lacks:
+    /// `option` is its name as the language spells it (`coefficients`,
+    /// `support`), so a diagnostic can point at the argument.
+    #[error("{message}")]
+    InvalidOption {
+        option: &'static str,
+        message: String,
+    },
     /// The motion is multiply defined where a transition needs one value.
     #[error("{0}")]
     Conflict(String),
@@ -35,6 +43,24 @@ impl From<CyclifyError> for SpError {
     }
 }
 
+impl SpError {
+    /// The option at fault, when the error is about one.
+    pub fn option(&self) -> Option<&'static str> {
+        match self {
+            SpError::InvalidOption { option, .. } => Some(option),
+            _ => None,
+        }
+    }
+}
+
 pub(crate) fn invalid(msg: impl Into<String>) -> SpError {
     SpError::Invalid(msg.into())
+}
+
+/// An [`SpError::InvalidOption`] of `option`.
+pub(crate) fn invalid_option(option: &'static str, message: impl Into<String>) -> SpError {
+    SpError::InvalidOption {
+        option,
+        message: message.into(),
+    }
 }

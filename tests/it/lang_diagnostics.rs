@@ -116,3 +116,77 @@ fn engine_errors_point_at_the_argument_they_name() {
     assert_eq!(at, "0");
     assert!(msg.contains("sampling rate"), "{msg}");
 }
+
+#[test]
+fn sp_option_errors_come_from_the_engine_and_point_at_the_option() {
+    // SP's ranges are checked once, by the engine (`SpOptions::check`); the
+    // diagnostic points at the argument the engine names
+    let walk = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/data/walk.bvh");
+    let head = format!(
+        "let w = load(\"{walk}\")\nlet m = w - clip_in_place(0.4, 0.6, w)\nlet b = body_of(w)\n"
+    );
+    for (call, at, says, help) in [
+        (
+            "SP(m, body: b, coefficients: 1)",
+            "1",
+            "from 2 to 200",
+            "B-spline",
+        ),
+        (
+            "SP(m, body: b, continuity: 2, coefficients: 2)",
+            "2",
+            "from 3 to 200",
+            "B-spline",
+        ),
+        (
+            "SP(m, body: b, samples: 0)",
+            "0",
+            "`samples: 0`",
+            "Gauss points",
+        ),
+        (
+            "SP(m, body: b, tolerance: 2)",
+            "2",
+            "in (0, 1)",
+            "25 iterations",
+        ),
+        ("SP(m, body: b, smoothness: -1)", "-1", "non-negative", "λ"),
+        (
+            "SP(m, body: b, time_constant: 0)",
+            "0",
+            "positive time",
+            "damps",
+        ),
+        (
+            "SP(m, body: b, support: [\"Lefty\"])",
+            "[\"Lefty\"]",
+            "no frame named `Lefty`",
+            "frames",
+        ),
+        (
+            "SP(m, body: b, contact: [\"Toez\"])",
+            "[\"Toez\"]",
+            "to plant",
+            "frames",
+        ),
+    ] {
+        let src = format!("{head}{call}");
+        let mut mx = Interpreter::new();
+        mx.capture_output();
+        let e = mx.eval_named("bad.mx", &src).unwrap_err().error().clone();
+        let s = e.span.expect("a span");
+        assert_eq!(
+            &src[s.start as usize..s.end as usize],
+            at,
+            "{call}: {}",
+            e.message
+        );
+        assert!(e.message.contains(says), "{call}: {}", e.message);
+        let h = e.help.clone().unwrap_or_default();
+        assert!(h.contains(help), "{call}: help {h}");
+    }
+    // the nearest names come with an unknown support frame, joints first
+    let (_, msg) = pointed_at(&format!("{head}SP(m, body: b, support: [\"LeftFot\"])"));
+    assert!(msg.contains("LeftFoot"), "{msg}");
+    assert!(!msg.contains("LeftFoot.X"), "{msg}");
+}

@@ -208,9 +208,14 @@ fn unknown_support_frame_is_an_error_listing_near_names() {
         support: Support::Named(vec!["foot_X".into()]),
         ..Default::default()
     };
-    let e = sp(&composite, &model, &opts).unwrap_err().to_string();
-    println!("{e}");
-    assert!(e.contains("'foot_X'") && e.contains("foot_L") && e.contains("foot_R"));
+    let err = sp(&composite, &model, &opts).unwrap_err();
+    // the engine names the option, so the language points at `support:`
+    assert_eq!(err.option(), Some("support"));
+    let e = err.to_string();
+    assert!(
+        e.contains("`foot_X`") && e.contains("foot_L") && e.contains("foot_R"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -9,14 +9,15 @@ use std::sync::Arc;
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::ast::Span;
 use crate::lang::busy::Busy;
-use crate::lang::diagnostics::{ErrorKind, MxError, MxResult, did_you_mean};
+use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
+use crate::lang::host::errors::diagnostic;
 use crate::lang::host::motion::{Provenance, provenance, skeleton_of};
 use crate::lang::host::sp_report::report_of;
 use crate::lang::host::{LibraryValue, Motion, SpReportValue};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
-use crate::lang::value::{Value, format_number};
+use crate::lang::value::Value;
 use crate::library::Library;
 use crate::model::Model;
 use crate::motion::Mu;
@@ -30,26 +31,10 @@ use crate::spacetime::{
 /// Methods `fill(m, method)` knows.
 const FILL_METHODS: [&str; 3] = ["hermite", "slerp", "linear"];
 
+/// SP's errors through the one engine-error mapping: an invalid option
+/// points at the argument that gave it.
 fn sp_error(e: SpError, a: &Args, span: Span) -> MxError {
-    let (kind, help) = match &e {
-        SpError::Cancelled => (ErrorKind::Cancelled, "cancelled by the user (Ctrl-C)"),
-        SpError::Conflict(_) => (
-            ErrorKind::Motion,
-            "`conflicts(m)` lists where the motion is multiply defined",
-        ),
-        SpError::Invalid(_) => (ErrorKind::Value, ""),
-        SpError::Evaluation(_) => (ErrorKind::Host, ""),
-    };
-    let label = match e {
-        SpError::Conflict(_) | SpError::Evaluation(_) => "this motion",
-        _ => "in this call",
-    };
-    let err = MxError::new(kind, e.to_string()).at(span).label(label);
-    if help.is_empty() {
-        err.help(format!("usage: {}", a.signature()))
-    } else {
-        err.help(help)
-    }
+    diagnostic(&e, a, span)
 }
 
 fn mu_arg(a: &mut Args, name: &str) -> MxResult<(Mu, ArgValue)> {
@@ -77,24 +62,16 @@ fn bad_option(a: &Args, arg: &ArgValue, msg: String, help: &str) -> MxError {
         .help(help.to_string())
 }
 
-/// A whole number in `min..=max` given as the named option `name`.
-fn whole(a: &mut Args, name: &str, min: usize, max: usize, help: &str) -> MxResult<Option<usize>> {
+/// A whole number given as the named option `name` (its range is the
+/// engine's to check: `SpOptions::check`).
+fn whole(a: &mut Args, name: &str) -> MxResult<Option<usize>> {
     let Some(arg) = a.opt_named(name) else {
         return Ok(None);
     };
     match arg.value {
-        Value::Number(x) if x.fract() == 0.0 && x >= min as f64 && x <= max as f64 => {
+        Value::Number(x) if x.fract() == 0.0 && (0.0..=u32::MAX as f64).contains(&x) => {
             Ok(Some(x as usize))
         }
-        Value::Number(x) => Err(bad_option(
-            a,
-            &arg,
-            format!(
-                "`{name}: {}` must be a whole number from {min} to {max}",
-                format_number(x)
-            ),
-            help,
-        )),
         _ => Err(a.type_error(name, "a whole number", &arg)),
     }
 }
@@ -117,39 +94,16 @@ fn continuity(a: &mut Args) -> MxResult<Continuity> {
     }
 }
 
-/// `support: ["LeftFoot", …]` (frames the body names), `[]` (none) or `"auto"`.
-fn support(a: &mut Args, model: &Model) -> MxResult<Support> {
+/// `support: ["LeftFoot", …]` (frames the body names; the engine checks
+/// them), `[]` (none) or `"auto"`.
+fn support(a: &mut Args) -> MxResult<Support> {
     let Some(arg) = a.opt_named("support") else {
         return Ok(Support::default());
     };
-    let links: Vec<&str> = model.links().iter().map(|l| l.name.as_str()).collect();
-    // body_of bodies have a massless link per channel (`Joint.channel`): suggest joints only
-    let joints: Vec<&str> = links.iter().copied().filter(|n| !n.contains('.')).collect();
-    let shown = if joints.is_empty() { &links } else { &joints };
     match &arg.value {
         Value::Str(s) if &**s == "auto" => Ok(Support::default()),
         Value::List(items) if items.is_empty() => Ok(Support::Off),
-        Value::List(items) => {
-            let mut names = vec![];
-            for v in items.iter() {
-                let Some(n) = v.as_str() else {
-                    return Err(a.type_error("support", "a list of frame names (strings)", &arg));
-                };
-                if model.link_index(n).is_none() {
-                    let guess = did_you_mean(n, shown.iter().copied())
-                        .map(|g| format!("did you mean `{g}`? "))
-                        .unwrap_or_default();
-                    return Err(bad_option(
-                        a,
-                        &arg,
-                        format!("the body has no frame named `{n}` to hold as a support limb"),
-                        &format!("{guess}frames: {}", shown.join(", ")),
-                    ));
-                }
-                names.push(n.to_string());
-            }
-            Ok(Support::Named(names))
-        }
+        Value::List(_) => Ok(Support::Named(frame_names(a, &arg, "support")?)),
         _ => Err(a.type_error(
             "support",
             "a list of frame names like [\"LeftFoot\"], [] for none, or \"auto\"",
@@ -158,39 +112,31 @@ fn support(a: &mut Args, model: &Model) -> MxResult<Support> {
     }
 }
 
+/// The strings of the list option `name`.
+fn frame_names(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vec<String>> {
+    let items = arg.value.as_list().unwrap_or_default();
+    items
+        .iter()
+        .map(|v| {
+            v.as_str()
+                .map(str::to_string)
+                .ok_or_else(|| a.type_error(name, "a list of frame names (strings)", arg))
+        })
+        .collect()
+}
+
 /// `contact: "none"` (the default: Rose's supports alone), `"auto"` (a
 /// stance schedule planned per gap for the frames near the floor, held by the
 /// support IK with the floor below) or `["Toes_L", …]` (those frames).
 /// Planning replaces `support:`, so the two are not given together.
-fn contact(a: &mut Args, model: &Model, support_given: bool) -> MxResult<Contact> {
+fn contact(a: &mut Args, support_given: bool) -> MxResult<Contact> {
     let Some(arg) = a.opt_named("contact") else {
         return Ok(Contact::default());
     };
     let contact = match &arg.value {
         Value::Str(s) if &**s == "none" => return Ok(Contact::None),
         Value::Str(s) if &**s == "auto" => Contact::Auto,
-        Value::List(items) if !items.is_empty() => {
-            let mut names = vec![];
-            for v in items.iter() {
-                let Some(n) = v.as_str() else {
-                    return Err(a.type_error("contact", "a list of frame names (strings)", &arg));
-                };
-                if model.link_index(n).is_none() {
-                    let links = model.links().iter().map(|l| l.name.as_str());
-                    let guess = did_you_mean(n, links)
-                        .map(|g| format!("did you mean `{g}`?"))
-                        .unwrap_or_else(|| "name a frame of the body".into());
-                    return Err(bad_option(
-                        a,
-                        &arg,
-                        format!("the body has no frame named `{n}` to plant"),
-                        &guess,
-                    ));
-                }
-                names.push(n.to_string());
-            }
-            Contact::Named(names)
-        }
+        Value::List(items) if !items.is_empty() => Contact::Named(frame_names(a, &arg, "contact")?),
         _ => {
             return Err(a.type_error(
                 "contact",
@@ -216,7 +162,7 @@ fn floor(a: &mut Args) -> MxResult<Option<f64>> {
         return Ok(None);
     };
     match arg.value {
-        Value::Number(h) if h.is_finite() => Ok(Some(h)),
+        Value::Number(h) => Ok(Some(h)),
         Value::Str(ref s) if &**s == "auto" => Ok(None),
         _ => Err(bad_option(
             a,
@@ -292,34 +238,17 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
             }
         }
     }
-    let positive = |a: &mut Args, name: &str, help: &str| -> MxResult<Option<f64>> {
-        let Some(arg) = a.opt_named(name) else {
-            return Ok(None);
-        };
+    // the ranges of smoothness: and time_constant: are the engine's (`Prior::check`)
+    if let Some(arg) = a.opt_named("smoothness") {
         match arg.value {
-            Value::Number(x) if x.is_finite() && x >= 0.0 => Ok(Some(x)),
-            _ => Err(bad_option(
-                a,
-                &arg,
-                format!(
-                    "`{name}:` must be a non-negative number, found {}",
-                    arg.value.repr()
-                ),
-                help,
-            )),
+            Value::Number(x) => p.smoothness = x,
+            _ => return Err(a.type_error("smoothness", "a non-negative number", &arg)),
         }
-    };
-    if let Some(x) = positive(
-        a,
-        "smoothness",
-        "weight λ of the kinematic prior against ∫Στ² (default 1e6; 0 is objective: \"torque\")",
-    )? {
-        p.smoothness = x;
     }
     if let Some(arg) = a.opt_named("time_constant") {
         match arg.value {
             Value::Str(ref t) if &**t == "auto" => p.time_constant = None,
-            Value::Number(x) if x.is_finite() && x > 0.0 => p.time_constant = Some(x),
+            Value::Number(x) => p.time_constant = Some(x),
             _ => {
                 return Err(bad_option(
                     a,
@@ -363,70 +292,32 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
     Ok(p)
 }
 
-fn sp_options(
-    a: &mut Args,
-    ev: &Evaluator,
-    model: &Model,
-    (m, marg): (&Mu, &ArgValue),
-) -> MxResult<SpOptions> {
+fn sp_options(a: &mut Args, ev: &Evaluator, (m, marg): (&Mu, &ArgValue)) -> MxResult<SpOptions> {
     let mut o = SpOptions::default();
-    let continuity = continuity(a)?;
-    // Fewer free coefficients than are fixed at one end leave the optimiser
-    // almost nothing between the end conditions (none at all at 0).
-    let min = continuity.fixed_per_end();
-    if let Some(n) = whole(
-        a,
-        "coefficients",
-        min,
-        200,
-        &format!(
-            "free B-spline coefficients per DOF and gap: at least {min} with continuity: {} (default 5, as in Rose's Fig. 8; Rose uses 5–10)",
-            continuity.order()
-        ),
-    )? {
+    // ranges are the engine's to check (`SpOptions::check`), which names the
+    // option at fault; here only the types
+    o.settings.continuity = continuity(a)?;
+    if let Some(n) = whole(a, "coefficients")? {
         o.settings.coefficients = n;
     }
-    if let Some(n) = whole(
-        a,
-        "samples",
-        1,
-        100_000,
-        "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)",
-    )? {
+    if let Some(n) = whole(a, "samples")? {
         o.settings.samples = n;
     }
-    o.settings.continuity = continuity;
-    if let Some(n) = whole(
-        a,
-        "iterations",
-        0,
-        1_000_000,
-        "solver iterations per gap group (default 300)",
-    )? {
+    if let Some(n) = whole(a, "iterations")? {
         o.solve.max_iters = n as u64;
     }
     if let Some(arg) = a.opt_named("tolerance") {
         match arg.value {
-            Value::Number(x) if x > 0.0 && x < 1.0 => o.solve.tolerance = x,
-            _ => {
-                return Err(bad_option(
-                    a,
-                    &arg,
-                    format!(
-                        "`tolerance:` must be a number in (0, 1), found {}",
-                        arg.value.repr()
-                    ),
-                    "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)",
-                ));
-            }
+            Value::Number(x) => o.solve.tolerance = x,
+            _ => return Err(a.type_error("tolerance", "a number in (0, 1)", &arg)),
         }
     }
     if let Some(g) = a.opt_named("gravity") {
         o.gravity = Some(vec3(a, &g, "gravity")?);
     }
     let support_given = a.has_named("support");
-    o.support = support(a, model)?;
-    o.contact = contact(a, model, support_given)?;
+    o.support = support(a)?;
+    o.contact = contact(a, support_given)?;
     o.floor = floor(a)?;
     o.root = root_fill(a)?;
     let mut library = None;
@@ -454,7 +345,7 @@ fn sp_options(
 fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     let (m, marg) = mu_arg(a, "m")?;
     let model = body_arg(a)?;
-    let mut opts = sp_options(a, ev, &model, (&m, &marg))?;
+    let mut opts = sp_options(a, ev, (&m, &marg))?;
     let busy = Busy::start(
         "SP",
         "{spinner} {prefix} [{elapsed}] {bar:30} {msg} (Ctrl-C cancels)",

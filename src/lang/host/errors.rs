@@ -24,6 +24,10 @@ pub trait EngineError: std::fmt::Display {
     fn argument(&self) -> Option<&'static str> {
         None
     }
+    /// The label at the call when no argument is at fault.
+    fn label(&self) -> &'static str {
+        "in this call"
+    }
 }
 
 /// `e` as a diagnostic of the call `a`: at the argument the engine names
@@ -33,7 +37,7 @@ pub fn diagnostic(e: &dyn EngineError, a: &Args, span: Span) -> MxError {
     let err = MxError::new(e.kind(), e.to_string());
     let err = match at_argument {
         Some((name, s)) => err.at(s).label(format!("this `{name}`")),
-        None => err.at(span).label("in this call"),
+        None => err.at(span).label(e.label()),
     };
     match e.advice() {
         Some(h) => err.help(h),
@@ -84,7 +88,7 @@ impl EngineError for SpError {
         match self {
             SpError::Cancelled => ErrorKind::Cancelled,
             SpError::Conflict(_) => ErrorKind::Motion,
-            SpError::Invalid(_) => ErrorKind::Value,
+            SpError::Invalid(_) | SpError::InvalidOption { .. } => ErrorKind::Value,
             SpError::Evaluation(_) => ErrorKind::Host,
         }
     }
@@ -94,9 +98,49 @@ impl EngineError for SpError {
             SpError::Conflict(_) => {
                 Some("`conflicts(m)` lists where the motion is multiply defined")
             }
+            SpError::InvalidOption { option, .. } => sp_option_help(option),
             _ => None,
         }
     }
+    fn argument(&self) -> Option<&'static str> {
+        self.option()
+    }
+    fn label(&self) -> &'static str {
+        match self {
+            SpError::Conflict(_) | SpError::Evaluation(_) => "this motion",
+            _ => "in this call",
+        }
+    }
+}
+
+/// What each of SP's options means, for the help line under its error (the
+/// engine checks the value; this only explains it).
+fn sp_option_help(option: &str) -> Option<&'static str> {
+    Some(match option {
+        "coefficients" => {
+            "free B-spline coefficients per DOF and gap: at least 2 with continuity: 1, 3 with continuity: 2 \
+             (default 5, as in Rose's Fig. 8; Rose uses 5–10)"
+        }
+        "samples" => {
+            "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)"
+        }
+        "tolerance" => {
+            "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)"
+        }
+        "smoothness" => {
+            "weight λ of the kinematic prior against ∫Στ² (default 1e6; 0 is objective: \"torque\")"
+        }
+        "time_constant" => {
+            "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: \
+             (0.32 s)²/gap length)"
+        }
+        "floor" => "\"auto\" (default): the lowest contact point of the motion's recorded part",
+        "support" | "contact" => {
+            "name frames (links) of the body, e.g. a clip's joints: [\"LeftFoot\", \"RightFoot\"]"
+        }
+        "gravity" => "a finite vector in m/s², e.g. [0, -9.81, 0]",
+        _ => return None,
+    })
 }
 
 impl EngineError for GraphError {

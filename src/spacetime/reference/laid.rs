@@ -1,7 +1,6 @@
 //! A library stretch laid on the gap's clock: resampled over the gap and its
 //! context, its moving root turned and moved onto the motion's.
 
-use super::library::FloorMap;
 use super::{CONTEXT, STEP};
 use crate::library::Match;
 use crate::library::features::KeyJoints;
@@ -14,6 +13,44 @@ use std::collections::HashMap;
 /// Sampling step (s) of a library example on the gap's clock: fine enough
 /// that its cubic reproduces the clip's own 30–120 Hz curves.
 const EXAMPLE_STEP: f64 = 1.0 / 240.0;
+
+/// The floor-plane map (rotation about the vertical, then translation) that
+/// takes a clip's pelvis at one frame onto the motion's at another.
+pub(super) struct FloorMap {
+    pub(super) cos: f64,
+    pub(super) sin: f64,
+    from: Vector3<f64>,
+    to: Vector3<f64>,
+}
+
+impl FloorMap {
+    pub(super) fn between(a: &[Vector3<f64>; 6], b: &[Vector3<f64>; 6]) -> FloorMap {
+        let flat = |p: &[Vector3<f64>; 6]| {
+            let c = (p[4] + p[5]) / 2.0;
+            let mut across = p[4] - p[5];
+            across.y = 0.0;
+            let n = across.norm().max(1e-12);
+            (Vector3::new(c.x, 0.0, c.z), across / n)
+        };
+        let (ca, ua) = flat(a);
+        let (cb, ub) = flat(b);
+        // (x, z) as x + i z: the turn taking ua to ub
+        FloorMap {
+            cos: ua.x * ub.x + ua.z * ub.z,
+            sin: ua.x * ub.z - ua.z * ub.x,
+            from: ca,
+            to: cb,
+        }
+    }
+
+    pub(super) fn apply(&self, x: f64, z: f64) -> (f64, f64) {
+        let (dx, dz) = (x - self.from.x, z - self.from.z);
+        (
+            self.to.x + dx * self.cos - dz * self.sin,
+            self.to.z + dx * self.sin + dz * self.cos,
+        )
+    }
+}
 
 fn ev(e: MotionError) -> SpError {
     SpError::Evaluation(e.to_string())

@@ -32,7 +32,7 @@ pub(super) fn hold_contacts(
     }
     let up = -gravity / gravity.norm();
     let (candidates, named) = match &opts.contact {
-        Contact::Named(n) => (support::named(f.model, n)?, true),
+        Contact::Named(n) => (support::named(f.model, n, "contact")?, true),
         _ => (support::candidates(f.model), false),
     };
     let height = match opts.floor {

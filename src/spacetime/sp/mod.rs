@@ -49,6 +49,7 @@ use crate::spacetime::root::RootCoords;
 /// `SP(m, body: b, …)`: the motion with every interior gap filled. Gaps at the
 /// start or end stay undefined (listed in the report).
 pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpError> {
+    opts.check(model)?;
     checks::check_conflicts(m)?;
     checks::check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);

@@ -1,7 +1,9 @@
 //! What `SP(m, body: b, …)` is asked: the options, the kinematic prior's
 //! knobs, how the root and the support limbs are filled.
 
+use crate::model::Model;
 use crate::spacetime::contact::Contact;
+use crate::spacetime::error::{SpError, invalid_option};
 use crate::spacetime::objective::TransitionSettings;
 use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::solve::SolveOptions;
@@ -28,6 +30,86 @@ pub struct SpOptions {
     /// The floor's height along −gravity (`floor:`); `None`: the lowest
     /// contact point of the motion's recorded part.
     pub floor: Option<f64>,
+}
+
+/// Most free coefficients per DOF and gap (`coefficients:`): more buys no
+/// accuracy (Rose uses 5–10) and the dense solve grows with their square.
+pub const MAX_COEFFICIENTS: usize = 200;
+/// Most Gauss points per gap (`samples:`).
+pub const MAX_SAMPLES: usize = 100_000;
+
+impl SpOptions {
+    /// Checks every option against its range and `model` (frames named by
+    /// `support:` and `contact:`), before any work: an error names the option
+    /// at fault ([`SpError::InvalidOption`]), so the language points at it
+    /// without checking again.
+    pub fn check(&self, model: &Model) -> Result<(), SpError> {
+        let s = &self.settings;
+        let min = s.continuity.fixed_per_end();
+        if !(min..=MAX_COEFFICIENTS).contains(&s.coefficients) {
+            return Err(invalid_option(
+                "coefficients",
+                format!(
+                    "`coefficients: {}` must be a whole number from {min} to {MAX_COEFFICIENTS} with continuity: {}",
+                    s.coefficients,
+                    s.continuity.order()
+                ),
+            ));
+        }
+        if !(1..=MAX_SAMPLES).contains(&s.samples) {
+            return Err(invalid_option(
+                "samples",
+                format!(
+                    "`samples: {}` must be a whole number from 1 to {MAX_SAMPLES}",
+                    s.samples
+                ),
+            ));
+        }
+        let tol = self.solve.tolerance;
+        if !(tol > 0.0 && tol < 1.0) {
+            return Err(invalid_option(
+                "tolerance",
+                format!("`tolerance:` must be a number in (0, 1), found {tol}"),
+            ));
+        }
+        if let Some(g) = self.gravity
+            && !g.iter().all(|x| x.is_finite())
+        {
+            return Err(invalid_option(
+                "gravity",
+                format!(
+                    "`gravity:` must be finite, found [{}, {}, {}]",
+                    g.x, g.y, g.z
+                ),
+            ));
+        }
+        self.prior.check()?;
+        if let Some(h) = self.floor
+            && !h.is_finite()
+        {
+            return Err(invalid_option(
+                "floor",
+                format!("`floor:` must be a finite height in metres, found {h}"),
+            ));
+        }
+        if let Support::Auto { box_size } = self.support
+            && !(box_size.is_finite() && box_size >= 0.0)
+        {
+            return Err(invalid_option(
+                "support",
+                format!(
+                    "support box size {box_size} m must be finite and non-negative (default 0.02)"
+                ),
+            ));
+        }
+        if let Support::Named(names) = &self.support {
+            crate::spacetime::support::named(model, names, "support")?;
+        }
+        if let Contact::Named(names) = &self.contact {
+            crate::spacetime::support::named(model, names, "contact")?;
+        }
+        Ok(())
+    }
 }
 
 /// The kinematic prior SP adds to Rose's ∫Στ² (see [`prior_weights`]):
@@ -75,6 +157,29 @@ impl Default for Prior {
 }
 
 impl Prior {
+    /// `smoothness:` a non-negative number (0: Rose's ∫Στ² alone);
+    /// `time_constant:` a positive time (∞ drops the velocity term).
+    pub fn check(&self) -> Result<(), SpError> {
+        if !(self.smoothness >= 0.0 && self.smoothness.is_finite()) {
+            return Err(invalid_option(
+                "smoothness",
+                format!(
+                    "`smoothness:` must be a non-negative number, found {}",
+                    self.smoothness
+                ),
+            ));
+        }
+        if let Some(t) = self.time_constant
+            && (t.is_nan() || t <= 0.0)
+        {
+            return Err(invalid_option(
+                "time_constant",
+                format!("`time_constant:` must be a positive time or \"auto\", found {t}"),
+            ));
+        }
+        Ok(())
+    }
+
     /// Rose's objective: ∫Στ² alone (`objective: "torque"`).
     pub fn none() -> Prior {
         Prior {

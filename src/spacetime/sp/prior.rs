@@ -6,7 +6,7 @@ use super::options::AUTO_TIME_SCALE;
 use super::options::Prior;
 use crate::model::Model;
 use crate::motion::{JointSampler, Mu};
-use crate::spacetime::error::{SpError, invalid};
+use crate::spacetime::error::SpError;
 use crate::spacetime::objective::GapDof;
 
 /// Fewest kg·m² (or kg) a DOF's inertia scale counts as, so that a massless
@@ -48,19 +48,7 @@ pub fn prior_weights(
     if prior.smoothness == 0.0 || gaps.is_empty() {
         return Ok(out);
     }
-    if !(prior.smoothness.is_finite() && prior.smoothness > 0.0) {
-        return Err(invalid(format!(
-            "smoothness: {} must be a positive number (0 is Rose's torque objective alone)",
-            prior.smoothness
-        )));
-    }
-    if let Some(t) = prior.time_constant
-        && (t.is_nan() || t <= 0.0)
-    {
-        return Err(invalid(format!(
-            "time_constant: {t} must be a positive time (e.g. 0.1s)"
-        )));
-    }
+    prior.check()?;
     let names = model.coordinate_names();
     let mut ws = crate::dynamics::Workspace::new(model);
     let mut mm = nalgebra::DMatrix::zeros(n, n);

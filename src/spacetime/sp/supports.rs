@@ -22,7 +22,7 @@ pub(super) fn hold_supports(
 ) -> Result<Vec<GapDof>, SpError> {
     let named = match &opts.support {
         Support::Off => return Ok(gaps),
-        Support::Named(names) => Some(support::named(f.model, names)?),
+        Support::Named(names) => Some(support::named(f.model, names, "support")?),
         Support::Auto { .. } => None,
     };
     let mut left = vec![];

@@ -146,34 +146,48 @@ pub fn detect(
         .collect())
 }
 
-/// Links named by the user; an unknown name is an error listing the closest names.
-pub fn named(model: &Model, names: &[String]) -> Result<Vec<usize>, SpError> {
+/// Links named by the user in `option` (`support`, `contact`); an unknown
+/// name is an error listing the closest names.
+pub fn named(model: &Model, names: &[String], option: &'static str) -> Result<Vec<usize>, SpError> {
     names
         .iter()
         .map(|n| {
-            model.link_index(n).ok_or_else(|| {
-                let mut near: Vec<(f64, &str)> = model
-                    .links()
-                    .iter()
-                    .map(|l| {
-                        (
-                            strsim::normalized_damerau_levenshtein(
-                                &n.to_lowercase(),
-                                &l.name.to_lowercase(),
-                            ),
-                            l.name.as_str(),
-                        )
-                    })
-                    .collect();
-                near.sort_by(|a, b| b.0.total_cmp(&a.0));
-                let list: Vec<&str> = near.iter().take(5).map(|(_, s)| *s).collect();
-                invalid(format!(
-                    "support: the body has no frame named '{n}'; the nearest names are {}",
-                    list.join(", ")
-                ))
-            })
+            model
+                .link_index(n)
+                .ok_or_else(|| unknown_frame(model, n, option))
         })
         .collect()
+}
+
+/// "no frame named `n`", with the five nearest frame names. `body_of`
+/// bodies carry a massless link per channel (`Hips.Xrotation`); where the
+/// body has joints named without a dot, only those are suggested.
+fn unknown_frame(model: &Model, n: &str, option: &'static str) -> SpError {
+    let links: Vec<&str> = model.links().iter().map(|l| l.name.as_str()).collect();
+    let joints: Vec<&str> = links.iter().copied().filter(|l| !l.contains('.')).collect();
+    let shown = if joints.is_empty() { &links } else { &joints };
+    let mut near: Vec<(f64, &str)> = shown
+        .iter()
+        .map(|l| {
+            let score =
+                strsim::normalized_damerau_levenshtein(&n.to_lowercase(), &l.to_lowercase());
+            (score, *l)
+        })
+        .collect();
+    near.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let list: Vec<&str> = near.iter().take(5).map(|(_, s)| *s).collect();
+    let what = if option == "contact" {
+        "to plant"
+    } else {
+        "to hold as a support limb"
+    };
+    crate::spacetime::error::invalid_option(
+        option,
+        format!(
+            "the body has no frame named `{n}` {what}; the nearest names are {}",
+            list.join(", ")
+        ),
+    )
 }
 
 /// Where a held frame must be over part of a gap: on the straight path from
