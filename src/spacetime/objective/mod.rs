@@ -199,7 +199,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
 
     /// Scales the prior's weights, as given to [`Objective::with_prior`], by
     /// `scale` in place: the objective equals, bit for bit, one built with
-    /// the weights times `scale` (the continuation's steps, `groups.rs`, need
+    /// the weights times `scale` (the continuation's steps, `solve/continuation.rs`, need
     /// not rebuild the objective, its inputs sampled again). The example
     /// followed, if any, stays.
     pub fn rescale_prior(&mut self, scale: f64) -> Result<(), SpError> {
