@@ -7,17 +7,17 @@ use crate::motion::{Mu, conflicts};
 use crate::spacetime::error::{SpError, invalid};
 
 pub(super) fn motion_err(e: crate::motion::MotionError) -> SpError {
-    SpError::Evaluation(e.to_string())
+    SpError::Motion(e)
 }
 
 /// Error on any conflict (SP needs one value per DOF where it is defined).
 pub(super) fn check_conflicts(m: &Mu) -> Result<(), SpError> {
     if let Some(c) = conflicts(m).first() {
-        return Err(SpError::Conflict(format!(
-            "DOF '{}' is multiply defined on [{}, {}] (a conflict): SP fills gaps, it cannot choose between motions; \
-             remove one of them there (e.g. a − b) before SP",
-            c.dof, c.start, c.stop
-        )));
+        return Err(SpError::Conflict {
+            dof: c.dof.clone(),
+            t0: c.start,
+            t1: c.stop,
+        });
     }
     Ok(())
 }
