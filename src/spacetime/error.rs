@@ -130,3 +130,58 @@ pub(crate) fn invalid_option(option: &'static str, message: impl Into<String>) -
         message: message.into(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spacetime::planar2::TwoLinkArm;
+    use crate::spacetime::{Continuity, TorqueModel, TransitionCurve};
+
+    #[test]
+    fn lower_layer_errors_are_kept_whole() {
+        // too few coefficients for the curve's basis: the spline's own error
+        let c = TransitionCurve::new(0.0, 1.0, 5, Continuity::C1).unwrap();
+        let e = c.to_curve(vec![0.0; 2]).unwrap_err();
+        assert!(matches!(e, SpError::Curve(_)), "{e:?}");
+        assert!(e.to_string().starts_with("transition curve: "), "{e}");
+        // wrong state lengths: the dynamics' input error
+        let arm = TwoLinkArm::default();
+        let mut ws = arm.workspace();
+        let mut tau = vec![0.0; 2];
+        let e = arm
+            .torques(&mut ws, &[0.0], &[0.0; 2], &[0.0; 2], &mut tau)
+            .unwrap_err();
+        assert!(
+            matches!(e, SpError::Dynamics(DynamicsError::Input(_))),
+            "{e:?}"
+        );
+        // cyclify's evaluation failure is carried, its bad input is SP's Invalid
+        let e = SpError::from(CyclifyError::Evaluation("x".into()));
+        assert_eq!(e, SpError::Cyclify(CyclifyError::Evaluation("x".into())));
+        let e = SpError::from(CyclifyError::Invalid("y".into()));
+        assert_eq!(e, SpError::Invalid("y".into()));
+    }
+
+    #[test]
+    fn conflict_and_undefined_keep_their_wording() {
+        let e = SpError::Conflict {
+            dof: "hip".into(),
+            t0: 0.5,
+            t1: 0.8,
+        };
+        assert!(
+            e.to_string()
+                .starts_with("DOF 'hip' is multiply defined on [0.5, 0.8] (a conflict)"),
+            "{e}"
+        );
+        let e = SpError::Undefined {
+            dof: "knee".into(),
+            t: 1.5,
+            need: Need::GapEnd,
+        };
+        assert_eq!(
+            e.to_string(),
+            "DOF 'knee' is undefined at the gap end t = 1.5"
+        );
+    }
+}
