@@ -146,10 +146,9 @@ mod tests {
         assert!(e.to_string().starts_with("transition curve: "), "{e}");
         // wrong state lengths: the dynamics' input error
         let arm = TwoLinkArm::default();
-        let mut ws = arm.workspace();
         let mut tau = vec![0.0; 2];
         let e = arm
-            .torques(&mut ws, &[0.0], &[0.0; 2], &[0.0; 2], &mut tau)
+            .torques(&mut arm.workspace(), &[0.0], &[0.0; 2], &[0.0; 2], &mut tau)
             .unwrap_err();
         assert!(
             matches!(e, SpError::Dynamics(DynamicsError::Input(_))),
