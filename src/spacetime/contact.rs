@@ -108,7 +108,7 @@ pub fn floor_of(
 fn fk(model: &Model, q: &[f64], poses: &mut Vec<crate::lie::Se3>) -> Result<(), SpError> {
     model
         .forward_kinematics(q, poses)
-        .map_err(|e| SpError::Evaluation(format!("forward kinematics: {e}")))
+        .map_err(SpError::Kinematics)
 }
 
 impl<'a> Context<'a> {
@@ -148,7 +148,7 @@ impl<'a> Context<'a> {
         pb.iter_mut().for_each(|p| p.reverse());
         let (ta, pa) = side((0..=n).map(|k| t1 + k as f64 * STEP).collect())?;
         if tb.is_empty() || ta.is_empty() {
-            return Err(SpError::Evaluation(format!(
+            return Err(SpError::Incomplete(format!(
                 "contact: the body is not fully defined at the gap ends [{t0}, {t1}]"
             )));
         }

@@ -33,10 +33,7 @@ pub fn case<'m>(model: &'m Model, motion: Mu, t0: f64, t1: f64) -> Result<Case<'
     let root = RootCoords::detect_in(model, &body.gravity, &motion);
     let names = model.coordinate_names();
     let state = |n: &str, t: f64| -> Result<EndState, SpError> {
-        match motion
-            .sample(n, t)
-            .map_err(|e| SpError::Evaluation(e.to_string()))?
-        {
+        match motion.sample(n, t).map_err(SpError::Motion)? {
             Some([q, v, a]) => Ok(EndState { q, v, a }),
             None => Err(invalid(format!(
                 "Fig. 8 case: the motion does not define {n} at t = {t}"
@@ -74,11 +71,7 @@ impl Case<'_> {
         a: &mut [f64],
     ) -> Result<(), SpError> {
         for (i, n) in self.body.model.coordinate_names().iter().enumerate() {
-            if let Some([x, dx, ddx]) = self
-                .motion
-                .sample(n, t)
-                .map_err(|e| SpError::Evaluation(e.to_string()))?
-            {
+            if let Some([x, dx, ddx]) = self.motion.sample(n, t).map_err(SpError::Motion)? {
                 q[i] = x;
                 v[i] = dx;
                 a[i] = ddx;
@@ -108,7 +101,7 @@ impl Case<'_> {
 /// of `mocap::synth` fitted to it.
 pub fn example_walk() -> Result<(Model, Mu), SpError> {
     use crate::mocap::{bvh, human, synth};
-    let err = |e: crate::mocap::MocapError| SpError::Evaluation(e.to_string());
+    let err = |e: crate::mocap::MocapError| SpError::Data(e.to_string());
     let f = synth::walk();
     let s = bvh::detect_units(&f.skeleton).metres_per_unit;
     let h = human::human(&f.skeleton, s, 70.0).map_err(err)?;

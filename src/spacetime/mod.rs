@@ -11,7 +11,7 @@ pub mod hermite;
 pub mod quadrature;
 pub mod transition;
 
-pub use error::SpError;
+pub use error::{Need, SpError};
 pub use transition::{Continuity, EndState, TransitionCurve};
 /// A hand-checked two-link arm: a fixture of the unit tests and the report.
 #[cfg(any(test, feature = "report"))]

@@ -66,11 +66,13 @@ impl TwoLinkArm {
 
 fn check_len(n: usize, q: &[f64], v: &[f64], a: &[f64]) -> Result<(), SpError> {
     if q.len() != n || v.len() != n || a.len() != n {
-        return Err(SpError::Evaluation(format!(
-            "the two-link arm has {n} coordinates; got q, q̇, q̈ of lengths {}, {}, {}",
-            q.len(),
-            v.len(),
-            a.len()
+        return Err(SpError::Dynamics(crate::dynamics::DynamicsError::Input(
+            format!(
+                "the two-link arm has {n} coordinates; got q, q̇, q̈ of lengths {}, {}, {}",
+                q.len(),
+                v.len(),
+                a.len()
+            ),
         )));
     }
     Ok(())

@@ -98,7 +98,7 @@ impl<'m> BodyDynamics<'m> {
 }
 
 fn dyn_err(e: crate::dynamics::DynamicsError) -> SpError {
-    SpError::Evaluation(format!("dynamics: {e}"))
+    SpError::Dynamics(e)
 }
 
 impl TorqueModel for BodyDynamics<'_> {

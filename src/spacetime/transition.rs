@@ -145,9 +145,7 @@ impl TransitionCurve {
     /// The curve with full coefficients `c` as a spline of the `spline` module
     /// (what is stored in the motion).
     pub fn to_curve(&self, c: Vec<f64>) -> Result<crate::spline::BSplineCurve, SpError> {
-        self.basis
-            .curve(c)
-            .map_err(|e| SpError::Evaluation(format!("transition curve: {e}")))
+        self.basis.curve(c).map_err(SpError::Curve)
     }
 
     /// [q, q̇, q̈] of the curve with full coefficients `c` at t.

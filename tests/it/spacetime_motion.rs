@@ -171,7 +171,10 @@ fn a_conflict_is_an_error() {
         .plus(&Dof::from(Interval::constant(0.3, 1.0, 1.5).unwrap()));
     m.insert(name, d);
     match sp(&m, &model, &fast()) {
-        Err(SpError::Conflict(msg)) => assert!(msg.contains(name), "{msg}"),
+        Err(SpError::Conflict { dof, t0, t1 }) => {
+            assert_eq!(dof, name);
+            assert!(t1 > t0, "[{t0}, {t1}]");
+        }
         other => panic!("expected a conflict error, got {other:?}"),
     }
     assert!(fill_hermite(&m).is_err());

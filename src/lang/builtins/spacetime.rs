@@ -367,7 +367,7 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     // A cancelled solve returns no motion at all, never a partly solved one.
     ev.check_cancel(a.call_span())?;
     let (filled, report) = result.map_err(|e| {
-        let span = if matches!(e, SpError::Conflict(_)) {
+        let span = if matches!(e, SpError::Conflict { .. }) {
             marg.span
         } else {
             a.call_span()

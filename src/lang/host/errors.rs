@@ -87,15 +87,25 @@ impl EngineError for SpError {
     fn kind(&self) -> ErrorKind {
         match self {
             SpError::Cancelled => ErrorKind::Cancelled,
-            SpError::Conflict(_) => ErrorKind::Motion,
+            SpError::Conflict { .. } => ErrorKind::Motion,
             SpError::Invalid(_) | SpError::InvalidOption { .. } => ErrorKind::Value,
-            SpError::Evaluation(_) => ErrorKind::Host,
+            // what the motion or the body could not give: the host's, as before they were typed
+            SpError::Undefined { .. }
+            | SpError::Incomplete(_)
+            | SpError::Motion(_)
+            | SpError::Dynamics(_)
+            | SpError::Kinematics(_)
+            | SpError::Curve(_)
+            | SpError::Library(_)
+            | SpError::Cyclify(_)
+            | SpError::Numerical(_)
+            | SpError::Data(_) => ErrorKind::Host,
         }
     }
     fn advice(&self) -> Option<&'static str> {
         match self {
             SpError::Cancelled => Some("cancelled by the user (Ctrl-C)"),
-            SpError::Conflict(_) => {
+            SpError::Conflict { .. } => {
                 Some("`conflicts(m)` lists where the motion is multiply defined")
             }
             SpError::InvalidOption { option, .. } => sp_option_help(option),
@@ -107,8 +117,10 @@ impl EngineError for SpError {
     }
     fn label(&self) -> &'static str {
         match self {
-            SpError::Conflict(_) | SpError::Evaluation(_) => "this motion",
-            _ => "in this call",
+            SpError::Cancelled | SpError::Invalid(_) | SpError::InvalidOption { .. } => {
+                "in this call"
+            }
+            _ => "this motion",
         }
     }
 }

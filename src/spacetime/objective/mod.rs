@@ -315,7 +315,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             }
         }
         if !e.is_finite() {
-            return Err(SpError::Evaluation(
+            return Err(SpError::Numerical(
                 "the torque objective is not finite (the body or the motion gives NaN/∞ torques)"
                     .into(),
             ));

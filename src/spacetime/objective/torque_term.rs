@@ -122,10 +122,9 @@ fn undefined<M: TorqueModel>(model: &M, layout: &GapLayout, c: usize, t: f64) ->
         .iter()
         .map(|d| format!("{} on [{}, {}]", model.coordinate_name(d.coord), d.t0, d.t1))
         .collect();
-    SpError::Evaluation(format!(
-        "{} is undefined at t = {t} but the transition of {} needs the whole body there; \
-         define it (e.g. extend its motion, or fill its own gap first)",
-        model.coordinate_name(c),
-        gaps.join(", ")
-    ))
+    SpError::Undefined {
+        dof: model.coordinate_name(c).to_string(),
+        t,
+        need: crate::spacetime::Need::Transition(gaps.join(", ")),
+    }
 }

@@ -53,7 +53,7 @@ impl FloorMap {
 }
 
 fn ev(e: MotionError) -> SpError {
-    SpError::Evaluation(e.to_string())
+    SpError::Motion(e)
 }
 
 /// The joint that carries the body through the world: the first joint from

@@ -66,11 +66,7 @@ impl ClipStretch {
     ) -> impl Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + '_ {
         move |t, q, v, a| {
             for (i, n) in self.names.iter().enumerate() {
-                if let Some([x, dx, ddx]) = self
-                    .motion
-                    .sample(n, t)
-                    .map_err(|e| SpError::Evaluation(e.to_string()))?
-                {
+                if let Some([x, dx, ddx]) = self.motion.sample(n, t).map_err(SpError::Motion)? {
                     q[i] = x;
                     v[i] = dx;
                     a[i] = ddx;
@@ -218,7 +214,7 @@ impl<'a> LibraryGap<'a> {
         bar: Option<f64>,
     ) -> Result<Option<Example>, SpError> {
         let entry = &lib.clips[cand.clip];
-        let clip = entry.motion().map_err(|e| SpError::Evaluation(e.0))?;
+        let clip = entry.motion()?;
         let Some(Some(theirs)) = key_positions(
             &clip.mu,
             &clip.skeleton,

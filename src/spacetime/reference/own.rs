@@ -137,10 +137,7 @@ impl Grid {
         for (row, &c) in x.iter_mut().zip(&coords) {
             for (j, v) in row.iter_mut().enumerate() {
                 let t = (t0 + (k_lo + j as i64) as f64 * h).clamp(start, stop);
-                if let Some(s) = m
-                    .sample(&names[c], t)
-                    .map_err(|e| SpError::Evaluation(e.to_string()))?
-                {
+                if let Some(s) = m.sample(&names[c], t).map_err(SpError::Motion)? {
                     *v = s[0];
                 }
             }

@@ -81,14 +81,14 @@ impl<'o, 'a, M: TorqueModel> Evaluator<'o, 'a, M> {
     /// e and ∂e/∂x at x (the best point is updated).
     pub fn eval_x(&self, x: &[f64]) -> Result<(f64, Vec<f64>), Error> {
         if self.cancel.is_cancelled() {
-            return Err(Error::msg("cancelled"));
+            return Err(Error::new(crate::spacetime::SpError::Cancelled));
         }
         let mut g = vec![0.0; x.len()];
         let mut s = self.state.borrow_mut();
         let e = self
             .obj
             .eval(&mut s.scratch, x, Some(&mut g))
-            .map_err(|e| Error::msg(e.to_string()))?;
+            .map_err(Error::new)?;
         s.evaluations += 1;
         self.progress.report(ProgressEvent::Evaluation);
         if s.best.as_ref().is_none_or(|b| e < b.e) {

@@ -125,7 +125,7 @@ mod tests {
     fn input_errors_propagate() {
         let arm = TwoLinkArm::default();
         let inputs = |t: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]| {
-            Err(SpError::Evaluation(format!("undefined at {t}")))
+            Err(SpError::Numerical(format!("undefined at {t}")))
         };
         let problem = Problem {
             model: &arm,
@@ -137,7 +137,7 @@ mod tests {
             names: &[],
         };
         let r = solve_all(&problem, vec![gap(1, 0.0, 0.5)]);
-        assert!(matches!(r, Err(SpError::Evaluation(_))));
+        assert!(matches!(r, Err(SpError::Numerical(_))));
     }
 
     #[test]

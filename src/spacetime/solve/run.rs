@@ -90,7 +90,11 @@ pub(super) fn run<M: TorqueModel>(
     let mut scratch = obj.scratch();
     let t = obj.gauss_newton_at(&mut scratch, &x0)?;
     let problem = Evaluator::new(obj, t, scratch, opts.cancel.clone(), opts.progress.clone());
-    let eval_err = |e: Error| SpError::Evaluation(e.to_string());
+    // the objective's own errors travel through argmin whole; anything else is the solver's
+    let eval_err = |e: Error| {
+        e.downcast::<SpError>()
+            .unwrap_or_else(|e| SpError::Numerical(e.to_string()))
+    };
     let y0 = problem.to_y(&x0);
     let (e0, g0x) = problem.eval_x(&x0).map_err(eval_err)?;
     let (_, g0) = problem.eval(&y0).map_err(eval_err)?;

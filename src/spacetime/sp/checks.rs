@@ -7,17 +7,17 @@ use crate::motion::{Mu, conflicts};
 use crate::spacetime::error::{SpError, invalid};
 
 pub(super) fn motion_err(e: crate::motion::MotionError) -> SpError {
-    SpError::Evaluation(e.to_string())
+    SpError::Motion(e)
 }
 
 /// Error on any conflict (SP needs one value per DOF where it is defined).
 pub(super) fn check_conflicts(m: &Mu) -> Result<(), SpError> {
     if let Some(c) = conflicts(m).first() {
-        return Err(SpError::Conflict(format!(
-            "DOF '{}' is multiply defined on [{}, {}] (a conflict): SP fills gaps, it cannot choose between motions; \
-             remove one of them there (e.g. a − b) before SP",
-            c.dof, c.start, c.stop
-        )));
+        return Err(SpError::Conflict {
+            dof: c.dof.clone(),
+            t0: c.start,
+            t1: c.stop,
+        });
     }
     Ok(())
 }
@@ -77,7 +77,12 @@ mod tests {
             .unwrap()
             .plus(&Dof::from(Interval::constant(0.0, 0.1, 0.2).unwrap()));
         twice.insert("hip", hip);
-        let e = check_conflicts(&twice).unwrap_err().to_string();
+        let e = check_conflicts(&twice).unwrap_err();
+        assert!(
+            matches!(&e, SpError::Conflict { dof, t0, t1 } if dof == "hip" && *t0 == 0.1 && *t1 == 0.2),
+            "{e:?}"
+        );
+        let e = e.to_string();
         assert!(e.contains("'hip'") && e.contains("conflict"), "{e}");
         let mut missing = m.clone();
         missing.dofs.shift_remove("knee");
@@ -92,5 +97,52 @@ mod tests {
         foreign.insert("tail", gapped);
         let e = check_names(&foreign, &model).unwrap_err().to_string();
         assert!(e.contains("'tail'"), "{e}");
+    }
+
+    /// SP and torque_energy say which error it is, not only its text.
+    #[test]
+    fn sp_and_torque_energy_raise_typed_errors() {
+        use crate::spacetime::Need;
+        use crate::spacetime::sp::{SpOptions, Support, sp, torque_energy};
+        let model = body();
+        let opts = SpOptions {
+            support: Support::Off,
+            ..Default::default()
+        };
+        let mut twice = motion(&model, &[3], (0.8, 1.2));
+        let knee = twice
+            .get("knee")
+            .unwrap()
+            .plus(&Dof::from(Interval::constant(0.0, 0.1, 0.2).unwrap()));
+        twice.insert("knee", knee);
+        match sp(&twice, &model, &opts) {
+            Err(SpError::Conflict { dof, t0, t1 }) => {
+                assert_eq!((dof.as_str(), t0, t1), ("knee", 0.1, 0.2))
+            }
+            other => panic!("expected a conflict, got {other:?}"),
+        }
+        let gapped = motion(&model, &[3], (0.8, 1.2));
+        match torque_energy(&gapped, &model, None) {
+            Err(SpError::Undefined { dof, t, need }) => {
+                assert_eq!((dof.as_str(), &need), ("hip", &Need::TorqueEnergy));
+                assert!(t > 0.8 && t < 1.2, "{t}");
+            }
+            other => panic!("expected an undefined DOF, got {other:?}"),
+        }
+        // the knee starts at 1.0, inside the hip's gap: its transition cannot
+        // compute the body's torques there
+        let mut late = gapped.clone();
+        late.insert(
+            "knee",
+            Dof::from(Interval::constant(0.3, 1.0, 2.0).unwrap()),
+        );
+        match sp(&late, &model, &opts) {
+            Err(SpError::Undefined { dof, t, need }) => {
+                assert_eq!(dof, "knee");
+                assert!(t < 1.0, "{t}");
+                assert!(matches!(need, Need::Transition(_)), "{need:?}");
+            }
+            other => panic!("expected an undefined DOF, got {other:?}"),
+        }
     }
 }

@@ -70,10 +70,11 @@ pub fn torque_energy(m: &Mu, model: &Model, gravity: Option<Vector3<f64>>) -> Re
                     .state(t, &mut q, &mut v, &mut a)
                     .map_err(motion_err)?
                 {
-                    return Err(SpError::Evaluation(format!(
-                        "torque_energy: DOF '{}' is undefined at t = {t}; fill the gap first (SP or fill(m, \"hermite\"))",
-                        names[i]
-                    )));
+                    return Err(SpError::Undefined {
+                        dof: names[i].to_string(),
+                        t,
+                        need: crate::spacetime::Need::TorqueEnergy,
+                    });
                 }
                 body.torques(&mut ws, &q, &v, &a, &mut tau)?;
                 total += wq

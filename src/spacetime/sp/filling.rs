@@ -43,9 +43,11 @@ impl<'a> Filling<'a> {
     pub fn end_state(&self, name: &str, t: f64) -> Result<EndState, SpError> {
         match self.motion.sample(name, t).map_err(motion_err)? {
             Some([q, v, a]) => Ok(EndState { q, v, a }),
-            None => Err(SpError::Evaluation(format!(
-                "DOF '{name}' is undefined at the gap end t = {t}"
-            ))),
+            None => Err(SpError::Undefined {
+                dof: name.to_string(),
+                t,
+                need: crate::spacetime::Need::GapEnd,
+            }),
         }
     }
 

@@ -65,8 +65,7 @@ pub fn prior_weights(
             .into_iter()
             .map(|x| if x.is_nan() { 0.0 } else { x })
             .collect();
-        crate::dynamics::mass_matrix(model, &mut ws, &q, &mut mm)
-            .map_err(|e| SpError::Evaluation(format!("dynamics: {e}")))?;
+        crate::dynamics::mass_matrix(model, &mut ws, &q, &mut mm).map_err(SpError::Dynamics)?;
         let same_gap = |h: &&GapDof| (h.t0 - g.t0).abs() <= crate::motion::time_tol(g.t0);
         let largest = gaps
             .iter()

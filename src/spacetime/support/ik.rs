@@ -325,7 +325,7 @@ impl<'a> SupportObjective<'a> {
             }
         }
         if !total.is_finite() {
-            return Err(SpError::Evaluation(
+            return Err(SpError::Numerical(
                 "support IK: the frame positions are not finite".into(),
             ));
         }

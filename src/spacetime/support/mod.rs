@@ -64,7 +64,7 @@ pub struct HeldFrame {
 fn link_positions(model: &Model, q: &[f64], poses: &mut Vec<Se3>) -> Result<(), SpError> {
     model
         .forward_kinematics(q, poses)
-        .map_err(|e| SpError::Evaluation(format!("forward kinematics: {e}")))
+        .map_err(SpError::Kinematics)
 }
 
 /// The world positions of `frames` at time t of a fully defined configuration.
@@ -76,7 +76,7 @@ fn frame_positions(
 ) -> Result<Vec<Vector3<f64>>, SpError> {
     let q = configuration(t)?;
     if q.iter().any(|v| !v.is_finite()) {
-        return Err(SpError::Evaluation(format!(
+        return Err(SpError::Incomplete(format!(
             "support IK: the body is not fully defined at the gap end t = {t}"
         )));
     }
