@@ -102,22 +102,8 @@ impl Example {
 }
 
 /// The example for a group of gaps from the motion itself (`self`), a
-/// library, or both (the lower ρ kept); joints by the name convention
-/// ([`Joints::by_name`]).
-pub fn choose(
-    m: &Mu,
-    names: &[String],
-    rotation: &dyn Fn(usize) -> bool,
-    gaps: &[GapDof],
-    own: bool,
-    library: Option<&LibrarySource>,
-) -> Result<Option<Example>, SpError> {
-    let joints = Joints::by_name(names);
-    choose_with(m, names, rotation, &joints, gaps, own, library)
-}
-
-/// [`choose`] on a body: a joint's channels are its model's joints as well
-/// as the name convention's ([`Joints::of_model`]), so OpenSim coordinates,
+/// library, or both (the lower ρ kept). A joint's channels are its model's
+/// joints as well as the name convention's ([`Joints::of_model`]), so OpenSim coordinates,
 /// whose names carry no joint, still follow an example joint by joint.
 pub fn choose_for(
     model: &Model,
@@ -132,7 +118,7 @@ pub fn choose_for(
     choose_with(m, names, rotation, &joints, gaps, own, library)
 }
 
-/// [`choose`] with the coordinates' joints given.
+/// [`choose_for`] with the coordinates' joints given.
 pub fn choose_with(
     m: &Mu,
     names: &[String],
