@@ -205,6 +205,8 @@ class MX_OT_import_motion(ImportHelper, bpy.types.Operator):
             missing = sorted(set(rig.dofs) - set(m.dofs))
             if len(missing) == len(rig.dofs):
                 raise RigError("none of the armature's bones is in the motion (names must match)")
+            if m.span is None:
+                raise RigError(f"{os.path.basename(self.filepath)} holds an empty motion")
             lo, hi = m.span
             n = int(np.floor((hi - lo) * fps + 1e-9)) + 1
             times = lo + np.arange(n) / fps
@@ -248,6 +250,8 @@ class MX_OT_export_motion(ExportHelper, bpy.types.Operator):
             if ext not in (".json", ".bvh", ".glb", ".gltf"):
                 raise RigError(f"mx writes .json, .bvh, .glb and .gltf, not {ext or 'no extension'}")
             frames = fcurves.keyed_frames(act)
+            if len(frames) == 0:
+                raise RigError(f"the action {act.name!r} has no keys to export")
             frames = np.arange(frames[0], frames[-1] + 1)
             rig = Rig(ob, {p for (p, _) in fcurves.keys(act)})
             fps = _fps(context.scene)

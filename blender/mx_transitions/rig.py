@@ -212,8 +212,9 @@ class Rig:
         col = {d: i for i, d in enumerate(names)}
         rots = {}
         for d in names:
-            joint, ch = d.rsplit(".", 1)
-            if ch.endswith("rotation"):
+            # a bare name (an OpenSim coordinate) is no bone's channel
+            joint, _, ch = d.rpartition(".")
+            if joint and ch.endswith("rotation"):
                 rots.setdefault(joint, []).append(d)
         out = np.zeros((raw.shape[0], len(self.dofs)))
         k = 0

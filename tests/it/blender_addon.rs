@@ -144,9 +144,13 @@ fn check_fill(mode: &str) {
     // On the files themselves (mx.load, body_of) it differs only by the body:
     // Blender's importer lengthens zero-length leaf bones (head, hands, toes),
     // so the armature's body is not the file's; the values alone agree to
-    // float32 (rig_vs_file_max above).
-    let (files, body) = (get("vs_files_api_max"), get("files_body_vs_rest_body_max"));
-    assert!((files - body).abs() < 1e-3, "{files} vs {body}");
+    // float32 (rig_vs_file_max above): with the armature's body, the files'
+    // values give the operator's transition within 1e-4 rad/m (2e-5 measured).
+    let same_body = get("vs_files_same_body_max");
+    assert!(
+        same_body < 1e-4,
+        "operator vs files with the same body: {same_body}"
+    );
     // Between two NLA strips placed as the actions were: the same transition.
     assert!(get("nla_vs_actions_max") <= 1e-9);
     // Misuse (a missing action, no gap, no strips) is a clear report.

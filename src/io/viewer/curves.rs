@@ -76,9 +76,9 @@ pub fn is_extremity(dof: &str) -> bool {
 }
 
 /// Whether a DOF is an angle whose wraps between −π and π can be unwrapped
-/// (BVH rotation channels: `…rotation`).
+/// (BVH rotation channels, `…rotation`, as the channel module reads them).
 pub fn is_angle(dof: &str) -> bool {
-    dof.to_ascii_lowercase().ends_with("rotation")
+    crate::motion::channel::rotation_axis(dof).is_some()
 }
 
 /// Continues an angle across wraps: a step of more than π between

@@ -245,20 +245,16 @@ mod tests {
     use crate::lang::host::motion::Motion;
     use crate::motion::Mu;
 
-    /// Every listed field is read, and nothing outside the list: the Python
-    /// report dict (built from `FIELDS`) then has every field mx has.
+    /// The fields the Python dict lost before it was built from `FIELDS` are
+    /// listed, once each (that every listed field is read holds by
+    /// construction; pytest compares Python's dict with the table).
     #[test]
     fn the_field_list_is_what_the_report_answers() {
-        let r = SpReportValue(Arc::new(SpReport::default()));
-        for name in FIELDS {
-            assert!(r.field(name).is_some(), "`{name}` is listed but not read");
-        }
         assert!(FIELDS.contains(&"constant") && FIELDS.contains(&"contacts"));
         let mut unique = FIELDS.to_vec();
         unique.sort();
         unique.dedup();
         assert_eq!(unique.len(), FIELDS.len(), "a field is listed twice");
-        assert!(r.field("no_such_field").is_none());
     }
 
     #[test]
