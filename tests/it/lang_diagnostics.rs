@@ -145,6 +145,18 @@ fn sp_option_errors_come_from_the_engine_and_point_at_the_option() {
             "Gauss points",
         ),
         (
+            "SP(m, body: b, samples: 1e12)",
+            "1e12",
+            "from 1 to 100000",
+            "Gauss points",
+        ),
+        (
+            "SP(m, body: b, iterations: 1e9)",
+            "1e9",
+            "from 0 to 1000000",
+            "solver iterations",
+        ),
+        (
             "SP(m, body: b, tolerance: 2)",
             "2",
             "in (0, 1)",

@@ -69,9 +69,8 @@ fn whole(a: &mut Args, name: &str) -> MxResult<Option<usize>> {
         return Ok(None);
     };
     match arg.value {
-        Value::Number(x) if x.fract() == 0.0 && (0.0..=u32::MAX as f64).contains(&x) => {
-            Ok(Some(x as usize))
-        }
+        // (a huge number saturates, and the engine's range check reports it)
+        Value::Number(x) if x.fract() == 0.0 && x >= 0.0 => Ok(Some(x as usize)),
         _ => Err(a.type_error(name, "a whole number", &arg)),
     }
 }

@@ -136,6 +136,7 @@ fn sp_option_help(option: &str) -> Option<&'static str> {
         "samples" => {
             "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)"
         }
+        "iterations" => "solver iterations per gap group (default 300)",
         "tolerance" => {
             "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)"
         }

@@ -37,6 +37,9 @@ pub struct SpOptions {
 pub const MAX_COEFFICIENTS: usize = 200;
 /// Most Gauss points per gap (`samples:`).
 pub const MAX_SAMPLES: usize = 100_000;
+/// Most solver iterations per gap group (`iterations:`): a typo like 1e9
+/// would run until cancelled.
+pub const MAX_ITERATIONS: u64 = 1_000_000;
 
 impl SpOptions {
     /// Checks every option against its range and `model` (frames named by
@@ -62,6 +65,15 @@ impl SpOptions {
                 format!(
                     "`samples: {}` must be a whole number from 1 to {MAX_SAMPLES}",
                     s.samples
+                ),
+            ));
+        }
+        if self.solve.max_iters > MAX_ITERATIONS {
+            return Err(invalid_option(
+                "iterations",
+                format!(
+                    "`iterations: {}` must be a whole number from 0 to {MAX_ITERATIONS}",
+                    self.solve.max_iters
                 ),
             ));
         }
