@@ -471,25 +471,17 @@ fn folder_of(dir: &str, base: &Path) -> PathBuf {
     base.join(dir) // an absolute `dir` replaces `base`
 }
 
-/// A string's text as typed (`\"`, `\\`) read back.
+/// A string's text as typed read back, as the parser reads it; text that
+/// is not yet a whole string (a trailing `\`) as it stands.
 fn unescape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    let mut chars = s.chars();
-    while let Some(c) = chars.next() {
-        if c == '\\' {
-            if let Some(n) = chars.next() {
-                out.push(n);
-            }
-        } else {
-            out.push(c);
-        }
-    }
-    out
+    crate::lang::parser::build::unescape(s).unwrap_or_else(|_| s.to_string())
 }
 
-/// Text to put inside an mx string.
+/// Text to put inside an mx string (the language's own quoting, without
+/// the quotes).
 fn escape(s: &str) -> String {
-    s.replace('\\', "\\\\").replace('"', "\\\"")
+    let q = crate::lang::value::quote(s);
+    q[1..q.len() - 1].to_string()
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@
 //! parses on past syntax errors for `mx check`; `complete.rs` answers the
 //! REPL's "is this input complete?".
 
-mod build;
+pub(crate) mod build;
 mod complete;
 mod errors;
 mod grammar;
