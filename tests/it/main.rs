@@ -10,6 +10,7 @@ mod blender_addon;
 mod bvh_malformed;
 mod bvh_shared;
 mod cli;
+mod doc_blocks;
 #[cfg(feature = "report")]
 mod dynamics;
 mod dynamics_lang;
