@@ -208,3 +208,99 @@ fn the_blender_folder_works_as_a_local_extension_repository() {
     assert_eq!(c.get("local_operator_registered"), Some(&1.0), "{stdout}");
     assert_eq!(c.get("local_mx_imports"), Some(&1.0), "{stdout}");
 }
+
+/// The README's Blender section, followed word for word (issue 38): its
+/// ```sh block (the one command that builds the add-on) run from the
+/// repository root, then its ```python block run in bpy 5.0.1 from a folder
+/// that looks like the repository root (the repository's `examples` and
+/// `target` linked in, `out/` its own): install the zip, import two clips
+/// with Blender's importer, fill the gap, export. The exported file must be
+/// the walk, the gap and the run.
+#[test]
+fn the_readme_blender_steps_run_as_written() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let section = readme
+        .split("\n## Blender\n")
+        .nth(1)
+        .expect("README.md has a `## Blender` section")
+        .split("\n## ")
+        .next()
+        .unwrap();
+    let found = crate::doc_blocks::blocks(section);
+    let of = |lang: &str| -> Vec<String> {
+        found
+            .iter()
+            .filter(|(b, _)| b.info.first().is_some_and(|l| l == lang))
+            .map(|(b, _)| b.text.clone())
+            .collect()
+    };
+    let (sh, py) = (of("sh"), of("python"));
+    assert_eq!(sh.len(), 1, "one command builds the add-on: {sh:?}");
+    assert_eq!(py.len(), 1, "one Python block: {py:?}");
+    let Some(python) = common::blender_python() else {
+        return;
+    };
+    // The build, as the README says it (a no-op rebuild after scripts/test's).
+    let built = Command::new("bash")
+        .args(["-euo", "pipefail", "-c", &sh[0]])
+        .current_dir(root)
+        .output()
+        .expect("runs bash");
+    assert!(
+        built.status.success(),
+        "the README's build command failed:\n{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let work = tempfile::tempdir().unwrap();
+    for name in ["examples", "target"] {
+        std::os::unix::fs::symlink(root.join(name), work.path().join(name)).unwrap();
+    }
+    std::fs::create_dir(work.path().join("out")).unwrap();
+    let script = work.path().join("readme_blender.py");
+    std::fs::write(&script, &py[0]).unwrap();
+    let home = work.path().join("home");
+    let out = Command::new(&python)
+        .arg(&script)
+        .current_dir(work.path())
+        .env("BLENDER_USER_RESOURCES", &home)
+        .env("BLENDER_USER_CONFIG", home.join("config"))
+        .env("BLENDER_USER_SCRIPTS", home.join("scripts"))
+        .env("BLENDER_USER_EXTENSIONS", home.join("extensions"))
+        .output()
+        .expect("runs Blender's Python");
+    let log = format!(
+        "{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "the README's Python block failed:\n{log}");
+    // What it exported is the walk, the README's gap and the run, in mx.
+    let glb = work.path().join("out/walk_to_run.glb");
+    assert!(glb.is_file(), "no {}:\n{log}", glb.display());
+    let gap: f64 = py[0]
+        .split("gap=")
+        .nth(1)
+        .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|s| s.parse().ok())
+        .expect("the block names its gap in frames");
+    let mut mx = mx::Interpreter::new();
+    let data = root.join("examples/data");
+    let src = format!(
+        "let w = load({w:?})\nlet r = load({r:?})\nlet m = load({g:?})\n\
+         [frames(m), frames(w) + frames(r) + {gap} - 1, len(gaps(m)), len(dofs(m))]",
+        w = data.join("walk.bvh").display().to_string(),
+        r = data.join("run.bvh").display().to_string(),
+        g = glb.display().to_string(),
+    );
+    let v = mx
+        .eval_str(&src)
+        .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let n: Vec<f64> = match v {
+        mx::Value::List(xs) => xs.iter().map(|x| x.as_number().unwrap()).collect(),
+        other => panic!("{}", other.repr()),
+    };
+    assert_eq!(n[0], n[1], "frames: exported vs walk + gap + run ({log})");
+    assert_eq!(n[2], 0.0, "the export has gaps");
+    assert!(n[3] > 0.0);
+}
