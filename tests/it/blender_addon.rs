@@ -274,7 +274,10 @@ fn the_readme_blender_steps_run_as_written() {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(out.status.success(), "the README's Python block failed:\n{log}");
+    assert!(
+        out.status.success(),
+        "the README's Python block failed:\n{log}"
+    );
     // What it exported is the walk, the README's gap and the run, in mx.
     let glb = work.path().join("out/walk_to_run.glb");
     assert!(glb.is_file(), "no {}:\n{log}", glb.display());

@@ -119,7 +119,11 @@ fn markdown_files() -> Vec<PathBuf> {
 /// Runs one file's blocks; returns its failures, each naming file and line.
 fn run_file(path: &Path, shared: Option<&Path>) -> Vec<String> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let rel = path.strip_prefix(root).unwrap_or(path).display().to_string();
+    let rel = path
+        .strip_prefix(root)
+        .unwrap_or(path)
+        .display()
+        .to_string();
     let markdown = std::fs::read_to_string(path).unwrap();
     let lines: Vec<&str> = markdown.lines().collect();
     let found = blocks(&markdown);
@@ -211,7 +215,10 @@ fn the_readme_has_runnable_blocks() {
     let readme =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
     let found = blocks(&readme);
-    assert!(found.iter().any(|(b, _)| b.runs()), "no ```mx block in README.md");
+    assert!(
+        found.iter().any(|(b, _)| b.runs()),
+        "no ```mx block in README.md"
+    );
     // the REPL transcripts became mx blocks: no `mx>` prompt is left to drift
     for (b, _) in &found {
         assert!(
