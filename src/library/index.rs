@@ -360,12 +360,17 @@ impl Library {
         })?;
         let h = self.settings.horizon();
         let rate = self.settings.rate;
-        // Grid times within a thousandth of a grid step outside the motion's
-        // span are its ends: a file's rounded frame time (0.0333333 s, or
-        // 0.0083333 s over 40 frames) puts a context that starts on a clip's
-        // first frame 0.3–1.3 µs before it, which would otherwise read as undefined.
+        // Grid times outside the motion's span by at most half of its own
+        // frame (and a thousandth of a grid step) are its ends. A context of
+        // the whole frames nearest to the horizon falls short of it by up to
+        // half a frame at rates the horizon is not a whole number of frames
+        // of (8 frames at 25 Hz: 0.32 s; 33 at 100 Hz: 0.33 s), and a file's
+        // rounded frame time (0.0333333 s, 0.0083333 s) by a few µs at any
+        // rate; either would otherwise read as undefined. The position held
+        // at the end is at most half a frame from the one the feature wants.
         let span = mu.span();
-        let slack = 1e-3 / rate;
+        let half_frame = crate::motion::sample_period(mu).map_or(0.0, |dt| dt / 2.0);
+        let slack = half_frame + 1e-3 / rate;
         let snap = |t: f64| match span {
             Some((a, _)) if t < a && a - t <= slack => a,
             Some((_, b)) if t > b && t - b <= slack => b,

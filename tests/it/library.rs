@@ -565,34 +565,102 @@ fn a_gap_whose_continuation_is_in_the_library_is_offered_it() {
     );
 }
 
-/// The protocol's first window: its context starts on the clip's first frame,
-/// whole frames of the file's own rounded frame time (0.0333333 s) before the
-/// gap, which is 3e-7 s before the library's 30 Hz grid reaches it. It must be matched,
-/// not refused as undefined.
+/// A query whose context is the whole frames of the motion's own frame time
+/// nearest to the feature horizon, from the clip's first frame (before the
+/// gap) or to its last (after it): matched, never refused as undefined. At
+/// rates the horizon (1/3 s) is not a whole number of frames of, that
+/// context falls short of it by up to half a frame (8 frames at 25 Hz:
+/// 0.32 s; 33 at 100 Hz: 0.33 s); a file's rounded frame time (0.0333333 s)
+/// by a few µs.
+/// False when the clip is too short for a half-second gap and its contexts.
+fn context_at_both_ends_is_matched(lib: &Library, clip: &mx::mocap::Clip, what: &str) -> bool {
+    let horizon = lib.settings.horizon() as f64 / lib.settings.rate;
+    let (start, end) = clip.mu.span().unwrap();
+    let context = (horizon / clip.frame_time).round() * clip.frame_time;
+    let gap = (0.5 / clip.frame_time).round() * clip.frame_time;
+    if end - start < 2.0 * context + gap {
+        return false;
+    }
+    let query = |t0: f64, t1: f64| {
+        lib.query(&clip.mu, &clip.skeleton, clip.units.metres_per_unit, t0, t1)
+            .unwrap_or_else(|e| {
+                panic!(
+                    "{what} ({} Hz), gap [{t0}, {t1}]: {e}",
+                    1.0 / clip.frame_time
+                )
+            })
+    };
+    let first = start + context;
+    let last = end - context;
+    for (t0, t1) in [(first, first + gap), (last - gap, last)] {
+        assert!(!lib.match_gap(&query(t0, t1), 1).is_empty(), "{what}");
+    }
+    true
+}
+
+/// Every clip of both data folders (Bandai at 30 Hz, CMU at 120 Hz) at its
+/// own frame time.
 #[test]
 fn a_context_that_starts_on_the_first_frame_is_matched() {
     let Some(lib) = real_library(Settings::default()) else {
         return;
     };
-    let h = lib.settings.horizon();
-    for c in 0..lib.clips.len() {
-        let clip = lib.clips[c].motion().unwrap();
-        let (start, end) = clip.mu.span().unwrap();
-        // the context in whole frames of the file's own (rounded) frame time
-        let frames = (h as f64 / lib.settings.rate / clip.frame_time).round();
-        let t0 = start + frames * clip.frame_time;
-        if t0 + 0.5 + h as f64 / lib.settings.rate > end {
-            continue; // too short for a gap and the context after it
+    let mut files = common::shared_files("mocap", ".bvh");
+    files.extend(common::shared_files("inbetween", ".bvh"));
+    for path in &files {
+        let clip = mx::mocap::load(path, Units::Auto).unwrap();
+        context_at_both_ends_is_matched(&lib, &clip, &path.display().to_string());
+    }
+}
+
+/// `file` resampled to `rate` Hz (linear between frames), its frame time
+/// written as files write it: rounded to 7 decimals.
+fn at_rate(file: &BvhFile, rate: f64) -> BvhFile {
+    let nch = file.skeleton.channel_count();
+    let n = file.frame_count();
+    let step = 1.0 / rate / file.frame_time; // source frames per new frame
+    let m = ((n - 1) as f64 / step).floor() as usize + 1;
+    let mut values = Vec::with_capacity(m * nch);
+    for k in 0..m {
+        let x = (k as f64 * step).min((n - 1) as f64);
+        let (i, f) = (x.floor() as usize, x.fract());
+        let j = (i + 1).min(n - 1);
+        for c in 0..nch {
+            let (a, b) = (file.values[i * nch + c], file.values[j * nch + c]);
+            values.push(a + f * (b - a));
         }
-        let q = lib
-            .query(
-                &clip.mu,
-                &clip.skeleton,
-                clip.units.metres_per_unit,
-                t0,
-                t0 + 0.5,
-            )
-            .unwrap_or_else(|e| panic!("clip {c}: {e}"));
-        assert!(!lib.match_gap(&q, 1).is_empty(), "clip {c}");
+    }
+    BvhFile {
+        skeleton: file.skeleton.clone(),
+        frame_time: (1e7 / rate).round() / 1e7,
+        values,
+    }
+}
+
+/// Generated clips at the common capture and animation rates.
+#[test]
+fn a_context_of_whole_frames_is_matched_at_any_frame_rate() {
+    let Some(lib) = real_library(Settings::default()) else {
+        return;
+    };
+    // the longest shared clip, resampled
+    let Some(t) = common::shared_files("mocap", ".bvh")
+        .iter()
+        .map(|p| bvh::read_file(p).unwrap())
+        .max_by(|a, b| {
+            let secs = |f: &BvhFile| f.frame_count() as f64 * f.frame_time;
+            secs(a).total_cmp(&secs(b))
+        })
+    else {
+        return;
+    };
+    for rate in [24.0, 25.0, 50.0, 60.0, 100.0, 120.0] {
+        let file = at_rate(&t, rate);
+        let clip = mx::mocap::from_bvh(&file, Units::Auto).unwrap();
+        let what = format!("generated at {rate} Hz");
+        assert!(
+            context_at_both_ends_is_matched(&lib, &clip, &what),
+            "{what}: too short"
+        );
     }
 }
