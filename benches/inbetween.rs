@@ -10,6 +10,9 @@
 //! - `MX_INBETWEEN_METHODS=a,b`: only these method labels (plus Hermite);
 //! - `MX_INBETWEEN_GAPS=15,30`, `MX_INBETWEEN_ROOTS=given|filled`;
 //! - `MX_INBETWEEN_CSV=PATH`: every window's result as CSV;
+//! - `MX_INBETWEEN_LIBRARY=1`: also SP following a clip library held out
+//!   from the window's own file (`example: lib` and `[lib, "self"]`, lib every
+//!   clip of the folder but the window's; built once per file);
 //!
 //! Beside the main table it prints the ground measures (skate within 2 cm of
 //! the capture's floor, penetration, ground residual; the capture as the
@@ -21,6 +24,7 @@ mod common;
 use common::shared;
 
 use mx::report::inbetween::{self, Case, Method, Protocol, RootMode};
+use mx::report::leave_one_out::LeaveOneOut;
 use std::path::PathBuf;
 
 fn main() {
@@ -52,6 +56,15 @@ fn main() {
             .collect();
     }
     let mut methods = inbetween::methods();
+    if std::env::var("MX_INBETWEEN_LIBRARY").is_ok_and(|v| v == "1") {
+        let loo = LeaveOneOut::new(&dir, mx::library::Settings::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        eprintln!(
+            "leave-one-out libraries of {} clips less the window's own",
+            loo.len()
+        );
+        methods.extend(inbetween::library_methods(std::sync::Arc::new(loo)));
+    }
     // extra SP settings to try: `MX_INBETWEEN_SP="label:smoothness:time_constant:coefficients[:nosupport];…"`
     if let Ok(extra) = std::env::var("MX_INBETWEEN_SP") {
         for spec in extra.split(';').filter(|s| !s.trim().is_empty()) {

@@ -12,8 +12,10 @@
 //!
 //! Metrics, over the gap's frames, from forward kinematics of the filled and
 //! the captured motion on the same body: L2P (mean joint-position error, cm,
-//! with the worst joint and frame), L2Q (mean distance of world joint
-//! orientations as sign-aligned unit quaternions), foot skate (mean
+//! with the worst joint and frame), L2Q and NPSS as Harvey et al. report
+//! them (the world joint orientations as sign-aligned unit quaternions: the
+//! L2 distance of the stacked pose, and the similarity of their power
+//! spectra over the gap; `super::metrics`), foot skate (mean
 //! horizontal foot speed while within 5 cm of its lowest height in the
 //! window, cm/s), the largest change of a bone's length (m), ∫Στ² over the
 //! gap, and for SP its iterations, evaluations, convergence and time.
@@ -26,14 +28,18 @@
 //! row, and the locomotion clips (walk*, run*, dash*) are summarised on their own.
 //! Used by `benches/inbetween.rs`, `mx report` and the plausibility tests.
 
+use super::leave_one_out::LeaveOneOut;
+use super::metrics;
 use crate::lie::Se3;
-use crate::mocap::{self, bvh::Units, positions::joint_points};
+use crate::mocap::bvh::{Skeleton, Units};
+use crate::mocap::{self, positions::joint_points};
 use crate::model::Model;
 use crate::motion::channel::Channel;
 use crate::motion::{Curve, Dof, Interval, Mu};
 use crate::spacetime::{SpOptions, sp, torque_energy};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The protocol's parameters (defaults: the shared folder's README).
@@ -89,6 +95,9 @@ pub enum Method {
     Capture,
     /// SP with these options, under this label.
     Sp(String, Box<SpOptions>),
+    /// SP with these options and, as the example's library, every clip of
+    /// the folder but the window's own file ([`LeaveOneOut`]).
+    SpLibrary(String, Box<SpOptions>, Arc<LeaveOneOut>),
 }
 
 impl Method {
@@ -97,7 +106,7 @@ impl Method {
             Method::Hermite => "fill hermite",
             Method::Slerp => "fill slerp",
             Method::Capture => "capture (the answer)",
-            Method::Sp(l, _) => l,
+            Method::Sp(l, _) | Method::SpLibrary(l, _, _) => l,
         }
     }
 }
@@ -114,6 +123,9 @@ pub struct Case {
     pub root_dofs: Vec<String>,
     /// The floor: the lowest height a foot joint reaches in the captured clip (m).
     pub floor: f64,
+    /// The clip's skeleton and length unit (a library's features are read through them).
+    pub skeleton: Arc<Skeleton>,
+    pub metres_per_unit: f64,
 }
 
 /// Body mass of the benchmark's bodies (kg), `body_of`'s default.
@@ -171,6 +183,8 @@ impl Case {
             frame_time: clip.frame_time,
             frames: clip.frames,
             root_dofs,
+            metres_per_unit: clip.units.metres_per_unit,
+            skeleton: Arc::new(clip.skeleton),
         })
     }
 
@@ -272,7 +286,15 @@ pub struct WindowResult {
     pub worst: f64,
     pub worst_joint: String,
     pub worst_frame: usize,
+    /// Harvey et al.'s L2Q: per frame, the L2 norm of the stacked world
+    /// orientations' difference (unit quaternions, sign-aligned), the mean
+    /// over the gap's frames ([`metrics`]).
     pub l2q: f64,
+    /// NPSS over the gap's frames (world orientations' quaternion series;
+    /// [`metrics::npss`]), and the capture's total power it is weighted by
+    /// when windows are pooled.
+    pub npss: f64,
+    pub npss_weight: f64,
     /// Mean horizontal foot speed while the foot is near its lowest height (cm/s).
     pub skate: f64,
     /// Largest change of a bone's length over the gap (m).
@@ -381,7 +403,35 @@ pub fn score(
         fil.push(poses(&case.body, filled, t, &links, &mut buf)?);
     }
     let in_gap = |i: usize| frames[i] >= first && frames[i] < first + gap;
-    let (mut sum_p, mut sum_q, mut count) = (0.0, 0.0, 0usize);
+    let quat =
+        |x: &Se3| UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(x.r));
+    // world orientations over the gap's frames, [joint][frame]
+    let gap_quats = |all: &[Vec<Se3>]| -> Vec<Vec<UnitQuaternion<f64>>> {
+        (0..links.len())
+            .map(|j| {
+                (0..frames.len())
+                    .filter(|&i| in_gap(i))
+                    .map(|i| quat(&all[i][j]))
+                    .collect()
+            })
+            .collect()
+    };
+    let (fq, cq) = (gap_quats(&fil), gap_quats(&cap));
+    let l2q = (0..gap)
+        .map(|i| {
+            let f: Vec<_> = fq.iter().map(|j| j[i]).collect();
+            let c: Vec<_> = cq.iter().map(|j| j[i]).collect();
+            metrics::l2q_frame(&f, &c)
+        })
+        .sum::<f64>()
+        / gap.max(1) as f64;
+    let series = |q: &[Vec<UnitQuaternion<f64>>]| -> Vec<Vec<f64>> {
+        q.iter()
+            .flat_map(|j| metrics::continuous_series(j))
+            .collect()
+    };
+    let npss = metrics::npss(&series(&fq), &series(&cq));
+    let (mut sum_p, mut count) = (0.0, 0usize);
     let (mut worst, mut worst_joint, mut worst_frame) = (0.0, String::new(), first);
     let mut bone: f64 = 0.0;
     for i in (0..frames.len()).filter(|&i| in_gap(i)) {
@@ -393,16 +443,6 @@ pub fn score(
                 worst_joint = joint_names[j].clone();
                 worst_frame = frames[i];
             }
-            let qa = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
-                fil[i][j].r,
-            ));
-            let qb = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
-                cap[i][j].r,
-            ));
-            let d = (qa.coords - qb.coords)
-                .norm()
-                .min((qa.coords + qb.coords).norm());
-            sum_q += d;
             count += 1;
             // (the root's link hangs from the origin by its position channels: no bone)
             if let (Some(pj), false) = (parents[j], root_links[j]) {
@@ -453,7 +493,9 @@ pub fn score(
         worst,
         worst_joint,
         worst_frame,
-        l2q: sum_q / count.max(1) as f64,
+        l2q,
+        npss: npss.value(),
+        npss_weight: npss.weight,
         skate: if skate_n == 0 {
             0.0
         } else {
@@ -489,6 +531,13 @@ pub fn fill_window(
     method: &Method,
 ) -> Result<Filled, String> {
     let cut = case.cut(start, p.context, gap, root)?;
+    // the leave-one-out library is built (once per file) before the clock starts
+    let library = match method {
+        Method::SpLibrary(_, _, l) => {
+            Some(l.source(case).map_err(|e| format!("{}: {e}", case.name))?)
+        }
+        _ => None,
+    };
     let clock = Instant::now();
     let (motion, report) = match method {
         Method::Hermite => (
@@ -500,8 +549,11 @@ pub fn fill_window(
             None,
         ),
         Method::Capture => (case.capture.clone(), None),
-        Method::Sp(_, opts) => {
+        Method::Sp(_, opts) | Method::SpLibrary(_, opts, _) => {
             let mut o = (**opts).clone();
+            if library.is_some() {
+                o.library = library;
+            }
             if root == RootMode::Filled {
                 o.root = crate::spacetime::RootFill::Pinned;
             }
@@ -578,6 +630,9 @@ pub struct Summary {
     pub worst: f64,
     pub worst_at: String,
     pub l2q: f64,
+    /// NPSS pooled over the windows as LaFAN1's batch is (each window's
+    /// dimensions weighted by the capture's power).
+    pub npss: f64,
     pub skate: f64,
     pub bone: f64,
     pub energy: f64,
@@ -647,6 +702,16 @@ pub fn summarise(results: &[WindowResult]) -> Vec<Summary> {
                     format!("{} {} @{}", r.clip, r.worst_joint, r.worst_frame)
                 }),
                 l2q: mean(&|r| r.l2q),
+                npss: {
+                    let mut pooled = metrics::NpssSum::default();
+                    for r in &rows {
+                        pooled.add(metrics::NpssSum {
+                            weighted: r.npss * r.npss_weight,
+                            weight: r.npss_weight,
+                        });
+                    }
+                    pooled.value()
+                },
                 skate: mean(&|r| r.skate),
                 bone: rows.iter().map(|r| r.bone).fold(0.0, f64::max),
                 energy: mean(&|r| r.energy),
@@ -706,8 +771,8 @@ pub fn ground_table(rows: &[Summary]) -> String {
 /// The summary as a Markdown table.
 pub fn table(rows: &[Summary]) -> String {
     let mut s = String::from(
-        "| root | gap | method | windows | L2P cm | ×Hermite | worst cm (where) | L2Q | skate cm/s | bone Δ m | ∫Στ² | < Hermite L2P | < Hermite ∫Στ² | blow-ups | not converged | iters | evals | s/solve |\n\
-         |---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| root | gap | method | windows | L2P cm | ×Hermite | worst cm (where) | L2Q | NPSS | skate cm/s | bone Δ m | ∫Στ² | < Hermite L2P | < Hermite ∫Στ² | blow-ups | not converged | iters | evals | s/solve |\n\
+         |---|---:|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let h = rows
@@ -715,7 +780,7 @@ pub fn table(rows: &[Summary]) -> String {
             .find(|h| h.root == r.root && h.gap == r.gap && h.method == Method::Hermite.label())
             .map_or(f64::NAN, |h| h.l2p);
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.1} ({}) | {:.3} | {:.1} | {:.1e} | {:.4e} | {}/{} | {}/{} | {} | {} | {:.0} | {:.0} | {:.3} |\n",
+            "| {} | {} | {} | {} | {:.2} | {:.2} | {:.1} ({}) | {:.3} | {:.4} | {:.1} | {:.1e} | {:.4e} | {}/{} | {}/{} | {} | {} | {:.0} | {:.0} | {:.3} |\n",
             r.root.label(),
             r.gap,
             r.method,
@@ -725,6 +790,7 @@ pub fn table(rows: &[Summary]) -> String {
             r.worst,
             r.worst_at,
             r.l2q,
+            r.npss,
             r.skate,
             r.bone,
             r.energy,
@@ -807,14 +873,35 @@ pub fn methods() -> Vec<Method> {
     ]
 }
 
+/// The rows that follow a clip library held out from the window's own file
+/// (`MX_INBETWEEN_LIBRARY=1` in the bench): SP with `example: lib` and with
+/// `example: [lib, "self"]`, lib every clip of the folder but the window's.
+pub fn library_methods(libraries: Arc<LeaveOneOut>) -> Vec<Method> {
+    use crate::spacetime::{Prior, SpOptions};
+    let with = |label: &str, example_self: bool| {
+        let o = SpOptions {
+            prior: Prior {
+                example: example_self,
+                ..Prior::default()
+            },
+            ..Default::default()
+        };
+        Method::SpLibrary(label.into(), Box::new(o), libraries.clone())
+    };
+    vec![
+        with("SP example: lib (leave-one-out)", false),
+        with("SP example: [lib, \"self\"] (leave-one-out)", true),
+    ]
+}
+
 /// Every window's result as CSV rows (with a header), for plots and digging.
 pub fn csv(results: &[WindowResult]) -> String {
     let mut s = String::from(
-        "clip,start,gap,root,method,l2p_cm,worst_cm,worst_joint,worst_frame,l2q,skate_cm_s,bone_m,energy,ground_skate_cm_s,penetration_cm,residual_pct_bw,residual_worst_pct_bw,iterations,evaluations,converged,seconds\n",
+        "clip,start,gap,root,method,l2p_cm,worst_cm,worst_joint,worst_frame,l2q,npss,npss_weight,skate_cm_s,bone_m,energy,ground_skate_cm_s,penetration_cm,residual_pct_bw,residual_worst_pct_bw,iterations,evaluations,converged,seconds\n",
     );
     for r in results {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             r.clip,
             r.start,
             r.gap,
@@ -825,6 +912,8 @@ pub fn csv(results: &[WindowResult]) -> String {
             r.worst_joint,
             r.worst_frame,
             r.l2q,
+            r.npss,
+            r.npss_weight,
             r.skate,
             r.bone,
             r.energy,
@@ -887,8 +976,10 @@ pub(super) fn section(
          (`cargo bench --bench inbetween` runs every window), {} context frames, root given (its channels kept) \
          and root filled (the frames after the gap stay where they were captured: SP's `root: \"pinned\"`). \
          L2P: mean joint-position error over the gap (cm); ×Hermite: its ratio to `fill(m, \"hermite\")` on the \
-         same windows; worst: the largest joint error and where; L2Q: mean world-orientation distance (unit \
-         quaternions); skate: foot speed near the ground (cm/s); bone Δ: largest bone-length change (m); \
+         same windows; worst: the largest joint error and where; L2Q: Harvey et al.'s mean over frames of \
+         the L2 distance of the stacked world orientations (unit quaternions, sign-aligned); NPSS: normalised power \
+         spectrum similarity of those orientations over the gap (Gopalakrishnan et al. 2019; 0: the same \
+         frequencies); skate: foot speed near the ground (cm/s); bone Δ: largest bone-length change (m); \
          blow-ups: windows whose worst error exceeds 1.5 × Hermite's + 5 cm. SP's default objective is \
          ∫Στ² plus an inertia-weighted tension prior, lowered until the transition costs less torque than \
          Hermite (see `spacetime::sp::prior_weights`); `objective: \"torque\"` is Rose's objective alone.\n",
@@ -925,6 +1016,7 @@ pub(super) fn section(
         "×Hermite",
         "worst cm",
         "L2Q",
+        "NPSS",
         "skate cm/s",
         "bone Δ m",
         "∫Στ²",
@@ -948,6 +1040,7 @@ pub(super) fn section(
             d.n(r.l2p / h),
             format!("{} ({})", d.n(r.worst), r.worst_at),
             d.n(r.l2q),
+            d.n(r.npss),
             d.n(r.skate),
             d.n(r.bone),
             d.n(r.energy),

@@ -233,3 +233,86 @@ fn slerp_fill_is_quaternion_slerp_and_keeps_the_end_poses() {
     }
     assert!(checked > 0 || common::shared_dir().is_none());
 }
+
+/// L2Q and NPSS as Harvey et al. report them: the capture scores 0 on both;
+/// a fill that moves otherwise scores above 0, and L2Q is the stacked
+/// pose's norm (so it is at least the largest joint's own distance).
+#[test]
+fn l2q_and_npss_are_zero_for_the_capture_only() {
+    let p = one_window();
+    let mut checked = 0;
+    for case in cases().into_iter().step_by(9) {
+        let Some(&start) = case.windows(&p, GAP).first() else {
+            continue;
+        };
+        let score_of = |m: &Method| {
+            let f = fill_window(&case, &p, start, GAP, RootMode::Given, m).unwrap();
+            score(
+                &case,
+                &p,
+                (start, GAP),
+                RootMode::Given,
+                m.label(),
+                &f.motion,
+                0.0,
+            )
+            .unwrap()
+        };
+        let cap = score_of(&Method::Capture);
+        assert_eq!((cap.l2q, cap.npss), (0.0, 0.0), "{}", case.name);
+        assert!(cap.npss_weight > 0.0, "{}", case.name);
+        let h = score_of(&Method::Hermite);
+        assert!(
+            h.l2q > 0.0 && h.npss > 0.0,
+            "{}: {} {}",
+            case.name,
+            h.l2q,
+            h.npss
+        );
+        assert_eq!(
+            h.npss_weight, cap.npss_weight,
+            "weighted by the capture's power"
+        );
+        checked += 1;
+    }
+    assert!(checked > 0 || common::shared_dir().is_none());
+}
+
+/// The leave-one-out rows: the library of a window's clip holds every other
+/// clip of the folder and never its own, is built once per file, and SP
+/// following it fills the window from another clip (or from none).
+#[test]
+fn a_leave_one_out_library_holds_every_clip_but_the_windows_own() {
+    use mx::report::inbetween::library_methods;
+    use mx::report::leave_one_out::LeaveOneOut;
+    use std::sync::Arc;
+    let Some(dir) = common::shared_dir().map(|d| d.join("data").join("inbetween")) else {
+        return;
+    };
+    let files = common::shared_files("inbetween", ".bvh");
+    let loo = Arc::new(LeaveOneOut::new(&dir, mx::library::Settings::default()).unwrap());
+    assert_eq!(loo.len(), files.len());
+    let p = one_window();
+    let methods = library_methods(loo.clone());
+    let mut used = 0;
+    for path in files.iter().step_by(12) {
+        let case = Case::load(path).unwrap();
+        let lib = loo.without(&case.name).unwrap();
+        assert_eq!(lib.clips.len() + lib.skipped.len(), files.len() - 1);
+        assert!(lib.clips.iter().all(|c| c.name() != case.name));
+        assert!(Arc::ptr_eq(&lib, &loo.without(&case.name).unwrap()), "kept");
+        let Some(&start) = case.windows(&p, GAP).first() else {
+            continue;
+        };
+        for m in &methods {
+            let f = fill_window(&case, &p, start, GAP, RootMode::Given, m).unwrap();
+            for g in f.report.unwrap().groups {
+                if let Some(c) = g.example.and_then(|e| e.clip) {
+                    assert_ne!(c.name, case.name);
+                    used += 1;
+                }
+            }
+        }
+    }
+    println!("{used} gaps followed a held-out library stretch");
+}
