@@ -4,10 +4,10 @@
 //! much of the external wrench the motion needs no friction-cone contact
 //! forces at those points can supply.
 //!
-//! It is also the one home of contact for SP: "up", the floor and the floor
-//! of a motion's recorded part (`floor.rs`), the contact thresholds and the
-//! stance test (`stance.rs`), the contact points, and the floating root as a
-//! motion moves it (`root.rs`). SP's contact planning and support hold build
+//! It is also the one home of contact for SP: "up" and the floor plane
+//! (`floor.rs`), the contact thresholds and the stance test (`stance.rs`),
+//! the contact points and the floor of a motion's recorded part
+//! (`points.rs`), and the floating root as a motion moves it (`root.rs`). SP's contact planning and support hold build
 //! on these.
 //!
 //! `points.rs` picks the contact points (a body's ankle and toe joints, or
@@ -32,9 +32,10 @@ pub mod skate;
 pub mod stance;
 
 pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
-pub use floor::{FloorPlane, horizontal, recorded_floor, up_direction, up_of};
+pub use floor::{FloorPlane, horizontal, up_direction, up_of};
 pub use points::{
-    ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points, tracks,
+    ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points,
+    recorded_floor, tracks,
 };
 pub use residual::{GroundResidual, ground_residual};
 pub use root::moving_root;

@@ -344,3 +344,37 @@ pub fn tracks(
         positions,
     })
 }
+
+/// The floor of the recorded part of `m`: the lowest height `points` reach
+/// at the motion's frames (the grid [`tracks`] samples) where every
+/// coordinate of `body` is defined; `None` when there is no such frame. On a
+/// motion without gaps it is the floor `contacts()` reports.
+pub fn recorded_floor(
+    m: &Mu,
+    body: &Model,
+    points: &[ContactPoint],
+    opts: &GroundOptions,
+) -> Result<Option<f64>, GroundError> {
+    opts.check()?;
+    let up = up_direction(&opts.gravity_of(body))?;
+    check_coordinates(m, body)?;
+    let names = body.coordinate_names();
+    let (times, _) = frame_times(m, opts.rate)?;
+    let mut q = vec![0.0; body.nq()];
+    let mut poses = Vec::with_capacity(body.num_links());
+    let mut lowest: Option<f64> = None;
+    'frames: for &t in &times {
+        for (i, name) in names.iter().enumerate() {
+            match m.sample(name, t)? {
+                Some(s) => q[i] = s[0],
+                None => continue 'frames, // not recorded here
+            }
+        }
+        body.forward_kinematics(&q, &mut poses)?;
+        for p in points {
+            let h = up.dot(&poses[p.link].p);
+            lowest = Some(lowest.map_or(h, |l| l.min(h)));
+        }
+    }
+    Ok(lowest)
+}
