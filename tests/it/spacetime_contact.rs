@@ -260,8 +260,10 @@ fn the_plan_s_floor_is_ground_s_floor_on_every_clip() {
         let cut = without(&case.capture, t0, t1);
         // the recorded frames: up to the gap's first end, from its last
         let half = 0.5 * case.frame_time;
-        let recorded = floor_of(&without(&case.capture, t0 + half, end), &case.body)
-            .min(floor_of(&without(&case.capture, start, t1 - half), &case.body));
+        let recorded = floor_of(&without(&case.capture, t0 + half, end), &case.body).min(floor_of(
+            &without(&case.capture, start, t1 - half),
+            &case.body,
+        ));
         let capture = floor_of(&case.capture, &case.body);
         let opts = SpOptions {
             contact: Contact::Auto,
