@@ -4,6 +4,7 @@
 
 use super::GroundError;
 use super::points::{GroundOptions, Tracks, contact_points, tracks};
+use super::stance::in_stance;
 use crate::model::Model;
 use crate::motion::Mu;
 use nalgebra::Vector3;
@@ -75,7 +76,14 @@ pub fn contacts_of_tracks(tr: &Tracks, opts: &GroundOptions) -> Result<Contacts,
         .enumerate()
         .map(|(j, p)| {
             let in_contact: Vec<bool> = (0..tr.times.len())
-                .map(|k| tr.height(k, j) - floor <= opts.height && tr.speed(k, j) < opts.speed)
+                .map(|k| {
+                    in_stance(
+                        tr.height(k, j) - floor,
+                        tr.speed(k, j),
+                        opts.height,
+                        opts.speed,
+                    )
+                })
                 .collect();
             PointContacts {
                 name: p.name.clone(),

@@ -4,31 +4,43 @@
 //! much of the external wrench the motion needs no friction-cone contact
 //! forces at those points can supply.
 //!
+//! It is also the one home of contact for SP: "up" and the floor plane
+//! (`floor.rs`), the contact thresholds and the stance test (`stance.rs`),
+//! the contact points and the floor of a motion's recorded part
+//! (`points.rs`), and the floating root as a motion moves it (`root.rs`). SP's contact planning and support hold build
+//! on these.
+//!
 //! `points.rs` picks the contact points (a body's ankle and toe joints, or
 //! links the caller names), samples their world positions at the motion's
-//! frame rate and places the floor (the lowest height they reach, "up" being
-//! against the model's gravity); `contacts.rs` finds the intervals where each
-//! point touches the floor; `skate.rs` measures foot skate and penetration;
-//! `residual.rs` runs inverse dynamics of the floating base per frame and
-//! `cone.rs` solves the per-frame friction-cone problem (a small SOCP, by
-//! `clarabel`).
+//! frame rate and places the floor (the lowest height they reach);
+//! `contacts.rs` finds the intervals where each point touches the floor;
+//! `skate.rs` measures foot skate and penetration; `residual.rs` runs inverse
+//! dynamics of the floating base per frame and `cone.rs` solves the per-frame
+//! friction-cone problem (a small SOCP, by `clarabel`).
 //!
 //! Layering: uses `lie`, `model`, `dynamics`, `motion`; used by `spacetime`
-//! (contact-aware SP), `report` and `lang`. Knows nothing of the language.
+//! (SP's contact planning, support hold and root), `report` and `lang`.
+//! Knows nothing of the language.
 
 pub mod cone;
 pub mod contacts;
+pub mod floor;
 pub mod points;
 pub mod residual;
+pub mod root;
 pub mod skate;
+pub mod stance;
 
 pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
+pub use floor::{FloorPlane, horizontal, up_direction, up_of};
 pub use points::{
-    ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points, tracks,
-    up_direction,
+    ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points,
+    recorded_floor, tracks,
 };
 pub use residual::{GroundResidual, ground_residual};
+pub use root::moving_root;
 pub use skate::{Penetration, Skate, foot_skate, penetration};
+pub use stance::{CONTACT_HEIGHT, CONTACT_SPEED, GROUND_BAND, in_stance};
 
 /// Why a ground measure could not run: bad input, named.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -8,9 +8,11 @@
 //! of `data/inbetween/README.md`'s ground measures, which use joints, not
 //! the toe tips. A caller may name any links instead.
 //!
-//! "Up" is against the model's gravity, so y-up mocap bodies and z-up URDF
-//! robots both work; a point's height is its position along up.
+//! "Up" and the floor are [`super::floor`]'s; a point's height is its
+//! position along up.
 
+use super::floor::{horizontal, up_direction};
+use super::stance::{CONTACT_HEIGHT, CONTACT_SPEED};
 use super::{GroundError, invalid};
 use crate::model::Model;
 use crate::model::topology::joint_points;
@@ -43,15 +45,12 @@ pub struct GroundOptions {
     pub points: Option<Vec<String>>,
     pub floor: Floor,
     /// A point is on the floor while within this height of it (m). Default
-    /// 0.02: the README's 2 cm.
+    /// [`CONTACT_HEIGHT`].
     pub height: f64,
     /// ... and while its horizontal speed is below this (m/s); `f64::INFINITY`
     /// turns the speed test off. Only [`super::contacts()`] uses it; skate and
-    /// the residual use height alone, as the README defines them. Default 0.3 m/s,
-    /// inside the 0.2–0.5 m/s range foot-contact detectors use; on the
-    /// captured walks of `data/inbetween` a foot joint within 2 cm of the
-    /// floor moves ~10 cm/s on average, and the swing foot passing low
-    /// moves well above 1 m/s.
+    /// the residual use height alone, as the README defines them. Default
+    /// [`CONTACT_SPEED`].
     pub speed: f64,
     /// Gravity (m/s²); `None`: the model's default gravity.
     pub gravity: Option<Vector3<f64>>,
@@ -64,8 +63,8 @@ impl Default for GroundOptions {
         GroundOptions {
             points: None,
             floor: Floor::Auto,
-            height: 0.02,
-            speed: 0.3,
+            height: CONTACT_HEIGHT,
+            speed: CONTACT_SPEED,
             gravity: None,
             rate: None,
         }
@@ -108,18 +107,6 @@ impl GroundOptions {
     pub fn gravity_of(&self, body: &Model) -> Vector3<f64> {
         self.gravity.unwrap_or(body.default_gravity)
     }
-}
-
-/// Unit vector against `gravity`; `Err` for zero or non-finite gravity.
-pub fn up_direction(gravity: &Vector3<f64>) -> Result<Vector3<f64>, GroundError> {
-    let n = gravity.norm();
-    if !(n.is_finite() && n > 0.0) {
-        return Err(invalid(format!(
-            "gravity [{}, {}, {}] gives no \"up\": ground measures need a nonzero, finite gravity",
-            gravity.x, gravity.y, gravity.z
-        )));
-    }
-    Ok(-gravity / n)
 }
 
 fn is_foot_name(name: &str) -> bool {
@@ -254,7 +241,7 @@ impl Tracks {
     /// frame `k` (`k ≥ 1`): the README's skate speed.
     pub fn step_speed(&self, k: usize, j: usize) -> f64 {
         let d = self.positions[k][j] - self.positions[k - 1][j];
-        (d - self.up * d.dot(&self.up)).norm() / self.frame_time
+        horizontal(&d, &self.up).norm() / self.frame_time
     }
 
     /// Horizontal speed of point `j` at frame `k`: the step into it, or at the
@@ -356,4 +343,38 @@ pub fn tracks(
         up,
         positions,
     })
+}
+
+/// The floor of the recorded part of `m`: the lowest height `points` reach
+/// at the motion's frames (the grid [`tracks`] samples) where every
+/// coordinate of `body` is defined; `None` when there is no such frame. On a
+/// motion without gaps it is the floor `contacts()` reports.
+pub fn recorded_floor(
+    m: &Mu,
+    body: &Model,
+    points: &[ContactPoint],
+    opts: &GroundOptions,
+) -> Result<Option<f64>, GroundError> {
+    opts.check()?;
+    let up = up_direction(&opts.gravity_of(body))?;
+    check_coordinates(m, body)?;
+    let names = body.coordinate_names();
+    let (times, _) = frame_times(m, opts.rate)?;
+    let mut q = vec![0.0; body.nq()];
+    let mut poses = Vec::with_capacity(body.num_links());
+    let mut lowest: Option<f64> = None;
+    'frames: for &t in &times {
+        for (i, name) in names.iter().enumerate() {
+            match m.sample(name, t)? {
+                Some(s) => q[i] = s[0],
+                None => continue 'frames, // not recorded here
+            }
+        }
+        body.forward_kinematics(&q, &mut poses)?;
+        for p in points {
+            let h = up.dot(&poses[p.link].p);
+            lowest = Some(lowest.map_or(h, |l| l.min(h)));
+        }
+    }
+    Ok(lowest)
 }

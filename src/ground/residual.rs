@@ -15,14 +15,15 @@
 //! centre of mass (N·m), per frame, mean and worst.
 
 use super::cone::best_contact_forces;
+use super::floor::up_direction;
 use super::points::{
     GroundOptions, check_coordinates, contact_points, frame_times, sample_state, tracks,
 };
 use super::{GroundError, invalid};
 use crate::dynamics::{Workspace, inverse_dynamics, root_wrench};
 use crate::lie::Se3;
-use crate::model::Model;
 use crate::model::topology::joint_points;
+use crate::model::{Model, RootCoords};
 use crate::motion::Mu;
 use nalgebra::Vector3;
 
@@ -53,31 +54,25 @@ pub struct GroundResidual {
     pub unsolved: usize,
 }
 
-/// Checks that the body's root can move freely: at least 6 DOFs on the
-/// unbranched chain from its one root link.
-fn check_floating(body: &Model) -> Result<(), GroundError> {
-    let roots: Vec<usize> = (0..body.num_links())
+/// Checks that the body's root can move freely: one root link, and a
+/// floating root ([`RootCoords::is_floating`]: six coordinates or more down
+/// to the first link with mass).
+fn check_floating(body: &Model, up: &Vector3<f64>) -> Result<(), GroundError> {
+    let roots = (0..body.num_links())
         .filter(|&i| body.link(i).parent.is_none())
-        .collect();
-    if roots.len() != 1 {
+        .count();
+    if roots != 1 {
         return Err(invalid(format!(
-            "ground_residual needs one root link; the body `{}` has {}",
-            body.name,
-            roots.len()
+            "ground_residual needs one root link; the body `{}` has {roots}",
+            body.name
         )));
     }
-    let (mut i, mut dof) = (roots[0], 0);
-    loop {
-        dof += body.link(i).dof;
-        match body.children(i) {
-            [k] => i = *k,
-            _ => break,
-        }
-    }
-    if dof < 6 {
+    let root = RootCoords::detect(body, Some(up));
+    if !root.is_floating() {
         return Err(invalid(format!(
-            "ground_residual needs a floating base: the root of `{}` has {dof} DOFs before the body branches, a free root has 6",
-            body.name
+            "ground_residual needs a floating base: the root of `{}` has {} coordinates down to its first link with mass, a free root has 6",
+            body.name,
+            root.all.len()
         )));
     }
     Ok(())
@@ -121,7 +116,7 @@ pub fn ground_residual(
         )));
     }
     check_coordinates(m, body)?;
-    check_floating(body)?;
+    check_floating(body, &up_direction(&opts.gravity_of(body))?)?;
     let mass = body.total_mass();
     if !(mass > 0.0 && mass.is_finite()) {
         return Err(invalid(format!(

@@ -52,7 +52,7 @@ impl Model {
 /// frame), where `s = [ω; v]` is the coordinate's column of the joint's
 /// body-frame Jacobian S(q). In the joint frame the point moves by ω × r + v
 /// with r = Rᵀ(p − o); rotated to the world, R(ω × r + v). The analytic
-/// Jacobian of forward kinematics that support IK (`spacetime::support`) and
+/// Jacobian of forward kinematics that the hold IK (`spacetime::hold`) and
 /// per-frame IK (`ik`) share.
 #[inline]
 pub fn point_velocity(

@@ -9,6 +9,7 @@ pub mod body;
 pub mod coupling;
 pub mod files;
 pub mod kinematics;
+pub mod root;
 pub mod topology;
 pub mod tree;
 
@@ -17,5 +18,6 @@ pub use files::{osim, urdf};
 
 pub use body::Inertia;
 pub use coupling::{Coupling, Follower};
+pub use root::RootCoords;
 pub use topology::joint_points;
 pub use tree::{Link, Model, ModelError};

@@ -11,6 +11,7 @@
 //! Touching endpoints share a single instant, which has no duration: they are
 //! never an overlap, so `[0,1] + [1,2]` is two intervals and no conflict.
 
+use super::curve::Curve;
 use super::error::{MotionError, finite};
 use super::interval::{Interval, check_span};
 use super::time_tol;
@@ -36,6 +37,41 @@ impl From<Interval> for Dof {
 }
 
 impl Dof {
+    /// Whether the DOF holds one value wherever it is defined: every curve is
+    /// constant by construction (a constant, equal samples, a flat Hermite or
+    /// spline) and every interval starts at the same value. Curves given as
+    /// functions cannot be inspected and count as moving; `name` is the DOF's
+    /// (for sampling).
+    pub fn is_constant(&self, name: &str) -> bool {
+        let flat = |v: &[f64]| v.iter().all(|x| *x == v[0]);
+        let curves_flat =
+            self.intervals
+                .iter()
+                .flat_map(|i| &i.funcs)
+                .all(|f| match f.curve.as_ref() {
+                    Curve::Constant(_) => true,
+                    Curve::Samples(s) => flat(s.values()),
+                    Curve::Hermite(h) => h.q0 == h.q1 && h.v0 == 0.0 && h.v1 == 0.0,
+                    Curve::Spline(c) => flat(&c.coeffs),
+                    Curve::Function(_) => false,
+                });
+        if !curves_flat {
+            return false;
+        }
+        let mut first = None;
+        for iv in &self.intervals {
+            let Ok(Some(v)) = self.sample_value(name, iv.start) else {
+                return false; // conflicting or undefined: not provably constant
+            };
+            match first {
+                None => first = Some(v),
+                Some(f) if (v - f).abs() <= 1e-12 * f64::max(1.0, f.abs()) => {}
+                Some(_) => return false,
+            }
+        }
+        true
+    }
+
     pub fn empty() -> Dof {
         Dof::default()
     }

@@ -2,6 +2,7 @@
 
 use crate::cancel::Cancelled;
 use crate::dynamics::DynamicsError;
+use crate::ground::GroundError;
 use crate::library::LibraryError;
 use crate::model::ModelError;
 use crate::motion::MotionError;
@@ -105,6 +106,19 @@ impl From<CyclifyError> for SpError {
         match e {
             CyclifyError::Invalid(m) => SpError::Invalid(m),
             e @ CyclifyError::Evaluation(_) => SpError::Cyclify(e),
+        }
+    }
+}
+
+/// The ground measures SP builds on (floor, contact points) fail as the
+/// layers below them do, or on bad input; SP reports them as its own.
+impl From<GroundError> for SpError {
+    fn from(e: GroundError) -> Self {
+        match e {
+            GroundError::Invalid(m) => SpError::Invalid(m),
+            GroundError::Motion(e) => SpError::Motion(e),
+            GroundError::Model(e) => SpError::Kinematics(e),
+            GroundError::Dynamics(e) => SpError::Dynamics(e),
         }
     }
 }

@@ -7,7 +7,6 @@
 
 use super::error::{SpError, invalid};
 use super::objective::{GapDof, Inputs, Objective, TransitionSettings};
-use super::root::RootCoords;
 use super::sp::joint_weights;
 use super::torque::BodyDynamics;
 use super::transition::EndState;
@@ -30,7 +29,7 @@ pub struct Case<'m> {
 /// coordinate over [t0, t1] (the gap's end states and the root inside it come from it).
 pub fn case<'m>(model: &'m Model, motion: Mu, t0: f64, t1: f64) -> Result<Case<'m>, SpError> {
     let body = BodyDynamics::new(model);
-    let root = RootCoords::detect_in(model, &body.gravity, &motion);
+    let root = crate::ground::moving_root(model, &body.gravity, &motion);
     let names = model.coordinate_names();
     let state = |n: &str, t: f64| -> Result<EndState, SpError> {
         match motion.sample(n, t).map_err(SpError::Motion)? {

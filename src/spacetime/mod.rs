@@ -2,8 +2,9 @@
 //! motion with cubic B-spline curves that minimise ∫Σwτ² dt, keep support
 //! limbs planted by IK, and move the root kinematically (cyclification is `motion::cyclify`).
 //!
-//! Layering: this module uses `spline`, `model`, `dynamics`, `motion`; it knows
-//! nothing of the language.
+//! Layering: this module uses `spline`, `model`, `dynamics`, `motion`, and
+//! `ground` for floor, "up", contact points, stance and the moving root; it
+//! knows nothing of the language.
 
 pub mod basis;
 pub mod error;
@@ -25,8 +26,8 @@ pub use solve::{
     GapReport, GroupSolution, Problem, SolveOptions, StopReason, group_overlapping, solve_all,
     solve_group, solve_group_from,
 };
-pub mod root;
-pub use root::{RootCoords, RootTransition};
+pub mod root_path;
+pub use root_path::RootTransition;
 /// The Fig. 8 case shared by the report and `benches/spacetime.rs`.
 #[cfg(feature = "report")]
 pub mod fig8;
@@ -35,11 +36,11 @@ pub mod progress;
 pub mod reference;
 pub use progress::{Progress, ProgressEvent, Tally};
 pub mod contact;
+pub mod hold;
 pub mod sp;
-pub mod support;
-pub use contact::{Contact, ContactPhase};
+pub use contact::{Contact, ContactPlan, GapPlan, PointPlan, Stance};
+pub use hold::HeldFrame;
 pub use sp::{
-    GapContacts, PinnedRoot, Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp,
+    Filling, PinnedRoot, Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp,
     torque_energy,
 };
-pub use support::HeldFrame;

@@ -11,8 +11,8 @@ use mx::mocap::bvh::{self, BvhFile};
 use mx::mocap::human::{fit, human};
 use mx::model::Model;
 use mx::motion::{Dof, Mu};
+use mx::spacetime::hold::HoldObjective;
 use mx::spacetime::objective::GapDof;
-use mx::spacetime::support::SupportObjective;
 use mx::spacetime::{EndState, SpOptions, Support, TransitionSettings, sp};
 use std::path::Path;
 
@@ -262,7 +262,7 @@ fn ik_gradient_matches_central_differences() {
         ..Default::default()
     };
     let obj =
-        SupportObjective::new(&model, vec![foot, toes], gaps, &settings, &configuration).unwrap();
+        HoldObjective::new(&model, vec![foot, toes], gaps, &settings, &configuration).unwrap();
     let x: Vec<f64> = obj
         .hermite_start()
         .iter()
@@ -305,7 +305,8 @@ fn ik_gradient_matches_central_differences() {
 
 #[test]
 fn planned_ik_gradient_with_the_floor_matches_central_differences() {
-    use mx::spacetime::support::{Floor, Plant};
+    use mx::ground::FloorPlane;
+    use mx::spacetime::Stance;
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/data/walk.bvh");
     let mut f = bvh::read_file(&p).unwrap();
     let (model, m) = fitted(&mut f, 40);
@@ -347,16 +348,8 @@ fn planned_ik_gradient_with_the_floor_matches_central_differences() {
     let foot_start = frame_at(&model, &m, foot, g0);
     // the foot planted for the first third; the floor 5 cm above the toes'
     // start, so it holds the toes up wherever they are not planted
-    let plants = vec![
-        vec![Plant {
-            t0: g0,
-            t1: g0 + 0.1,
-            p0: foot_start,
-            p1: foot_start,
-        }],
-        vec![],
-    ];
-    let floor = Floor {
+    let plants = vec![vec![Stance::planted(g0, g0 + 0.1, foot_start)], vec![]];
+    let floor = FloorPlane {
         up,
         height: up.dot(&toes_start) + 0.05,
     };
@@ -365,7 +358,7 @@ fn planned_ik_gradient_with_the_floor_matches_central_differences() {
         samples: 12,
         ..Default::default()
     };
-    let obj = SupportObjective::planned(
+    let obj = HoldObjective::planned(
         &model,
         vec![foot, toes],
         plants,

@@ -153,17 +153,19 @@ impl SpReportValue {
     /// planted intervals with where the frame stands at their ends.
     fn contacts(&self) -> Value {
         let point = |p: &nalgebra::Vector3<f64>| Value::list(vec![num(p.x), num(p.y), num(p.z)]);
+        let Some(plan) = &self.0.contacts else {
+            return Value::list(vec![]);
+        };
         Value::list(
-            self.0
-                .contacts
+            plan.gaps
                 .iter()
                 .map(|g| {
                     let phases = g
-                        .phases
+                        .points
                         .iter()
                         .map(|ph| {
                             let plants = ph
-                                .plants
+                                .stances
                                 .iter()
                                 .map(|p| {
                                     record(vec![
@@ -175,7 +177,7 @@ impl SpReportValue {
                                 })
                                 .collect();
                             record(vec![
-                                ("frame", Value::str(&ph.frame)),
+                                ("frame", Value::str(&ph.name)),
                                 ("planted", Value::list(plants)),
                             ])
                         })
@@ -183,7 +185,7 @@ impl SpReportValue {
                     record(vec![
                         ("t0", num(g.t0)),
                         ("t1", num(g.t1)),
-                        ("floor", num(g.floor)),
+                        ("floor", num(plan.floor.height)),
                         ("phases", Value::list(phases)),
                     ])
                 })

@@ -2,11 +2,12 @@
 //! in SP's objective ([`joint_weights`]).
 
 use super::checks::{check_conflicts, check_names, motion_err};
+use crate::ground::moving_root;
 use crate::model::Model;
+use crate::model::RootCoords;
 use crate::motion::{JointSampler, Mu};
 use crate::spacetime::error::{SpError, invalid};
 use crate::spacetime::quadrature::GaussLegendre;
-use crate::spacetime::root::RootCoords;
 use crate::spacetime::torque::{BodyDynamics, TorqueModel};
 use nalgebra::Vector3;
 
@@ -38,7 +39,7 @@ pub fn torque_energy(m: &Mu, model: &Model, gravity: Option<Vector3<f64>>) -> Re
             "torque_energy of an empty motion: it defines no DOF anywhere",
         ));
     };
-    let root = RootCoords::detect_in(model, &gravity, m);
+    let root = moving_root(model, &gravity, m);
     let weights = joint_weights(model, &root);
     let names = model.coordinate_names();
     let mut breaks = vec![s, e];
@@ -97,7 +98,7 @@ mod tests {
     #[test]
     fn the_root_is_not_counted_and_an_undefined_dof_is_an_error() {
         let model = body();
-        let root = RootCoords::detect_in(&model, &Y_UP, &motion(&model, &[], (0.0, 0.0)));
+        let root = moving_root(&model, &Y_UP, &motion(&model, &[], (0.0, 0.0)));
         let w = joint_weights(&model, &root);
         assert_eq!(w.len(), model.nq());
         for &c in &root.all {

@@ -1,11 +1,12 @@
 //! The motion being filled: SP's stages read its end states and sampled
 //! poses and write their curves back through one [`Filling`], which also
-//! carries the report they add to.
+//! carries the contact plan (when one is made) and the report they add to.
 
 use super::checks::motion_err;
 use super::report::{SpReport, Undefined};
 use crate::model::Model;
 use crate::motion::{Curve, Dof, HermiteCurve, Interval, JointSampler, Mu};
+use crate::spacetime::contact::ContactPlan;
 use crate::spacetime::error::{SpError, invalid};
 use crate::spacetime::objective::GapDof;
 use crate::spacetime::transition::EndState;
@@ -15,10 +16,16 @@ use nalgebra::Vector3;
 pub struct Filling<'a> {
     /// The motion: the input, with each stage's curves written into its gaps.
     pub motion: Mu,
+    /// The input as given: its defined part is what was recorded (the
+    /// contact plan's floor is read from it).
+    pub recorded: &'a Mu,
     pub model: &'a Model,
     /// The body's coordinate names (the order of every state and gap's `coord`).
     pub names: &'a [String],
     pub gravity: Vector3<f64>,
+    /// Where and when contact points stand in each gap (`contact:`); `None`
+    /// without a plan. The report lists it.
+    pub contacts: Option<ContactPlan>,
     pub report: SpReport,
 }
 
@@ -26,16 +33,18 @@ impl<'a> Filling<'a> {
     /// The motion `m` to be filled on `model` under `gravity`; the report
     /// starts with the DOFs undefined at the motion's start or end, which no
     /// stage fills.
-    pub fn new(m: &Mu, model: &'a Model, gravity: Vector3<f64>) -> Self {
+    pub fn new(m: &'a Mu, model: &'a Model, gravity: Vector3<f64>) -> Self {
         Filling {
             report: SpReport {
                 undefined: undefined_ends(m),
                 ..Default::default()
             },
             motion: m.clone(),
+            recorded: m,
             model,
             names: model.coordinate_names(),
             gravity,
+            contacts: None,
         }
     }
 
@@ -92,9 +101,11 @@ impl<'a> Filling<'a> {
         Ok(())
     }
 
-    /// The filled motion and the report.
+    /// The filled motion and the report (with the contact plan).
     pub fn finish(self) -> (Mu, SpReport) {
-        (self.motion, self.report)
+        let mut report = self.report;
+        report.contacts = self.contacts;
+        (self.motion, report)
     }
 }
 

@@ -9,42 +9,43 @@
 //! 0. [`checks`]: conflicts and a motion that cannot drive the body are errors;
 //! 1. [`root_fill`]: the root's gaps (Rose's path, or pinned);
 //! 2. [`offsets`]: constant bone offsets held;
-//! 3. [`supports`] (or [`contacts`] with `contact:`): support limbs held by IK;
+//! 3. [`hold_supports`] (or [`hold_contacts`] with `contact:`, which puts the
+//!    contact plan on the [`Filling`]): limbs held by IK ([`held_limbs`]);
 //! 4. [`transitions`]: the rest solved as spacetime transitions, the prior's
-//!    weights from [`prior`], ∫Στ² by [`energy`]'s rule for the baseline;
+//!    weights from [`prior_weights`], ∫Στ² by [`energy`]'s rule for the baseline;
 //!
 //! and the result is the filled motion with the [`report`].
 
 mod checks;
-mod contacts;
 mod energy;
 mod filling;
 #[cfg(test)]
 mod fixture;
-mod held;
+mod held_limbs;
+mod hold_contacts;
+mod hold_supports;
 mod offsets;
 mod options;
-mod prior;
+mod prior_weights;
 mod report;
 mod root_fill;
-mod supports;
 mod transitions;
 
 pub use checks::fill_hermite;
 pub use energy::{joint_weights, torque_energy};
 pub use filling::Filling;
+pub use hold_contacts::contact_floor;
 pub use options::{
     AUTO_TIME_SCALE, DEFAULT_SMOOTHNESS, Prior, ROOT_TOLERANCE_FIXED, ROOT_TOLERANCE_RELATIVE,
     RootFill, SpOptions, Support, root_tolerance,
 };
-pub use prior::prior_weights;
-pub use report::{GapContacts, PinnedRoot, RootShift, SpReport, Undefined};
+pub use prior_weights::prior_weights;
+pub use report::{PinnedRoot, RootShift, SpReport, Undefined};
 
 use crate::model::Model;
 use crate::motion::Mu;
 use crate::spacetime::contact::Contact;
 use crate::spacetime::error::SpError;
-use crate::spacetime::root::RootCoords;
 
 /// `SP(m, body: b, …)`: the motion with every interior gap filled. Gaps at the
 /// start or end stay undefined (listed in the report).
@@ -54,7 +55,7 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     checks::check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);
     // the root as it moves in m: a constant placeholder above it is skipped
-    let root = RootCoords::detect_in(model, &gravity, m);
+    let root = crate::ground::moving_root(model, &gravity, m);
     let mut f = Filling::new(m, model, gravity);
     root_fill::fill_root(&mut f, &root, opts.root)?;
     let gaps = f.gaps()?;
@@ -62,9 +63,9 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     let hermite_all = fill_hermite(&f.motion)?;
     let gaps = offsets::hold_constant_offsets(&mut f, gaps)?;
     let gaps = if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
-        contacts::hold_contacts(&mut f, opts, gaps)?
+        hold_contacts::hold_contacts(&mut f, opts, gaps)?
     } else {
-        supports::hold_supports(&mut f, opts, gaps)?
+        hold_supports::hold_supports(&mut f, opts, gaps)?
     };
     if !gaps.is_empty() {
         transitions::solve_transitions(&mut f, opts, &root, &hermite_all, gaps)?;

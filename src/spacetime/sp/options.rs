@@ -115,10 +115,10 @@ impl SpOptions {
             ));
         }
         if let Support::Named(names) = &self.support {
-            crate::spacetime::support::named(model, names, "support")?;
+            crate::spacetime::hold::named(model, names, "support")?;
         }
         if let Contact::Named(names) = &self.contact {
-            crate::spacetime::support::named(model, names, "contact")?;
+            crate::spacetime::hold::named(model, names, "contact")?;
         }
         Ok(())
     }

@@ -1,9 +1,9 @@
 //! What SP did ([`SpReport`]), one list per stage, and how it prints.
 
-use crate::spacetime::contact::ContactPhase;
+use crate::spacetime::contact::ContactPlan;
+use crate::spacetime::hold::HeldFrame;
 use crate::spacetime::reference::Example;
 use crate::spacetime::solve::GapReport;
-use crate::spacetime::support::HeldFrame;
 use std::fmt;
 
 /// How the root was moved over one gap.
@@ -29,17 +29,6 @@ pub struct PinnedRoot {
     pub tolerance: f64,
 }
 
-/// The contact schedule of one gap (`contact:`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct GapContacts {
-    pub t0: f64,
-    pub t1: f64,
-    /// The floor's height along −gravity (m).
-    pub floor: f64,
-    /// Every contact frame near the floor around the gap, planted or not.
-    pub phases: Vec<ContactPhase>,
-}
-
 /// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Undefined {
@@ -60,8 +49,9 @@ pub struct SpReport {
     pub support: Vec<HeldFrame>,
     /// Gaps whose root x–z was pinned (the motion after them not moved).
     pub pinned: Vec<PinnedRoot>,
-    /// Per gap, the contact schedule (`contact:` other than `"none"`).
-    pub contacts: Vec<GapContacts>,
+    /// The contact plan (`contact:` other than `"none"`, under gravity, on
+    /// a motion with a recorded part), from [`super::Filling::contacts`].
+    pub contacts: Option<ContactPlan>,
     /// Translation DOFs constant on both sides of their gap (bone offsets),
     /// held at that constant rather than optimised.
     pub constant: Vec<Undefined>,
@@ -139,20 +129,23 @@ impl SpReport {
                 h.moved_before
             )?;
         }
-        for g in &self.contacts {
-            for c in &g.phases {
-                if c.plants.is_empty() {
+        let Some(plan) = &self.contacts else {
+            return Ok(());
+        };
+        for g in &plan.gaps {
+            for c in &g.points {
+                if c.stances.is_empty() {
                     writeln!(
                         f,
                         "contact {} over [{:.4}, {:.4}] s: not planted (kept above the floor at {:.4} m)",
-                        c.frame, g.t0, g.t1, g.floor
+                        c.name, g.t0, g.t1, plan.floor.height
                     )?;
                 }
-                for p in &c.plants {
+                for p in &c.stances {
                     writeln!(
                         f,
                         "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){}",
-                        c.frame,
+                        c.name,
                         g.t0,
                         g.t1,
                         p.t0,

@@ -6,9 +6,10 @@
 use super::filling::{Filling, hermite_curve};
 use super::options::{RootFill, root_tolerance};
 use super::report::{PinnedRoot, RootShift, Undefined};
+use crate::model::RootCoords;
 use crate::motion::{Dof, Func};
 use crate::spacetime::error::SpError;
-use crate::spacetime::root::{RootCoords, RootTransition};
+use crate::spacetime::root_path::RootTransition;
 use crate::spacetime::transition::EndState;
 
 /// Shift every interval of `dof` that starts at or after `t` by `delta` in value.
@@ -168,8 +169,9 @@ mod tests {
     fn fill(dx: f64, how: RootFill) -> Filling<'static> {
         let (model, m) = gapped(dx);
         let model: &'static crate::model::Model = Box::leak(Box::new(model));
-        let root = RootCoords::detect_in(model, &Y_UP, &m);
-        let mut f = Filling::new(&m, model, Y_UP);
+        let m: &'static crate::motion::Mu = Box::leak(Box::new(m));
+        let root = crate::ground::moving_root(model, &Y_UP, m);
+        let mut f = Filling::new(m, model, Y_UP);
         fill_root(&mut f, &root, how).unwrap();
         f
     }

@@ -8,12 +8,12 @@ use super::energy::{joint_weights, torque_energy};
 use super::filling::Filling;
 use super::offsets::is_translation;
 use super::options::SpOptions;
-use super::prior::prior_weights;
+use super::prior_weights::prior_weights;
+use crate::model::RootCoords;
 use crate::motion::{Curve, Mu};
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs};
 use crate::spacetime::reference::{self, Example};
-use crate::spacetime::root::RootCoords;
 use crate::spacetime::solve::{GroupSolution, PriorTerm, Problem, solve_all};
 use crate::spacetime::torque::BodyDynamics;
 

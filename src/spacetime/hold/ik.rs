@@ -1,12 +1,14 @@
-//! The IK problem of one gap: the residual R of the held frames, its
-//! gradient and Jacobian, on the gap layout the torque objective uses.
+//! The hold IK of one gap: the residual R of the held frames, its gradient
+//! and Jacobian, on the gap layout the torque objective uses.
 
 use super::super::error::{SpError, invalid};
 use super::super::objective::{GapDof, GapLayout, TransitionSettings};
 use super::super::transition::TransitionCurve;
-use super::{Floor, Plant, frame_positions, link_positions, owner};
+use super::{frame_positions, link_positions, owner};
+use crate::ground::FloorPlane;
 use crate::model::kinematics::point_velocity;
 use crate::model::{Derivatives, JointKinematics, Model};
+use crate::spacetime::contact::Stance;
 use nalgebra::{DMatrix, Vector3};
 
 /// μ² per second of gap of the IK's pull toward the Hermite curves (m² per
@@ -17,16 +19,16 @@ pub const IK_STIFFNESS: f64 = 1e-3;
 
 /// The IK problem of one gap: hold `frames` on their planted paths by moving
 /// the gap DOFs `dofs` (those on the frames' chains).
-pub struct SupportObjective<'a> {
+pub struct HoldObjective<'a> {
     pub(super) model: &'a Model,
     pub(super) frames: Vec<usize>,
-    /// Per frame, where it is held: one plant over the whole span (Rose's
-    /// support, [`SupportObjective::new`]) or a contact schedule's
-    /// ([`SupportObjective::planned`]).
-    plants: Vec<Vec<Plant>>,
-    /// Nothing goes below it: outside its plants a frame lower than this is
+    /// Per frame, where it is held: one stance over the whole span (Rose's
+    /// support, [`HoldObjective::new`]) or a contact plan's
+    /// ([`HoldObjective::planned`]).
+    stances: Vec<Vec<Stance>>,
+    /// Nothing goes below it: outside its stances a frame lower than this is
     /// pulled up to it (one-sided), `None` for Rose's support.
-    floor: Option<Floor>,
+    floor: Option<FloorPlane>,
     t0: f64,
     t1: f64,
     /// The gap DOFs, their curves, the nodes and the basis rows (the torque
@@ -47,7 +49,7 @@ pub struct SupportObjective<'a> {
 
 /// How a frame is held at one node: r = P (p − target), ∂r/∂q = P ∂p/∂q.
 enum Hold {
-    /// On its plant: P = I.
+    /// On its stance: P = I.
     Planted(Vector3<f64>),
     /// Below the floor and not planted: P = up upᵀ, target on the floor.
     Floor(Vector3<f64>),
@@ -55,7 +57,7 @@ enum Hold {
     Free,
 }
 
-impl<'a> SupportObjective<'a> {
+impl<'a> HoldObjective<'a> {
     /// Rose's support: each frame held over the whole span on the straight
     /// path between where it is at the span's ends. `configuration(t)` gives
     /// every coordinate at t (gap DOFs may be NaN inside their gaps); `dofs`
@@ -73,11 +75,11 @@ impl<'a> SupportObjective<'a> {
             frame_positions(model, &o.frames, configuration, o.t0)?,
             frame_positions(model, &o.frames, configuration, o.t1)?,
         );
-        o.plants = a
+        o.stances = a
             .into_iter()
             .zip(b)
             .map(|(p0, p1)| {
-                vec![Plant {
+                vec![Stance {
                     t0: o.t0,
                     t1: o.t1,
                     p0,
@@ -89,22 +91,22 @@ impl<'a> SupportObjective<'a> {
         Ok(o)
     }
 
-    /// A contact schedule's IK: frame k held on `plants[k]` (none: free) and
+    /// A contact plan's IK: frame k held on `stances[k]` (none: free) and
     /// every frame kept at or above `floor` where it is not planted.
     pub fn planned(
         model: &'a Model,
         frames: Vec<usize>,
-        plants: Vec<Vec<Plant>>,
-        floor: Floor,
+        stances: Vec<Vec<Stance>>,
+        floor: FloorPlane,
         dofs: Vec<GapDof>,
         settings: &TransitionSettings,
         configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
     ) -> Result<Self, SpError> {
-        if plants.len() != frames.len() {
-            return Err(invalid("support IK: one plant list per frame"));
+        if stances.len() != frames.len() {
+            return Err(invalid("support IK: one stance list per frame"));
         }
         let mut o = Self::layout(model, frames, dofs, settings, configuration)?;
-        o.plants = plants;
+        o.stances = stances;
         o.floor = Some(floor);
         o.start = o.hermite_start();
         Ok(o)
@@ -146,10 +148,10 @@ impl<'a> SupportObjective<'a> {
                     .collect(),
             );
         }
-        Ok(SupportObjective {
+        Ok(HoldObjective {
             model,
             frames,
-            plants: vec![],
+            stances: vec![],
             floor: None,
             t0,
             t1,
@@ -181,8 +183,8 @@ impl<'a> SupportObjective<'a> {
 
     /// How frame f (at world position p) is held at t.
     fn hold(&self, f: usize, t: f64, p: &Vector3<f64>) -> Hold {
-        if let Some(plant) = self.plants[f].iter().find(|pl| pl.covers(t)) {
-            return Hold::Planted(plant.at(t));
+        if let Some(stance) = self.stances[f].iter().find(|pl| pl.covers(t)) {
+            return Hold::Planted(stance.at(t));
         }
         match self.floor {
             Some(fl) if fl.up.dot(p) < fl.height => {
@@ -192,9 +194,9 @@ impl<'a> SupportObjective<'a> {
         }
     }
 
-    /// The plants of each frame.
-    pub fn plants(&self) -> &[Vec<Plant>] {
-        &self.plants
+    /// The stances of each frame.
+    pub fn stances(&self) -> &[Vec<Stance>] {
+        &self.stances
     }
 
     /// The starting point: the Hermite curves (as the spacetime solve's).

@@ -3,7 +3,7 @@
 //! converges in a handful of iterations).
 
 use super::super::error::SpError;
-use super::SupportObjective;
+use super::HoldObjective;
 use crate::cancel::CancelToken;
 use nalgebra::{DMatrix, DVector};
 
@@ -21,7 +21,7 @@ struct System {
     worst: f64,
 }
 
-impl SupportObjective<'_> {
+impl HoldObjective<'_> {
     /// Minimise R by Levenberg–Marquardt from the Hermite start; returns x.
     pub fn solve(&self, cancel: &CancelToken) -> Result<Vec<f64>, SpError> {
         let n = self.n_vars();

@@ -1,46 +1,35 @@
-//! Support limbs held by inverse kinematics over a transition (Rose §3.2.2).
+//! Limbs held by inverse kinematics over a gap: Rose's support limbs
+//! (§3.2.2; found by `supports.rs` or named) and a contact plan's stances.
 //!
-//! A support frame is a link whose world position stays inside a small box
-//! over the end of the motion before a gap and the start of the motion after
-//! it (a planted foot), or one the animator names. Detection looks at
-//! [`WINDOW`] seconds on each side (6 samples per side): long enough to tell a
-//! planted foot from a swinging one passing through its lowest point, short
-//! enough to fit inside the stance phase of a walk (≈0.6 s). Only frames near
-//! the ground count ([`GROUND_BAND`] above the body's lowest frame): a still
-//! head or hand of a person standing is not carrying the body.
-//!
-//! Over the gap a support frame k is held on its planted path p̂_k(t), the
-//! straight line from where it is at the gap's start to where it is at the
-//! gap's end (the curves are fixed there, so r = 0 is reachable at both ends;
-//! the two points are inside the box of each other), by minimising
+//! Over the gap a held frame k is kept on its path p̂_k(t): for a support
+//! frame the straight line from where it is at the gap's start to where it
+//! is at the gap's end (the curves are fixed there, so r = 0 is reachable at
+//! both ends; the two points are inside the box of each other), for a
+//! planned contact point its stances' anchors (and above the floor
+//! elsewhere), by minimising
 //!
 //! R = ∫ Σ_k ‖p_k(q(t)) − p̂_k(t)‖² dt
 //!
 //! over the free B-spline coefficients of the gap DOFs on the chains from the
 //! held frames to the root — the same transition curves and quadrature as the
-//! spacetime solve. R is a sum of squares and the unknowns are few, so
+//! spacetime solve (`ik.rs`, solved by `solve.rs`). R is a sum of squares and the unknowns are few, so
 //! Gauss–Newton with Levenberg–Marquardt damping converges in a few
 //! iterations. The Jacobian is analytic: a coordinate i of link L moves a point
 //! p by ∂p/∂q_i = R_L(ω_i × R_Lᵀ(p − o_L) + v_i), [ω_i; v_i] = column i of the
 //! joint's S(q) in L's frame. The solved DOFs then become inputs of the
 //! spacetime solve of the remaining ones.
 
-use super::error::{SpError, invalid};
+use super::error::SpError;
 use crate::lie::Se3;
 use crate::model::Model;
 use nalgebra::Vector3;
 
 mod ik;
 mod solve;
+pub mod supports;
 
-pub use ik::{IK_STIFFNESS, SupportObjective};
-
-/// Seconds of motion looked at on each side of a gap to detect support frames.
-pub const WINDOW: f64 = 0.1;
-/// Samples per side in [`WINDOW`].
-pub const WINDOW_SAMPLES: usize = 6;
-/// A support frame lies within this height (m) of the body's lowest frame.
-pub const GROUND_BAND: f64 = 0.15;
+pub use ik::{HoldObjective, IK_STIFFNESS};
+pub use supports::{WINDOW, WINDOW_SAMPLES, detect};
 
 /// One support frame held over one gap.
 #[derive(Clone, Debug, PartialEq)]
@@ -96,56 +85,6 @@ pub(crate) fn candidates(model: &Model) -> Vec<usize> {
     crate::model::joint_points(model).0
 }
 
-/// Frames whose position stays in a cube of edge `box_size` over `q_before`
-/// and `q_after` (configurations sampled on each side of the gap) and that lie
-/// near the ground (see [`GROUND_BAND`]).
-pub fn detect(
-    model: &Model,
-    configurations: &[Vec<f64>],
-    gravity: &Vector3<f64>,
-    box_size: f64,
-) -> Result<Vec<usize>, SpError> {
-    if !(box_size.is_finite() && box_size >= 0.0) {
-        return Err(invalid(format!(
-            "support box size {box_size} m must be finite and non-negative (default 0.02)"
-        )));
-    }
-    let up = if gravity.norm() > 0.0 {
-        -gravity / gravity.norm()
-    } else {
-        return Ok(vec![]); // no gravity: nothing is supported
-    };
-    let links = candidates(model);
-    let mut lo = vec![Vector3::repeat(f64::INFINITY); links.len()];
-    let mut hi = vec![Vector3::repeat(f64::NEG_INFINITY); links.len()];
-    let mut lowest = f64::INFINITY;
-    let mut poses = vec![];
-    for q in configurations {
-        link_positions(model, q, &mut poses)?;
-        for (j, &l) in links.iter().enumerate() {
-            let p = poses[l].p;
-            lo[j] = lo[j].inf(&p);
-            hi[j] = hi[j].sup(&p);
-            lowest = lowest.min(p.dot(&up));
-        }
-    }
-    if configurations.is_empty() {
-        return Ok(vec![]);
-    }
-    Ok(links
-        .iter()
-        .enumerate()
-        .filter(|&(j, _)| {
-            let still = (hi[j] - lo[j]).iter().all(|d| *d <= box_size);
-            // the frame's highest point over the windows is near the ground
-            let h = 0.5 * (hi[j] + lo[j]);
-            let near_ground = h.dot(&up) - lowest <= GROUND_BAND + box_size;
-            still && near_ground
-        })
-        .map(|(_, &l)| l)
-        .collect())
-}
-
 /// Links named by the user in `option` (`support`, `contact`); an unknown
 /// name is an error listing the closest names.
 pub fn named(model: &Model, names: &[String], option: &'static str) -> Result<Vec<usize>, SpError> {
@@ -188,33 +127,4 @@ fn unknown_frame(model: &Model, n: &str, option: &'static str) -> SpError {
             list.join(", ")
         ),
     )
-}
-
-/// Where a held frame must be over part of a gap: on the straight path from
-/// `p0` at `t0` to `p1` at `t1` (a planted foot: `p0 == p1`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Plant {
-    pub t0: f64,
-    pub t1: f64,
-    pub p0: Vector3<f64>,
-    pub p1: Vector3<f64>,
-}
-
-impl Plant {
-    fn covers(&self, t: f64) -> bool {
-        t >= self.t0 && t <= self.t1
-    }
-
-    fn at(&self, t: f64) -> Vector3<f64> {
-        let s = ((t - self.t0) / (self.t1 - self.t0)).clamp(0.0, 1.0);
-        self.p0 * (1.0 - s) + self.p1 * s
-    }
-}
-
-/// The floor of a contact schedule: the plane of points p with `up · p = height`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Floor {
-    /// Unit vector against gravity.
-    pub up: Vector3<f64>,
-    pub height: f64,
 }

@@ -1,17 +1,17 @@
-//! Stage 3, support limbs (Rose §3.2.2, see [`crate::spacetime::support`]):
+//! Stage 3, support limbs (Rose §3.2.2, see [`crate::spacetime::hold`]):
 //! per group of overlapping gaps, find the support frames (detected or
 //! named), solve the gap DOFs on their chains by IK and write those curves
-//! back (`contact:` plans the frames instead: [`super::contacts`]).
+//! back (`contact:` plans the feet instead: [`super::hold_contacts`]).
 
 use super::checks::motion_err;
 use super::filling::Filling;
-use super::held::{moves, span, write_support_solve};
+use super::held_limbs::{moves, span, write_hold_solve};
 use super::options::{SpOptions, Support};
 use crate::model::Model;
 use crate::spacetime::error::SpError;
+use crate::spacetime::hold::{self, HoldObjective};
 use crate::spacetime::objective::GapDof;
 use crate::spacetime::solve::group_overlapping;
-use crate::spacetime::support::{self, SupportObjective};
 
 /// The gaps left for the spacetime solve after the support limbs' chains
 /// were solved by IK and written into the motion.
@@ -22,7 +22,7 @@ pub(super) fn hold_supports(
 ) -> Result<Vec<GapDof>, SpError> {
     let named = match &opts.support {
         Support::Off => return Ok(gaps),
-        Support::Named(names) => Some(support::named(f.model, names, "support")?),
+        Support::Named(names) => Some(hold::named(f.model, names, "support")?),
         Support::Auto { .. } => None,
     };
     let mut left = vec![];
@@ -66,12 +66,12 @@ fn hold_group(
         if ik.is_empty() {
             return Ok(rest);
         }
-        let obj = SupportObjective::new(model, frames.clone(), ik, &opts.settings, &configuration)?;
+        let obj = HoldObjective::new(model, frames.clone(), ik, &opts.settings, &configuration)?;
         let x = obj.solve(&opts.solve.cancel)?;
         (obj, x, frames, rest)
     };
     let (obj, x, frames, rest) = solved;
-    write_support_solve(f, &obj, &x, &frames, (t0, t1), detected)?;
+    write_hold_solve(f, &obj, &x, &frames, (t0, t1), detected)?;
     Ok(rest)
 }
 
@@ -89,8 +89,8 @@ fn detect_frames(
     };
     let (model, (t0, t1)) = (f.model, span(group));
     let mut qs = vec![];
-    for i in 0..support::WINDOW_SAMPLES {
-        let dt = support::WINDOW * i as f64 / (support::WINDOW_SAMPLES - 1) as f64;
+    for i in 0..hold::WINDOW_SAMPLES {
+        let dt = hold::WINDOW * i as f64 / (hold::WINDOW_SAMPLES - 1) as f64;
         for t in [t0 - dt, t1 + dt] {
             let q = configuration(t)?;
             // the motion may not reach that far: use what is defined
@@ -101,7 +101,7 @@ fn detect_frames(
     }
     let frames = moved_by(
         model,
-        support::detect(model, &qs, &f.gravity, box_size)?,
+        hold::detect(model, &qs, &f.gravity, box_size)?,
         group,
     );
     if frames.is_empty() {
@@ -115,7 +115,7 @@ fn detect_frames(
         .filter(|d| frames.iter().any(|&fr| moves(model, fr, d.coord)))
         .cloned()
         .collect();
-    let probe = SupportObjective::new(model, frames.clone(), chain, &opts.settings, configuration)?;
+    let probe = HoldObjective::new(model, frames.clone(), chain, &opts.settings, configuration)?;
     let drift = probe.largest_drift(&probe.hermite_start())?;
     Ok(frames
         .into_iter()

@@ -1,15 +1,15 @@
-//! Foot contact inside a gap (issue 25): which contact frames stand on the
-//! floor when, and where, planned from the motion around the gap.
+//! A gap's contact plan from the motion around it: which contact points
+//! stand on the floor when, and where.
 //!
-//! A contact frame is a joint point whose lowest height over the context is
-//! within [`GROUND_BAND`] of the floor (ankles and toes of a walk; a hand
-//! only if it reaches the floor). It is *in stance* at a sample when it is
-//! within [`CONTACT_HEIGHT`] of its own lowest height in the context (an
-//! ankle never comes within 2 cm of the floor, its toe does) and moves
-//! horizontally slower than [`CONTACT_SPEED`].
+//! The contact points are `ground`'s (a body's ankle and toe joints, or the
+//! links `contact: [...]` names); one whose lowest height over the context is
+//! within [`GROUND_BAND`] of the floor is kept (unless named). It is *in
+//! stance* at a sample by [`in_stance`]: within [`CONTACT_HEIGHT`] of its own
+//! lowest height in the context (an ankle never comes within 2 cm of the
+//! floor, its toe does) and moving horizontally slower than [`CONTACT_SPEED`].
 //!
-//! Per frame, at the gap's ends:
-//! - in stance at both ends, in the same place (a [`super::support`] box):
+//! Per point, at the gap's ends:
+//! - in stance at both ends, in the same place (within 2 cm):
 //!   planted over the whole gap on the path between the two (Rose's support);
 //! - in stance at both ends in different places: one step, planted at the
 //!   start until lift-off and at the end from touch-down. Lift-off comes when
@@ -20,36 +20,19 @@
 //!   touch-down);
 //! - in the air at both ends: free.
 //!
-//! The floor is the lowest height any contact frame reaches in the recorded
-//! part of the motion, or `floor:`. Planting is done by the support IK
-//! ([`super::support::SupportObjective::planned`]), which also keeps every
-//! contact frame at or above the floor.
+//! The floor is `ground`'s floor of the motion's recorded part
+//! ([`crate::ground::recorded_floor`]), or `floor:`. Planting is done by the
+//! hold IK ([`crate::spacetime::hold::HoldObjective::planned`]), which also
+//! keeps every contact point at or above the floor.
 
-use super::error::{SpError, invalid};
-use super::support::{Floor, Plant};
+use super::plan::{GapPlan, PointPlan, Stance};
+use crate::ground::{
+    CONTACT_HEIGHT, CONTACT_SPEED, FloorPlane, GROUND_BAND, horizontal, in_stance,
+};
 use crate::model::Model;
+use crate::spacetime::error::SpError;
 use nalgebra::Vector3;
 
-/// `SP(…, contact: …)`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum Contact {
-    /// Contact frames found near the floor, schedules planned per gap.
-    Auto,
-    /// `contact: ["Toes_L", …]`: these frames, schedules planned per gap.
-    Named(Vec<String>),
-    /// No contact planning: Rose's support alone (`support:`), as before.
-    #[default]
-    None,
-}
-
-/// Height (m) above its own lowest point within which a frame may be in stance.
-pub const CONTACT_HEIGHT: f64 = 0.02;
-/// Horizontal speed (m/s) under which a low frame is in stance: a planted
-/// toe of a Bandai walk moves ~0.1 m/s (capture noise, rolling), a swinging
-/// one passes its lowest point at over 1 m/s.
-pub const CONTACT_SPEED: f64 = 0.3;
-/// A contact frame's lowest point lies within this (m) of the floor.
-pub const GROUND_BAND: f64 = 0.15;
 /// Seconds of context looked at on each side of a gap.
 pub const CONTEXT: f64 = 1.5;
 /// Context sampling step (s).
@@ -61,48 +44,22 @@ const DEFAULT_SWING: f64 = 0.4;
 /// Two stances within this (m) of each other are one plant.
 const SAME_PLACE: f64 = 0.02;
 
-/// One contact frame's schedule in one gap.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ContactPhase {
-    /// The frame's name.
-    pub frame: String,
-    /// Planted intervals and where.
-    pub plants: Vec<Plant>,
-}
-
 /// One side of a gap: sample times, and per frame its positions at them.
 type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>);
 
-/// The contact frames of a motion around one gap and their samples.
+/// The contact points of a motion around one gap and their samples.
 pub struct Context<'a> {
     model: &'a Model,
     up: Vector3<f64>,
+    /// The contact points kept (link indices).
     frames: Vec<usize>,
     /// The samples before and after the gap.
     before: Side,
     after: Side,
-    /// Per frame, its lowest height over both sides.
+    /// Per point, its lowest height over both sides.
     lowest: Vec<f64>,
-}
-
-/// The floor of a motion's recorded part: the lowest height any of `frames`
-/// reaches at `configurations` (fully defined poses).
-pub fn floor_of(
-    model: &Model,
-    frames: &[usize],
-    up: &Vector3<f64>,
-    configurations: &[Vec<f64>],
-) -> Result<Option<f64>, SpError> {
-    let mut poses = vec![];
-    let mut lowest: Option<f64> = None;
-    for q in configurations {
-        fk(model, q, &mut poses)?;
-        for &f in frames {
-            let h = up.dot(&poses[f].p);
-            lowest = Some(lowest.map_or(h, |l| l.min(h)));
-        }
-    }
-    Ok(lowest)
+    /// The gap [t0, t1].
+    span: (f64, f64),
 }
 
 fn fk(model: &Model, q: &[f64], poses: &mut Vec<crate::lie::Se3>) -> Result<(), SpError> {
@@ -117,13 +74,13 @@ impl<'a> Context<'a> {
     /// those whose lowest point is within [`GROUND_BAND`] of `floor`.
     pub fn new(
         model: &'a Model,
-        up: Vector3<f64>,
+        floor: &FloorPlane,
         candidates: &[usize],
         named: bool,
-        floor: f64,
         (t0, t1): (f64, f64),
         configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
     ) -> Result<Self, SpError> {
+        let up = floor.up;
         let n = (CONTEXT / STEP).round() as usize;
         let mut poses = vec![];
         let mut side = |times: Vec<f64>| -> Result<Side, SpError> {
@@ -160,7 +117,7 @@ impl<'a> Context<'a> {
                 .chain(&pa[j])
                 .map(|p| up.dot(p))
                 .fold(f64::INFINITY, f64::min);
-            if named || low - floor <= GROUND_BAND {
+            if named || low - floor.height <= GROUND_BAND {
                 keep.push((j, f));
                 lowest.push(low);
             }
@@ -175,43 +132,38 @@ impl<'a> Context<'a> {
             before: (tb, pick(pb)),
             after: (ta, pick(pa)),
             lowest,
+            span: (t0, t1),
         })
     }
 
-    /// The contact frames kept.
-    pub fn frames(&self) -> &[usize] {
-        &self.frames
-    }
-
-    /// Stance flags of frame k on one side's samples.
+    /// Stance flags of point k on one side's samples.
     fn stance(&self, k: usize, (ts, ps): &Side) -> Vec<bool> {
         let p = &ps[k];
         (0..ts.len())
             .map(|i| {
-                let low = self.up.dot(&p[i]) - self.lowest[k] <= CONTACT_HEIGHT;
+                let above = self.up.dot(&p[i]) - self.lowest[k];
                 // horizontal speed by the nearest difference on this side
                 let (a, b) = if i + 1 < ts.len() {
                     (i, i + 1)
                 } else if i > 0 {
                     (i - 1, i)
                 } else {
-                    return low;
+                    return in_stance(above, 0.0, CONTACT_HEIGHT, CONTACT_SPEED);
                 };
-                let d = p[b] - p[a];
-                let horizontal = d - self.up * self.up.dot(&d);
-                low && horizontal.norm() / (ts[b] - ts[a]) <= CONTACT_SPEED
+                let speed = horizontal(&(p[b] - p[a]), &self.up).norm() / (ts[b] - ts[a]);
+                in_stance(above, speed, CONTACT_HEIGHT, CONTACT_SPEED)
             })
             .collect()
     }
 
-    /// The contact schedule of every frame over the gap [t0, t1].
-    pub fn plan(&self) -> Vec<Vec<Plant>> {
+    /// The gap's plan: every kept point's stances over [t0, t1].
+    pub fn plan(&self) -> GapPlan {
         let (t0, t1) = (
             *self.before.0.last().unwrap_or(&0.0),
             *self.after.0.first().unwrap_or(&0.0),
         );
         let gap = t1 - t0;
-        (0..self.frames.len())
+        let points = (0..self.frames.len())
             .map(|k| {
                 let sb = self.stance(k, &self.before);
                 let sa = self.stance(k, &self.after);
@@ -229,7 +181,7 @@ impl<'a> Context<'a> {
                 let b1 = sa.iter().take_while(|&&s| s).count().saturating_sub(1) as f64 * STEP;
                 let p0 = *self.before.1[k].last().expect("context is not empty");
                 let p1 = self.after.1[k][0];
-                let plant = |a: f64, b: f64, p: Vector3<f64>, q: Vector3<f64>| Plant {
+                let plant = |a: f64, b: f64, p: Vector3<f64>, q: Vector3<f64>| Stance {
                     t0: a,
                     t1: b,
                     p0: p,
@@ -261,21 +213,19 @@ impl<'a> Context<'a> {
                     (false, true) if touch < t1 => out.push(plant(touch, t1, p1, p1)),
                     _ => {}
                 }
-                out
+                let link = self.frames[k];
+                PointPlan {
+                    name: self.model.link(link).name.clone(),
+                    link,
+                    stances: out,
+                }
             })
-            .collect()
-    }
-
-    /// Names of the frames with their schedules.
-    pub fn phases(&self, plants: &[Vec<Plant>]) -> Vec<ContactPhase> {
-        self.frames
-            .iter()
-            .zip(plants)
-            .map(|(&f, p)| ContactPhase {
-                frame: self.model.link(f).name.clone(),
-                plants: p.clone(),
-            })
-            .collect()
+            .collect();
+        GapPlan {
+            t0: self.span.0,
+            t1: self.span.1,
+            points,
+        }
     }
 }
 
@@ -311,21 +261,4 @@ fn durations(before: &[bool], after: &[bool]) -> (f64, f64) {
         }
     };
     (mean(&stance, DEFAULT_STANCE), mean(&swing, DEFAULT_SWING))
-}
-
-/// The floor for the IK, from a height and gravity.
-pub fn floor(gravity: &Vector3<f64>, height: f64) -> Result<Floor, SpError> {
-    if gravity.norm() == 0.0 {
-        return Err(invalid("contact needs gravity to know which way is up"));
-    }
-    if !height.is_finite() {
-        return Err(crate::spacetime::error::invalid_option(
-            "floor",
-            format!("`floor:` must be a finite height in metres, found {height}"),
-        ));
-    }
-    Ok(Floor {
-        up: -gravity / gravity.norm(),
-        height,
-    })
 }

@@ -1,17 +1,18 @@
-//! What both ways of holding limbs share (support frames, contact plans):
-//! which gap DOFs move a frame, a group's span, and writing a solved IK back.
+//! What both ways of holding limbs ([`super::hold_supports`],
+//! [`super::hold_contacts`]) share: which gap DOFs move a frame, a group's
+//! span, and writing a solved hold IK back.
 
 use super::filling::Filling;
 use crate::model::Model;
 use crate::motion::Curve;
 use crate::spacetime::error::SpError;
+use crate::spacetime::hold::{self, HeldFrame, HoldObjective};
 use crate::spacetime::objective::GapDof;
-use crate::spacetime::support::{self, HeldFrame, SupportObjective};
 
 /// Whether gap coordinate `c` moves frame `f` (it is on the chain from the
 /// frame to the root).
 pub fn moves(model: &Model, f: usize, c: usize) -> bool {
-    support::owner(model, c).is_some_and(|o| model.is_ancestor(o, f))
+    hold::owner(model, c).is_some_and(|o| model.is_ancestor(o, f))
 }
 
 /// The span of a group of gaps.
@@ -21,12 +22,12 @@ pub fn span(group: &[GapDof]) -> (f64, f64) {
     (t0, t1)
 }
 
-/// Writes a solved support IK back into the motion (its chain's curves over
+/// Writes a solved hold IK back into the motion (its chain's curves over
 /// the gap) and records each held frame in the report, with how far it moved
 /// under the Hermite curves and under IK.
-pub fn write_support_solve(
+pub fn write_hold_solve(
     f: &mut Filling<'_>,
-    obj: &SupportObjective<'_>,
+    obj: &HoldObjective<'_>,
     x: &[f64],
     frames: &[usize],
     (t0, t1): (f64, f64),

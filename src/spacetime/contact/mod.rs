@@ -1,0 +1,23 @@
+//! Foot contact inside SP's gaps (issue 25): the `contact:` option, the
+//! typed [`ContactPlan`] (`plan.rs`), and planning it from the stances around
+//! each gap (`context.rs`). Floor, "up", contact points and the stance test
+//! are `ground`'s.
+
+pub mod context;
+pub mod plan;
+
+pub use context::Context;
+pub use plan::{ContactPlan, GapPlan, PointPlan, Stance};
+
+/// `SP(…, contact: …)`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Contact {
+    /// The body's contact points (`ground`'s: its ankle and toe joints),
+    /// stances planned per gap.
+    Auto,
+    /// `contact: ["Toes_L", …]`: these links, stances planned per gap.
+    Named(Vec<String>),
+    /// No contact planning: Rose's support alone (`support:`), as before.
+    #[default]
+    None,
+}
