@@ -111,7 +111,7 @@ fn main() -> ExitCode {
                     return ExitCode::from(1);
                 }
             };
-            let errors = mx.check_all_named(&file.display().to_string(), &text);
+            let errors = mx.check_script(&file, &text);
             if errors.len() > 1 {
                 eprintln!("{} errors in {}:", errors.len(), file.display());
             }

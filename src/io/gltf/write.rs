@@ -15,7 +15,8 @@
 //! literals keeps the file readable next to the spec.
 //!
 //! Units: metres and seconds, mx's world frame as is (clips from BVH are
-//! y-up, as glTF asks).
+//! y-up, as glTF asks). Each node's `extras.mx` holds its link's mass
+//! properties ([`mass_properties`]), which the reader gives back to `body_of`.
 
 use std::path::Path;
 
@@ -97,6 +98,10 @@ pub fn to_bytes(
         if !children[j].is_empty() {
             node["children"] = json!(children[j]);
         }
+        let inertia = &body.link(l).inertia;
+        if !inertia.is_zero() {
+            node["extras"] = json!({ "mx": mass_properties(inertia) });
+        }
         doc.nodes.push(node);
     }
     let roots: Vec<usize> = (0..links.len()).filter(|&j| parents[j].is_none()).collect();
@@ -132,6 +137,21 @@ pub fn save(body: &Model, clips: &[Clip], rate: Option<f64>, path: &Path) -> Res
     let bytes = to_bytes(body, clips, rate, Container::for_path(path))?;
     crate::io::atomic::write_atomic(path, &bytes)?;
     Ok(())
+}
+
+/// A link's mass properties as glTF `extras` (`{"mx": {…}}` on its node), so
+/// `body_of(load("x.glb"))` is the body that was saved: mass (kg), centre of
+/// mass (m) and the inertia about it (kg·m², `[xx, yy, zz, xy, xz, yz]`), in
+/// the node's frame, as f64 (JSON numbers read back exactly). Every link
+/// that carries mass is a node: `joint_points` leaves out massless ones only.
+fn mass_properties(i: &crate::model::Inertia) -> Value {
+    let c = i.com();
+    let m = i.inertia_com();
+    json!({
+        "mass": i.mass,
+        "com": [c.x, c.y, c.z],
+        "inertia": [m[(0, 0)], m[(1, 1)], m[(2, 2)], m[(0, 1)], m[(0, 2)], m[(1, 2)]],
+    })
 }
 
 /// Each joint's frame in its parent joint's frame (world for a root).
