@@ -55,7 +55,9 @@ fn body_from_clip(
 ) -> PyResult<Py<PyAny>> {
     let pos = vec![motion.get().value.clone()];
     // no `mass`: the built-in's default (70 kg, or the total a glTF file states)
-    let named = mass.map(|m| vec![("mass".into(), m.into())]).unwrap_or_default();
+    let named = mass
+        .map(|m| vec![("mass".into(), m.into())])
+        .unwrap_or_default();
     let v = Builtins::get()
         .call(name, pos, named)
         .map_err(|e| raise_diag(py, &e))?;

@@ -197,7 +197,10 @@ impl Interpreter {
             .map(|d| Arc::new(d.to_path_buf()));
         let outer = std::mem::replace(&mut self.ctx.script_dir, dir);
         // the script itself heads the import chain: importing it again is a cycle
-        let chain = path.canonicalize().map(|c| Arc::new(vec![c])).unwrap_or_default();
+        let chain = path
+            .canonicalize()
+            .map(|c| Arc::new(vec![c]))
+            .unwrap_or_default();
         let outer_chain = std::mem::replace(&mut self.ctx.chain, chain);
         let result = self.eval_named(&path.display().to_string(), &text);
         self.ctx.script_dir = outer;
@@ -445,10 +448,13 @@ impl Outside for Checking {
             Ok(r) => r,
             Err(e) => {
                 errors.push(
-                    MxError::new(ErrorKind::Io, format!("cannot import `{}`: {e}", path.display()))
-                        .at(imp.path_span)
-                        .label("cannot be read")
-                        .help("an import is read from the importing script's folder"),
+                    MxError::new(
+                        ErrorKind::Io,
+                        format!("cannot import `{}`: {e}", path.display()),
+                    )
+                    .at(imp.path_span)
+                    .label("cannot be read")
+                    .help("an import is read from the importing script's folder"),
                 );
                 return None;
             }
@@ -457,13 +463,21 @@ impl Outside for Checking {
             let names: Vec<String> = self.chain[k..]
                 .iter()
                 .chain([&canon])
-                .map(|p| p.file_name().map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into_owned()))
+                .map(|p| {
+                    p.file_name().map_or_else(
+                        || p.display().to_string(),
+                        |n| n.to_string_lossy().into_owned(),
+                    )
+                })
                 .collect();
             errors.push(
-                MxError::new(ErrorKind::Value, format!("import cycle: {}", names.join(" → ")))
-                    .at(imp.path_span)
-                    .label("imports a script that imports this one")
-                    .help("move what both scripts need into a third one that imports neither"),
+                MxError::new(
+                    ErrorKind::Value,
+                    format!("import cycle: {}", names.join(" → ")),
+                )
+                .at(imp.path_span)
+                .label("imports a script that imports this one")
+                .help("move what both scripts need into a third one that imports neither"),
             );
             return None;
         }

@@ -178,12 +178,11 @@ impl<'a> Resolver<'a> {
             )
             .at(*span)
             .label("unknown parameter");
-            self.errors.push(
-                match did_you_mean(n, c.params.iter().map(String::as_str)) {
+            self.errors
+                .push(match did_you_mean(n, c.params.iter().map(String::as_str)) {
                     Some(s) => e.help(format!("did you mean `{s}`? usage: {}", c.usage)),
                     None => e.help(format!("usage: {}", c.usage)),
-                },
-            );
+                });
         }
     }
 
@@ -202,9 +201,11 @@ impl<'a> Resolver<'a> {
         if exports.iter().any(|x| x == field) {
             return;
         }
-        let e = MxError::value(format!("the script imported as `{n}` has no name `{field}`"))
-            .at(span)
-            .label("not defined there");
+        let e = MxError::value(format!(
+            "the script imported as `{n}` has no name `{field}`"
+        ))
+        .at(span)
+        .label("not defined there");
         self.errors.push(
             match did_you_mean(field, exports.iter().map(String::as_str)) {
                 Some(s) => e.help(format!("did you mean `{s}`?")),

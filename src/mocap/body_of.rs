@@ -147,7 +147,10 @@ pub fn body_of(
 /// [`Skeleton::inertias`]), scaled to `mass` kg: the saved body itself when
 /// `mass` is the stated total ([`Skeleton::stated_mass`]).
 fn stated(sk: &Skeleton, mass: f64) -> Option<(Vec<Inertia>, MassReport)> {
-    let v = sk.inertias.as_ref().filter(|v| v.len() == sk.joints.len())?;
+    let v = sk
+        .inertias
+        .as_ref()
+        .filter(|v| v.len() == sk.joints.len())?;
     let scale = mass / sk.stated_mass()?;
     let inertias: Vec<Inertia> = v
         .iter()

@@ -313,12 +313,7 @@ fn a_closed_stdout_ends_mx_quietly() {
             .spawn()
             .expect("runs mx");
         let mut head = [0u8; 20];
-        child
-            .stdout
-            .take()
-            .unwrap()
-            .read_exact(&mut head)
-            .unwrap();
+        child.stdout.take().unwrap().read_exact(&mut head).unwrap();
         // the read end is dropped here, like `head -c 20` exiting
         let out = child.wait_with_output().unwrap();
         let err = text(&out.stderr);
@@ -337,4 +332,3 @@ fn a_closed_stdout_ends_mx_quietly() {
         }
     }
 }
-

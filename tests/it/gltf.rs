@@ -336,7 +336,10 @@ fn glb_keeps_the_body_and_the_frame_grid() {
             "{name}: torque energy {:.6e} → {:.6e} ({rel:+.2e}), frame time {} → {}, DOFs {} → {}",
             n[0], n[1], n[2], n[3], n[5], n[6]
         );
-        assert!(rel.abs() < 1e-3, "{name}: torque energy {rel:+.2e} relative");
+        assert!(
+            rel.abs() < 1e-3,
+            "{name}: torque energy {rel:+.2e} relative"
+        );
         assert_eq!(n[3], n[2], "{name}: frame time off the file's grid");
         assert_eq!(n[4], 0.0, "{name}: DOFs undefined at the last frame time");
     }

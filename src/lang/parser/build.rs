@@ -146,8 +146,9 @@ impl Builder<'_> {
             .filter(|q| !matches!(q.as_rule(), Rule::kw_import | Rule::kw_as));
         let path = it.next().ok_or_else(|| internal(span))?;
         let path_span = self.span(&path);
-        let ExprKind::Str(file) = self.expr(path)?.kind else {
-            return Err(internal(span));
+        let file = match &self.expr(path)?.kind {
+            ExprKind::Str(f) => f.clone(),
+            _ => return Err(internal(span)),
         };
         let (name, name_span) = match it.next() {
             Some(n) => (n.as_str().to_string(), self.span(&n)),
