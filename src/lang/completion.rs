@@ -660,7 +660,8 @@ mod tests {
             .find(|(n, _)| n == "walk")
             .expect("walk is a motion");
         assert!(dofs.iter().any(|d| d == "Hips.Xposition"), "{dofs:?}");
-        assert_eq!(s.params["load"], ["path"]);
+        // a format's options are named only (`animation:`), after the path
+        assert_eq!(s.params["load"], ["path", "...options"]);
         assert_eq!(
             replacements("walk.only(\"LeftFoot.Z", &s).1,
             ["LeftFoot.Zrotation"]
