@@ -27,6 +27,7 @@ mod inbetween;
 mod joints;
 mod joints_lang;
 mod knee_pendulum;
+mod lang_compose;
 mod lang_diagnostics;
 mod lang_fuzz;
 mod lang_isolation;
