@@ -8,8 +8,8 @@
 //! asks for it (normalised over them alone, its own tree) and kept for the
 //! rest: every gap length, root setting and method of that file shares it.
 
-use super::inbetween::Case;
 use crate::library::{self, IndexedClip, Library, LibraryError, Settings, Skipped};
+use crate::mocap::bvh::Skeleton;
 use crate::spacetime::reference::LibrarySource;
 use std::collections::HashMap;
 use std::path::Path;
@@ -81,13 +81,18 @@ impl LeaveOneOut {
         Ok(lib)
     }
 
-    /// SP's `example:` source for a window of `case`: the library without
-    /// the case's own file, read through the case's skeleton.
-    pub fn source(&self, case: &Case) -> Result<LibrarySource, LibraryError> {
+    /// SP's `example:` source for a window of `clip`: the library without
+    /// the clip's own file, read through its skeleton.
+    pub fn source(
+        &self,
+        clip: &str,
+        skeleton: Arc<Skeleton>,
+        metres_per_unit: f64,
+    ) -> Result<LibrarySource, LibraryError> {
         Ok(LibrarySource {
-            library: self.without(&case.name)?,
-            skeleton: case.skeleton.clone(),
-            metres_per_unit: case.metres_per_unit,
+            library: self.without(clip)?,
+            skeleton,
+            metres_per_unit,
         })
     }
 }
