@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod graph_cli;
+mod library_cli;
 mod repl;
 
 #[derive(Parser)]
@@ -61,6 +62,9 @@ enum Command {
     /// Transition libraries (motion graphs): build, merge, info, walk.
     #[command(subcommand)]
     Graph(Box<graph_cli::GraphCommand>),
+    /// Clip libraries (.mxlib) from the command line: build (in shards), merge, info.
+    #[command(subcommand)]
+    Library(Box<library_cli::LibraryCommand>),
 }
 
 /// Let a closed stdout end mx as it ends other Unix tools: killed by SIGPIPE
@@ -85,9 +89,10 @@ fn main() -> ExitCode {
     quiet_on_closed_stdout();
     let cli = Cli::parse();
     let command = cli.command.unwrap_or(Command::Repl);
-    // the graph commands need no interpreter
+    // the graph and library commands need no interpreter
     let command = match command {
         Command::Graph(g) => return graph_cli::run(*g),
+        Command::Library(l) => return library_cli::run(*l),
         c => c,
     };
     let mut mx = mx::Interpreter::new();
@@ -147,6 +152,7 @@ fn main() -> ExitCode {
         }
         // answered above, before the interpreter is made
         Command::Graph(g) => graph_cli::run(*g),
+        Command::Library(l) => library_cli::run(*l),
         #[cfg(feature = "report")]
         Command::Report { smoke, out } => {
             match mx::report::generate(&mx::report::Options::new(out, smoke)) {

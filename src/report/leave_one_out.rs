@@ -3,39 +3,46 @@
 //! from its own file, so the library cannot hand back the frames that were
 //! cut (the held-out protocol the literature reports).
 //!
-//! The folder is read once; each file's library is built the first time one
-//! of its windows asks for it and kept for the rest (every gap length, root
-//! setting and method of that file shares it).
+//! The folder's clips are indexed once (their raw features); each file's
+//! library is assembled from the others' the first time one of its windows
+//! asks for it (normalised over them alone, its own tree) and kept for the
+//! rest: every gap length, root setting and method of that file shares it.
 
-use super::inbetween::Case;
-use crate::library::{self, ClipInput, Library, LibraryError, Settings, Skipped};
+use crate::library::{self, IndexedClip, Library, LibraryError, Settings, Skipped};
+use crate::mocap::bvh::Skeleton;
 use crate::spacetime::reference::LibrarySource;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-/// The folder's clips and the libraries built so far, by held-out clip.
+/// The folder's clips, indexed, and the libraries assembled so far, by
+/// held-out clip.
 pub struct LeaveOneOut {
-    clips: Vec<ClipInput>,
-    skipped: Vec<Skipped>,
+    indexed: Vec<Result<IndexedClip, Skipped>>,
     settings: Settings,
     built: Mutex<HashMap<String, Arc<Library>>>,
 }
 
 impl std::fmt::Debug for LeaveOneOut {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "LeaveOneOut({} clips)", self.clips.len())
+        write!(f, "LeaveOneOut({} clips)", self.indexed.len())
+    }
+}
+
+fn name(r: &Result<IndexedClip, Skipped>) -> &str {
+    match r {
+        Ok(c) => &c.clip.name,
+        Err(s) => &s.clip,
     }
 }
 
 impl LeaveOneOut {
-    /// Every `.bvh` clip of `dir` (as `library(dir)` reads them).
+    /// Every `.bvh` clip of `dir` (as `library(dir)` reads them), indexed.
     pub fn new(dir: &Path, settings: Settings) -> Result<LeaveOneOut, LibraryError> {
         settings.check()?;
-        let (clips, skipped) = library::clips_in_folder(dir)?;
+        let paths = library::bvh_files(dir)?;
         Ok(LeaveOneOut {
-            clips,
-            skipped,
+            indexed: library::index_files(&paths, &settings, &|| {}),
             settings,
             built: Mutex::new(HashMap::new()),
         })
@@ -43,32 +50,30 @@ impl LeaveOneOut {
 
     /// Clips in the folder (the held-out one included).
     pub fn len(&self) -> usize {
-        self.clips.len()
+        self.indexed.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.clips.is_empty()
+        self.indexed.is_empty()
     }
 
     /// The library of every clip but `clip` (a file's name without its
-    /// extension), built once.
+    /// extension), assembled once.
     pub fn without(&self, clip: &str) -> Result<Arc<Library>, LibraryError> {
         if let Some(l) = self.built.lock().expect("library cache").get(clip) {
             return Ok(l.clone());
         }
-        let others: Vec<ClipInput> = self
-            .clips
+        let others = self
+            .indexed
             .iter()
-            .filter(|c| c.name != clip)
+            .filter(|r| name(r) != clip)
             .cloned()
             .collect();
-        let skipped = self
-            .skipped
-            .iter()
-            .filter(|s| s.clip != clip)
-            .cloned()
-            .collect();
-        let lib = Arc::new(Library::build(others, skipped, self.settings.clone())?);
+        let lib = Arc::new(Library::from_results(
+            others,
+            vec![],
+            self.settings.clone(),
+        )?);
         self.built
             .lock()
             .expect("library cache")
@@ -76,13 +81,18 @@ impl LeaveOneOut {
         Ok(lib)
     }
 
-    /// SP's `example:` source for a window of `case`: the library without
-    /// the case's own file, read through the case's skeleton.
-    pub fn source(&self, case: &Case) -> Result<LibrarySource, LibraryError> {
+    /// SP's `example:` source for a window of `clip`: the library without
+    /// the clip's own file, read through its skeleton.
+    pub fn source(
+        &self,
+        clip: &str,
+        skeleton: Arc<Skeleton>,
+        metres_per_unit: f64,
+    ) -> Result<LibrarySource, LibraryError> {
         Ok(LibrarySource {
-            library: self.without(&case.name)?,
-            skeleton: case.skeleton.clone(),
-            metres_per_unit: case.metres_per_unit,
+            library: self.without(clip)?,
+            skeleton,
+            metres_per_unit,
         })
     }
 }

@@ -34,6 +34,7 @@ mod lang_isolation;
 mod lang_motion;
 mod layers;
 mod library;
+mod library_shards;
 mod lie;
 mod mechanisms;
 mod mocap_body;
