@@ -13,6 +13,7 @@ mod cli;
 #[cfg(feature = "report")]
 mod dynamics;
 mod dynamics_lang;
+mod dynamics_points;
 mod dynamics_sim;
 mod first_hour;
 mod gltf;

@@ -17,6 +17,7 @@
 use super::error::{SpError, invalid};
 use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
+use crate::dynamics::PointForce;
 
 mod gauss_newton;
 pub mod layout;
@@ -202,10 +203,40 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         Ok(Objective {
             layout,
             sampled,
-            torque: TorqueTerm { model, weights },
+            torque: TorqueTerm {
+                model,
+                weights,
+                forces: vec![],
+            },
             prior,
             more: vec![],
         })
+    }
+
+    /// The world forces at link points that act at each node besides the
+    /// joints (`per_node[k]` at node k; empty: none anywhere): the torque
+    /// term becomes Σwᵢτᵢ² with τ = ID − Σ J_cᵀ f_c, differentiated with the
+    /// forces held fixed. Replaces those set before.
+    pub fn set_forces(&mut self, per_node: Vec<Vec<PointForce>>) -> Result<(), SpError> {
+        if !per_node.is_empty() && per_node.len() != self.n_nodes() {
+            return Err(invalid(format!(
+                "forces are given at {} nodes but the objective has {}",
+                per_node.len(),
+                self.n_nodes()
+            )));
+        }
+        self.torque.forces = per_node;
+        Ok(())
+    }
+
+    /// q, q̇, q̈ of every coordinate at node k for unknowns x (the state every
+    /// term reads there), e.g. to compute the forces of [`Objective::set_forces`].
+    pub fn node_state(&self, x: &[f64], k: usize) -> [Vec<f64>; 3] {
+        let n = self.torque.model.nq();
+        let [mut q, mut v, mut a] = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        self.sampled
+            .load_into(&self.layout, k, x, [&mut q, &mut v, &mut a]);
+        [q, v, a]
     }
 
     /// Adds a term after those it has (see [`Term`]).

@@ -40,16 +40,27 @@ impl Sampled {
 
     /// Sets the q, q̇, q̈ of node k from x into the scratch vectors.
     pub(super) fn load<W>(&self, layout: &GapLayout, k: usize, x: &[f64], s: &mut NodeScratch<W>) {
+        self.load_into(layout, k, x, [&mut s.q, &mut s.v, &mut s.a]);
+    }
+
+    /// Sets the q, q̇, q̈ of node k from x into `out`.
+    pub(super) fn load_into(
+        &self,
+        layout: &GapLayout,
+        k: usize,
+        x: &[f64],
+        [q, v, a]: [&mut [f64]; 3],
+    ) {
         let [bq, bv, ba] = &self.base[k];
-        s.q.copy_from_slice(bq);
-        s.v.copy_from_slice(bv);
-        s.a.copy_from_slice(ba);
+        q.copy_from_slice(bq);
+        v.copy_from_slice(bv);
+        a.copy_from_slice(ba);
         for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
             if let Some(r) = &act[k] {
                 let xd = layout.of_dof(d, x);
-                s.q[dof.coord] = r.value(0, xd);
-                s.v[dof.coord] = r.value(1, xd);
-                s.a[dof.coord] = r.value(2, xd);
+                q[dof.coord] = r.value(0, xd);
+                v[dof.coord] = r.value(1, xd);
+                a[dof.coord] = r.value(2, xd);
             }
         }
     }

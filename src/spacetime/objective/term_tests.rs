@@ -158,3 +158,120 @@ fn gauss_newton_rows_with_extras_give_the_exact_hessian_of_a_quadratic() {
     assert!(h[(n - 1, n - 1)] > 0.0);
     assert!((0..n - 1).any(|i| h[(i, n - 1)] != 0.0));
 }
+
+/// A leg on a sliding, turning root (y up): x, y, rz, hip, knee.
+fn leg() -> crate::model::Model {
+    use crate::lie::Se3;
+    use crate::model::joints::{Prismatic, Revolute};
+    use crate::model::{Inertia, Model};
+    use nalgebra::Vector3;
+    use std::sync::Arc;
+    let mut m = Model::new("leg");
+    let mass = |kg| Inertia::point(kg, Vector3::new(0.05, -0.2, 0.0)).unwrap();
+    let below = Se3::from_translation(Vector3::new(0.0, -0.4, 0.0));
+    let mut p = None;
+    for (link, coord, slide, axis, at, kg) in [
+        ("sx", "x", true, Vector3::x(), Se3::identity(), 0.0),
+        ("sy", "y", true, Vector3::y(), Se3::identity(), 0.0),
+        ("pelvis", "rz", false, Vector3::z(), Se3::identity(), 10.0),
+        ("thigh", "hip", false, Vector3::z(), below, 5.0),
+        ("shin", "knee", false, Vector3::z(), below, 3.0),
+    ] {
+        let joint: Arc<dyn crate::model::joint::Joint> = if slide {
+            Arc::new(Prismatic::new(axis).unwrap())
+        } else {
+            Arc::new(Revolute::new(axis).unwrap())
+        };
+        let inertia = if kg > 0.0 { mass(kg) } else { Inertia::zero() };
+        p = Some(m.add_link(link, p, coord, joint, at, inertia).unwrap());
+    }
+    m
+}
+
+#[test]
+fn forces_at_the_nodes_enter_the_torque_term_and_its_gradient() {
+    use crate::dynamics::PointForce;
+    use crate::spacetime::torque::BodyDynamics;
+    use nalgebra::Vector3;
+    let model = leg();
+    let body = BodyDynamics {
+        model: &model,
+        gravity: Vector3::new(0.0, -9.8, 0.0),
+    };
+    let gap = |coord, start: [f64; 2], end: [f64; 2]| GapDof {
+        coord,
+        t0: 0.2,
+        t1: 0.8,
+        start: EndState {
+            q: start[0],
+            v: start[1],
+            a: 0.0,
+        },
+        end: EndState {
+            q: end[0],
+            v: end[1],
+            a: 0.0,
+        },
+    };
+    let inputs = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
+        for c in 0..5 {
+            let w = 1.0 + c as f64;
+            q[c] = 0.3 * (w * t).sin();
+            v[c] = 0.3 * w * (w * t).cos();
+            a[c] = -0.3 * w * w * (w * t).sin();
+        }
+        Ok(())
+    };
+    let dofs = vec![
+        gap(3, [0.2, 0.5], [-0.3, 0.0]),
+        gap(4, [0.4, 0.0], [0.9, -1.0]),
+    ];
+    let mut obj = Objective::new(&body, dofs, &with_settings(), vec![1.0; 5], &inputs).unwrap();
+    let mut s = obj.scratch();
+    let mut x = obj.hermite_start();
+    x.iter_mut()
+        .enumerate()
+        .for_each(|(i, v)| *v += 0.1 * (i as f64).cos());
+    let e0 = obj.eval(&mut s, &x, None).unwrap();
+    // the ground pushes up under the shin's end, more as time goes on
+    let nodes = obj.layout().nodes().0.to_vec();
+    let forces: Vec<Vec<PointForce>> = nodes
+        .iter()
+        .map(|t| {
+            let f = Vector3::new(30.0 * t, 80.0 + 100.0 * t, 0.0);
+            vec![
+                PointForce::at(4, Vector3::new(0.02, -0.4, 0.0), f)
+                    .with_moment(Vector3::new(0.0, 0.0, 5.0)),
+            ]
+        })
+        .collect();
+    assert!(obj.set_forces(forces[1..].to_vec()).is_err());
+    obj.set_forces(forces).unwrap();
+    let mut g = vec![0.0; x.len()];
+    let e = obj.eval(&mut s, &x, Some(&mut g)).unwrap();
+    assert!(
+        (e - e0).abs() > 1e-3 * e0,
+        "the forces change e: {e} vs {e0}"
+    );
+    let scale = g.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    for i in 0..x.len() {
+        let h = 1e-6;
+        let (mut xp, mut xm) = (x.clone(), x.clone());
+        xp[i] += h;
+        xm[i] -= h;
+        let fd = (obj.eval(&mut s, &xp, None).unwrap() - obj.eval(&mut s, &xm, None).unwrap())
+            / (2.0 * h);
+        assert!(
+            (fd - g[i]).abs() <= 1e-6 * scale,
+            "i={i}: fd {fd} vs {}",
+            g[i]
+        );
+    }
+    // the state the terms read at a node is the one node_state gives
+    let [q, _, _] = obj.node_state(&x, 3);
+    assert_eq!(q.len(), 5);
+    assert!(q.iter().all(|v| v.is_finite()));
+    // no forces again: the objective as it was, to the bit
+    obj.set_forces(vec![]).unwrap();
+    assert_eq!(obj.eval(&mut s, &x, None).unwrap(), e0);
+}

@@ -113,7 +113,7 @@ fn objective_is_the_integral_of_the_weighted_squared_torque() {
             }
         }
         let mut tau = [0.0; 2];
-        arm.torques(&mut (), &q, &v, &acc, &mut tau).unwrap();
+        arm.torques(&mut (), &q, &v, &acc, &[], &mut tau).unwrap();
         let f = tau[0] * tau[0] + 1.5 * tau[1] * tau[1];
         let w = if i == 0 || i == n { 0.5 } else { 1.0 };
         sum += w * f * (b - a) / n as f64;
