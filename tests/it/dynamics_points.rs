@@ -23,7 +23,7 @@ fn walk() -> Option<(Model, [Vec<f64>; 3])> {
     let clip = mocap::load(&path, Units::Auto).unwrap();
     let (body, _) = mocap::body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
     let names = body.coordinate_names();
-    let sampler = JointSampler::new(&clip.mu, &names);
+    let sampler = JointSampler::new(&clip.mu, names);
     let (t0, t1) = clip.mu.span().unwrap();
     let t = 0.5 * (t0 + t1);
     let n = body.nq();
