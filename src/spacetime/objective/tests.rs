@@ -7,7 +7,12 @@ fn st(q: f64, v: f64) -> EndState {
 
 /// Two gaps overlapping in time on the two joints of the arm.
 fn problem<'a>(arm: &'a TwoLinkArm, settings: &TransitionSettings) -> Objective<'a, TwoLinkArm> {
-    let dofs = vec![
+    Objective::new(arm, gaps(), settings, vec![1.0, 1.5], &known_motion).unwrap()
+}
+
+/// The gaps of [`problem`].
+pub(super) fn gaps() -> Vec<GapDof> {
+    vec![
         GapDof {
             coord: 0,
             t0: 0.2,
@@ -22,12 +27,16 @@ fn problem<'a>(arm: &'a TwoLinkArm, settings: &TransitionSettings) -> Objective<
             start: st(-0.4, 0.0),
             end: st(0.9, 2.0),
         },
-    ];
-    Objective::new(arm, dofs, settings, vec![1.0, 1.5], &known_motion).unwrap()
+    ]
 }
 
 /// Outside a gap each joint of [`problem`] follows this smooth known motion.
-fn known_motion(t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]) -> Result<(), SpError> {
+pub(super) fn known_motion(
+    t: f64,
+    q: &mut [f64],
+    v: &mut [f64],
+    a: &mut [f64],
+) -> Result<(), SpError> {
     q[0] = (2.0 * t).sin();
     v[0] = 2.0 * (2.0 * t).cos();
     a[0] = -4.0 * (2.0 * t).sin();
@@ -104,7 +113,7 @@ fn objective_is_the_integral_of_the_weighted_squared_torque() {
             }
         }
         let mut tau = [0.0; 2];
-        arm.torques(&mut (), &q, &v, &acc, &mut tau).unwrap();
+        arm.torques(&mut (), &q, &v, &acc, &[], &mut tau).unwrap();
         let f = tau[0] * tau[0] + 1.5 * tau[1] * tau[1];
         let w = if i == 0 || i == n { 0.5 } else { 1.0 };
         sum += w * f * (b - a) / n as f64;
