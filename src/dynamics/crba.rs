@@ -3,22 +3,12 @@
 //! subtree of link j, all in the world frame.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::crba_frame::CrbaFrame;
 use crate::dynamics::crba_local::mass_matrix_local;
 use crate::dynamics::workspace::Workspace;
 use crate::model::joint::Derivatives;
 use crate::model::{Inertia, Model};
 use nalgebra::DMatrix;
-
-/// Which pass computes the mass matrix: both give the same matrix (to
-/// rounding); they differ in the work they do on a given tree.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CrbaFrame {
-    /// Composite inertias in the world frame (`crba.rs`): any link order.
-    World,
-    /// Composite inertias carried link to link (`crba_local.rs`): depth-first
-    /// models only; others take the world-frame pass.
-    Link,
-}
 
 /// Fills `m` (nq × nq, symmetric) with the mass matrix `M(q)`, by the pass
 /// the workspace chose for its model.

@@ -2,8 +2,18 @@
 //! or the link-frame one (`crba_local.rs`). Kept apart from both so that the
 //! workspace, which both use, can decide once per model without a loop.
 
-use crate::dynamics::CrbaFrame;
 use crate::model::Model;
+
+/// Which pass computes the mass matrix: both give the same matrix (to
+/// rounding); they differ in the work they do on a given tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CrbaFrame {
+    /// Composite inertias in the world frame (`crba.rs`): any link order.
+    World,
+    /// Composite inertias carried link to link (`crba_local.rs`): depth-first
+    /// models only; others take the world-frame pass.
+    Link,
+}
 
 /// The pass [`mass_matrix`](crate::dynamics::mass_matrix) takes on `model`
 /// (a workspace decides it once, when it is built).
