@@ -14,6 +14,7 @@ mod doc_blocks;
 #[cfg(feature = "report")]
 mod dynamics;
 mod dynamics_lang;
+mod dynamics_points;
 mod dynamics_sim;
 mod first_hour;
 mod gltf;
