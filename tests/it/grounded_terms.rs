@@ -164,7 +164,12 @@ fn floor(body: &BodyDynamics, mu: &Mu, w: &Window) -> FloorPlane {
     let low = default_contact_points(body.model)
         .iter()
         .map(|p| {
-            up.dot(&body.model.point_position(&q, p.link, &Vector3::zeros()).unwrap())
+            up.dot(
+                &body
+                    .model
+                    .point_position(&q, p.link, &Vector3::zeros())
+                    .unwrap(),
+            )
         })
         .fold(f64::INFINITY, f64::min);
     FloorPlane::new(&body.gravity, low + 0.02).unwrap()
