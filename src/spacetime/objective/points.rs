@@ -45,13 +45,16 @@ pub struct PointTerm<'a> {
     weight: f64,
     /// Per node, its rows.
     rows: Vec<Vec<PointRow>>,
-    /// Per coordinate, the link whose joint it belongs to.
-    owner: Vec<usize>,
 }
 
 struct Scratch {
     poses: Vec<Se3>,
     jk: JointKinematics,
+    /// The point Jacobian's columns of link `cols_of` ([`PointTerm::columns`]).
+    cols: Vec<(usize, Vector3<f64>)>,
+    cols_of: Option<usize>,
+    /// Per model coordinate, its column among the Gauss–Newton's coordinates.
+    at: Vec<Option<usize>>,
 }
 
 impl<'a> PointTerm<'a> {
@@ -66,17 +69,11 @@ impl<'a> PointTerm<'a> {
     ) -> Result<Self, SpError> {
         check_weight(name, weight)?;
         debug_assert_eq!(rows.len(), layout.nodes().0.len());
-        let model = body.model;
-        let mut owner = vec![0; model.nq()];
-        for (i, l) in model.links().iter().enumerate() {
-            owner[l.q_index..l.q_index + l.dof].fill(i);
-        }
         Ok(PointTerm {
             name,
-            model,
+            model: body.model,
             weight,
             rows,
-            owner,
         })
     }
 
@@ -98,28 +95,29 @@ impl<'a> PointTerm<'a> {
             .collect())
     }
 
-    /// ∂p_link/∂q_c at q (`s.poses` from q): zero unless coordinate c
-    /// moves the link.
-    fn column(&self, s: &mut Scratch, q: &[f64], c: usize, link: usize) -> Vector3<f64> {
-        let o = self.owner[c];
-        if !self.model.is_ancestor(o, link) {
-            return Vector3::zeros();
+    /// Into `s.cols`: (c, ∂p_link/∂q_c) at q for every coordinate c that
+    /// moves the link (its own and its ancestors'), `s.poses` from q; each
+    /// joint's Jacobian computed once.
+    fn columns(&self, s: &mut Scratch, q: &[f64], link: usize) {
+        s.cols.clear();
+        let p = s.poses[link].p;
+        let mut l = Some(link);
+        while let Some(i) = l {
+            let lk = self.model.link(i);
+            if lk.dof > 0 {
+                lk.joint.kinematics(
+                    &q[lk.q_index..lk.q_index + lk.dof],
+                    Derivatives::Jacobian,
+                    &mut s.jk,
+                );
+                for m in 0..lk.dof {
+                    let col = point_velocity(&s.poses[i], &s.jk.s[m], &p);
+                    s.cols.push((lk.q_index + m, col));
+                }
+            }
+            l = lk.parent;
         }
-        let l = self.model.link(o);
-        l.joint.kinematics(
-            &q[l.q_index..l.q_index + l.dof],
-            Derivatives::Jacobian,
-            &mut s.jk,
-        );
-        point_velocity(&s.poses[o], &s.jk.s[c - l.q_index], &s.poses[link].p)
-    }
-
-    /// The coordinates that move `link`: its own and its ancestors'.
-    fn chain(&self, link: usize) -> impl Iterator<Item = usize> + '_ {
-        std::iter::successors(Some(link), |&i| self.model.link(i).parent).flat_map(|i| {
-            let l = self.model.link(i);
-            l.q_index..l.q_index + l.dof
-        })
+        s.cols_of = Some(link);
     }
 }
 
@@ -132,6 +130,9 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         Box::new(Scratch {
             poses: vec![],
             jk: JointKinematics::default(),
+            cols: vec![],
+            cols_of: None,
+            at: vec![None; self.model.nq()],
         })
     }
 
@@ -154,6 +155,7 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         self.model
             .forward_kinematics(node.q, &mut s.poses)
             .map_err(SpError::Kinematics)?;
+        s.cols_of = None;
         let mut f = 0.0;
         for row in rows {
             let r = row.value(&s.poses[row.link].p);
@@ -162,9 +164,12 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
             }
             f += r * r;
             if let Some(g) = sum.gradient() {
+                if s.cols_of != Some(row.link) {
+                    self.columns(s, node.q, row.link);
+                }
                 let gr = 2.0 * self.weight * r;
-                for c in self.chain(row.link) {
-                    g.q[c] += gr * row.dir.dot(&self.column(s, node.q, c, row.link));
+                for (c, col) in &s.cols {
+                    g.q[*c] += gr * row.dir.dot(col);
                 }
             }
         }
@@ -195,11 +200,23 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
             return Ok(());
         }
         let coords = gn.coords();
+        for (j, &c) in coords.iter().enumerate() {
+            s.at[c] = Some(j);
+        }
+        s.cols_of = None;
         let mut dq = DMatrix::zeros(live.len(), coords.len());
         for (i, row) in live.iter().enumerate() {
-            for (j, &c) in coords.iter().enumerate() {
-                dq[(i, j)] = row.dir.dot(&self.column(s, node.q, c, row.link));
+            if s.cols_of != Some(row.link) {
+                self.columns(s, node.q, row.link);
             }
+            for (c, col) in &s.cols {
+                if let Some(j) = s.at[*c] {
+                    dq[(i, j)] = row.dir.dot(col);
+                }
+            }
+        }
+        for &c in coords {
+            s.at[c] = None;
         }
         let zero = DMatrix::zeros(live.len(), coords.len());
         gn.add_rows(

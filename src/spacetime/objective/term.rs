@@ -198,9 +198,12 @@ impl<'s> GaussNewtonNode<'s> {
             .collect();
         // G_αβ = D_αᵀ (w_k W) D_β for α ≤ β; G_βα = G_αβᵀ
         let mut g: [[Option<DMatrix<f64>>; 3]; 3] = Default::default();
+        let zero: [bool; 3] = std::array::from_fn(|a| d[a].iter().all(|x| *x == 0.0));
         for a in 0..3 {
             for b in a..3 {
-                g[a][b] = Some(d[a].transpose() * &wd[b]);
+                if !(zero[a] || zero[b]) {
+                    g[a][b] = Some(d[a].transpose() * &wd[b]);
+                }
             }
         }
         let gab = |a: usize, b: usize, i: usize, j: usize| match (&g[a][b], &g[b][a]) {
@@ -209,8 +212,18 @@ impl<'s> GaussNewtonNode<'s> {
             _ => 0.0,
         };
         let nf = self.layout.n_free;
+        // only the DOFs the rows depend on (a point's rows: its chain's)
+        let moves: Vec<bool> = (0..self.alive.len())
+            .map(|i| d.iter().any(|m| m.column(i).iter().any(|x| *x != 0.0)))
+            .collect();
         for (i, (di, rd)) in self.alive.iter().enumerate() {
+            if !moves[i] {
+                continue;
+            }
             for (j, (ei, re)) in self.alive.iter().enumerate().skip(i) {
+                if !moves[j] {
+                    continue;
+                }
                 let c: [[f64; 3]; 3] =
                     std::array::from_fn(|a| std::array::from_fn(|b| gab(a, b, i, j)));
                 for p in rd.live.clone() {
