@@ -130,6 +130,42 @@ impl<'a> BaseTerm<'a> {
     }
 }
 
+impl<'a> BaseTerm<'a> {
+    /// At a node (unless the weight is 0): inverse dynamics with the node's
+    /// forces, the forces, and the term's scratch.
+    fn start<'w>(
+        &'w self,
+        node: &'w mut Node<'_, BodyDynamics<'a>>,
+    ) -> Result<Option<(InverseDynamicsPass<'w>, &'w NodeForces, &'w mut Scratch)>, SpError> {
+        if self.weight == 0.0 {
+            return Ok(None);
+        }
+        let nf = self.forces_at(node.k)?;
+        let x = JointState::new(node.q, node.v, node.a);
+        let pass =
+            InverseDynamicsPass::new(self.body.model, node.ws, x, &self.body.gravity, &nf.forces)?;
+        Ok(Some((pass, nf, scratch_of::<Scratch>(node.scratch)?)))
+    }
+
+    /// Into `s.g`: the gradient of r̄ · r over the node's state, one reverse sweep.
+    fn sweep(
+        &self,
+        pass: &mut InverseDynamicsPass,
+        s: &mut Scratch,
+        rbar: &[f64; 6],
+        nf: &NodeForces,
+    ) -> Result<(), SpError> {
+        let [gq, gv, ga] = &mut s.g;
+        let grad = StateGradient {
+            q: gq,
+            v: gv,
+            a: ga,
+        };
+        pass.reverse(&s.zero, &self.seed(rbar, &nf.reference), grad)?;
+        Ok(())
+    }
+}
+
 /// `Err` naming the term unless `w` is a finite weight ≥ 0.
 pub(super) fn check_weight(term: &str, w: f64) -> Result<(), SpError> {
     if w.is_finite() && w >= 0.0 {
@@ -169,33 +205,17 @@ impl<'a> Term<BodyDynamics<'a>> for BaseTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         sum: &mut NodeSum<'_>,
     ) -> Result<(), SpError> {
-        if self.weight == 0.0 {
+        let Some((mut pass, nf, s)) = self.start(node)? else {
             return Ok(());
-        }
-        let nf = self.forces_at(node.k)?;
-        let x = JointState::new(node.q, node.v, node.a);
-        let mut pass =
-            InverseDynamicsPass::new(self.body.model, node.ws, x, &self.body.gravity, &nf.forces)?;
+        };
         let r = self.scaled(&pass.root_wrench(), &nf.reference);
         sum.add(self.weight * r.iter().map(|x| x * x).sum::<f64>());
         if let Some(out) = sum.gradient() {
-            let s = scratch_of::<Scratch>(node.scratch)?;
-            let rbar = r.map(|x| 2.0 * self.weight * x);
-            let [gq, gv, ga] = &mut s.g;
-            pass.reverse(
-                &s.zero,
-                &self.seed(&rbar, &nf.reference),
-                StateGradient {
-                    q: gq,
-                    v: gv,
-                    a: ga,
-                },
-            )?;
-            for (o, g) in [
-                (&mut *out.q, &*gq),
-                (&mut *out.v, &*gv),
-                (&mut *out.a, &*ga),
-            ] {
+            self.sweep(&mut pass, s, &r.map(|x| 2.0 * self.weight * x), nf)?;
+            for (o, g) in [&mut *out.q, &mut *out.v, &mut *out.a]
+                .into_iter()
+                .zip(&s.g)
+            {
                 for (o, g) in o.iter_mut().zip(g) {
                     *o += g;
                 }
@@ -211,30 +231,16 @@ impl<'a> Term<BodyDynamics<'a>> for BaseTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         gn: &mut GaussNewtonNode<'_>,
     ) -> Result<(), SpError> {
-        if self.weight == 0.0 {
+        let Some((mut pass, nf, s)) = self.start(node)? else {
             return Ok(());
-        }
-        let nf = self.forces_at(node.k)?;
-        let s = scratch_of::<Scratch>(node.scratch)?;
-        let x = JointState::new(node.q, node.v, node.a);
-        let mut pass =
-            InverseDynamicsPass::new(self.body.model, node.ws, x, &self.body.gravity, &nf.forces)?;
+        };
         let coords = gn.coords();
         let mut d: [DMatrix<f64>; 3] = std::array::from_fn(|_| DMatrix::zeros(6, coords.len()));
         for i in 0..6 {
             let mut e = [0.0; 6];
             e[i] = 1.0;
-            let [gq, gv, ga] = &mut s.g;
-            pass.reverse(
-                &s.zero,
-                &self.seed(&e, &nf.reference),
-                StateGradient {
-                    q: gq,
-                    v: gv,
-                    a: ga,
-                },
-            )?;
-            for (m, g) in d.iter_mut().zip([&*gq, &*gv, &*ga]) {
+            self.sweep(&mut pass, s, &e, nf)?;
+            for (m, g) in d.iter_mut().zip(&s.g) {
                 for (j, &c) in coords.iter().enumerate() {
                     m[(i, j)] = g[c];
                 }

@@ -95,6 +95,24 @@ impl<'a> PointTerm<'a> {
             .collect())
     }
 
+    /// At a node with rows (unless the weight is 0): its rows, and the
+    /// scratch with the links posed at the node's q.
+    fn posed<'w>(
+        &'w self,
+        node: &'w mut Node<'_, BodyDynamics<'_>>,
+    ) -> Result<Option<(&'w [PointRow], &'w mut Scratch)>, SpError> {
+        let rows = &self.rows[node.k];
+        if rows.is_empty() || self.weight == 0.0 {
+            return Ok(None);
+        }
+        let s = scratch_of::<Scratch>(node.scratch)?;
+        self.model
+            .forward_kinematics(node.q, &mut s.poses)
+            .map_err(SpError::Kinematics)?;
+        s.cols_of = None;
+        Ok(Some((rows, s)))
+    }
+
     /// Into `s.cols`: (c, ∂p_link/∂q_c) at q for every coordinate c that
     /// moves the link (its own and its ancestors'), `s.poses` from q; each
     /// joint's Jacobian computed once.
@@ -147,15 +165,10 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         sum: &mut NodeSum<'_>,
     ) -> Result<(), SpError> {
-        let rows = &self.rows[node.k];
-        if rows.is_empty() || self.weight == 0.0 {
+        let q = node.q;
+        let Some((rows, s)) = self.posed(node)? else {
             return Ok(());
-        }
-        let s = scratch_of::<Scratch>(node.scratch)?;
-        self.model
-            .forward_kinematics(node.q, &mut s.poses)
-            .map_err(SpError::Kinematics)?;
-        s.cols_of = None;
+        };
         let mut f = 0.0;
         for row in rows {
             let r = row.value(&s.poses[row.link].p);
@@ -165,7 +178,7 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
             f += r * r;
             if let Some(g) = sum.gradient() {
                 if s.cols_of != Some(row.link) {
-                    self.columns(s, node.q, row.link);
+                    self.columns(s, q, row.link);
                 }
                 let gr = 2.0 * self.weight * r;
                 for (c, col) in &s.cols {
@@ -184,14 +197,10 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         gn: &mut GaussNewtonNode<'_>,
     ) -> Result<(), SpError> {
-        let rows = &self.rows[node.k];
-        if rows.is_empty() || self.weight == 0.0 {
+        let q = node.q;
+        let Some((rows, s)) = self.posed(node)? else {
             return Ok(());
-        }
-        let s = scratch_of::<Scratch>(node.scratch)?;
-        self.model
-            .forward_kinematics(node.q, &mut s.poses)
-            .map_err(SpError::Kinematics)?;
+        };
         let live: Vec<&PointRow> = rows
             .iter()
             .filter(|r| !r.one_sided || r.value(&s.poses[r.link].p) > 0.0)
@@ -207,7 +216,7 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         let mut dq = DMatrix::zeros(live.len(), coords.len());
         for (i, row) in live.iter().enumerate() {
             if s.cols_of != Some(row.link) {
-                self.columns(s, node.q, row.link);
+                self.columns(s, q, row.link);
             }
             for (c, col) in &s.cols {
                 if let Some(j) = s.at[*c] {
