@@ -204,13 +204,16 @@ fn gradient_error(obj: &Objective<BodyDynamics>, x: &[f64]) -> f64 {
     worst
 }
 
+/// A node's residual: r(k, [q, q̇, q̈]).
+type NodeResidual<'r> = dyn FnMut(usize, [&[f64]; 3]) -> Vec<f64> + 'r;
+
 /// H/2 = Σ_k w_k W J_kᵀ J_k with J_k the central differences of node k's
 /// residual `r(k, q, q̇, q̈)` through x (weight W on every row).
 fn gauss_newton_by_differences(
     obj: &Objective<BodyDynamics>,
     x: &[f64],
     weight: f64,
-    r: &mut dyn FnMut(usize, [&[f64]; 3]) -> Vec<f64>,
+    r: &mut NodeResidual,
 ) -> DMatrix<f64> {
     let nv = x.len();
     let mut h = DMatrix::zeros(nv, nv);

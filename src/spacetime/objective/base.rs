@@ -60,9 +60,8 @@ impl<'a> BaseTerm<'a> {
                 body.model.name
             )));
         }
-        if !(scale.weight > 0.0 && scale.length > 0.0 && scale.weight.is_finite())
-            || !scale.length.is_finite()
-        {
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !(positive(scale.weight) && positive(scale.length)) {
             return Err(invalid(format!(
                 "the base term's scales must be positive and finite, got {scale:?}"
             )));
