@@ -40,6 +40,7 @@ impl Rng {
     }
 }
 
+use mx::report::error::ReportError;
 use mx::report::perf::{ALGORITHMS, median_us};
 
 /// Runs of mx's timing and Pinocchio's timer, alternated, per model: ratios are
@@ -106,7 +107,7 @@ fn instructions_driver(args: &[String]) {
         std::process::exit(2);
     };
     let result = Model::from_urdf_file(Path::new(urdf))
-        .map_err(|e| e.to_string())
+        .map_err(ReportError::from)
         .and_then(|m| {
             let n = n
                 .parse()

@@ -11,7 +11,7 @@
 //! "Up" is against the model's gravity, so y-up mocap bodies and z-up URDF
 //! robots both work; a point's height is its position along up.
 
-use super::{GroundError, invalid};
+use super::{GroundError, invalid, invalid_option};
 use crate::model::Model;
 use crate::model::topology::joint_points;
 use crate::motion::{Mu, grid_times, sample_period};
@@ -76,13 +76,13 @@ impl GroundOptions {
     /// `Err` naming the first option out of range.
     pub fn check(&self) -> Result<(), GroundError> {
         if !(self.height.is_finite() && self.height >= 0.0) {
-            return Err(invalid(format!(
+            return Err(invalid_option("height", format!(
                 "height must be a finite distance ≥ 0 (m), got {}",
                 self.height
             )));
         }
         if self.speed.is_nan() || self.speed < 0.0 {
-            return Err(invalid(format!(
+            return Err(invalid_option("speed", format!(
                 "speed must be ≥ 0 (m/s; inf turns the speed test off), got {}",
                 self.speed
             )));
@@ -90,14 +90,14 @@ impl GroundOptions {
         if let Floor::At(f) = self.floor
             && !f.is_finite()
         {
-            return Err(invalid(format!(
+            return Err(invalid_option("floor", format!(
                 "floor must be a finite height (m), got {f}"
             )));
         }
         if let Some(r) = self.rate
             && !(r.is_finite() && r > 0.0)
         {
-            return Err(invalid(format!(
+            return Err(invalid_option("rate", format!(
                 "rate must be a positive number (Hz), got {r}"
             )));
         }
@@ -114,7 +114,7 @@ impl GroundOptions {
 pub fn up_direction(gravity: &Vector3<f64>) -> Result<Vector3<f64>, GroundError> {
     let n = gravity.norm();
     if !(n.is_finite() && n > 0.0) {
-        return Err(invalid(format!(
+        return Err(invalid_option("gravity", format!(
             "gravity [{}, {}, {}] gives no \"up\": ground measures need a nonzero, finite gravity",
             gravity.x, gravity.y, gravity.z
         )));
@@ -153,7 +153,7 @@ pub fn contact_points(
     let Some(names) = names else {
         let found = default_contact_points(body);
         if found.is_empty() {
-            return Err(invalid(format!(
+            return Err(invalid_option("points", format!(
                 "the body `{}` has no foot contact points (no joint named like Foot, Toe, Ankle, Heel or calcn); name its contact links with `points: [\"…\"]`",
                 body.name
             )));
@@ -161,7 +161,7 @@ pub fn contact_points(
         return Ok(found);
     };
     if names.is_empty() {
-        return Err(invalid(
+        return Err(invalid_option("points", 
             "points: [] names no contact point; leave it out for the feet",
         ));
     }
@@ -192,7 +192,7 @@ pub fn contact_points(
                     .filter(|(s, _)| *s > 0.3)
                     .map(|(_, c)| *c)
                     .collect();
-                invalid(if hint.is_empty() {
+                invalid_option("points", if hint.is_empty() {
                     format!("the body `{}` has no link `{n}`", body.name)
                 } else {
                     format!(

@@ -18,7 +18,7 @@ use super::cone::best_contact_forces;
 use super::points::{
     GroundOptions, check_coordinates, contact_points, frame_times, sample_state, tracks,
 };
-use super::{GroundError, invalid};
+use super::{GroundError, invalid, invalid_option};
 use crate::dynamics::{Workspace, inverse_dynamics, root_wrench};
 use crate::lie::Se3;
 use crate::model::Model;
@@ -116,7 +116,7 @@ pub fn ground_residual(
 ) -> Result<GroundResidual, GroundError> {
     opts.check()?;
     if !(friction.is_finite() && friction >= 0.0) {
-        return Err(invalid(format!(
+        return Err(invalid_option("friction", format!(
             "friction must be a finite coefficient ≥ 0, got {friction}"
         )));
     }

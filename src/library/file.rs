@@ -107,16 +107,16 @@ pub fn to_bytes(lib: &Library) -> Result<Vec<u8>, LibraryError> {
 pub fn save(lib: &Library, path: &Path) -> Result<(), LibraryError> {
     let bytes = to_bytes(lib)?;
     crate::atomic_file::write(path, &bytes)
-        .map_err(|e| LibraryError::new(format!("cannot write {}: {e}", path.display())))
+        .map_err(|e| LibraryError::file(path, format!("cannot write {}: {e}", path.display())))
 }
 
 /// Reads an index; `expect`: the settings the caller asks for (refused
 /// when it was built with others).
 pub fn load(path: &Path, expect: Option<&Settings>) -> Result<Library, LibraryError> {
     let bytes = std::fs::read(path)
-        .map_err(|e| LibraryError::new(format!("cannot read {}: {e}", path.display())))?;
+        .map_err(|e| LibraryError::file(path, format!("cannot read {}: {e}", path.display())))?;
     from_bytes(&bytes, expect)
-        .map_err(|e| LibraryError::new(format!("{}: {}", path.display(), e.0)))
+        .map_err(|e| LibraryError::file(path, format!("{}: {e}", path.display())))
 }
 
 /// [`load`] on bytes in memory.

@@ -44,10 +44,13 @@ impl Default for Settings {
 impl Settings {
     pub fn check(&self) -> Result<(), LibraryError> {
         if !(self.rate.is_finite() && self.rate >= 1.0 && self.rate <= 1000.0) {
-            return Err(LibraryError::new(format!(
-                "rate must be between 1 and 1000 Hz, found {}",
-                self.rate
-            )));
+            return Err(LibraryError::InvalidOption {
+                option: "rate",
+                message: format!(
+                    "rate must be between 1 and 1000 Hz, found {}",
+                    self.rate
+                ),
+            });
         }
         if self.warps.is_empty()
             || self
@@ -55,10 +58,13 @@ impl Settings {
                 .iter()
                 .any(|w| !(w.is_finite() && (0.25..=4.0).contains(w)))
         {
-            return Err(LibraryError::new(format!(
-                "warps must be a non-empty list of factors between 0.25 and 4, found {:?}",
-                self.warps
-            )));
+            return Err(LibraryError::InvalidOption {
+                option: "warps",
+                message: format!(
+                    "warps must be a non-empty list of factors between 0.25 and 4, found {:?}",
+                    self.warps
+                ),
+            });
         }
         Ok(())
     }
@@ -230,7 +236,7 @@ impl Library {
                     clip: input.name.clone(),
                     reason,
                 };
-                let keys = KeyJoints::find(&input.file.skeleton).map_err(skip)?;
+                let keys = KeyJoints::find(&input.file.skeleton).map_err(|e| skip(e.to_string()))?;
                 let clip = mocap::from_bvh(&input.file, Units::MetresPerUnit(input.metres_per_unit))
                     .map_err(|e| skip(e.to_string()))?;
                 let (start, b, a) = clip_features(&clip, &keys, &settings);

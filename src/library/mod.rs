@@ -18,16 +18,49 @@ pub mod index;
 pub use index::{ClipInput, LibClip, Library, Match, Query, Settings, Skipped};
 
 use crate::mocap::bvh::{self, Units};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// A library error: a sentence for the user.
+/// Why a library could not be built, searched, read or written; each
+/// message is a sentence for the user.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct LibraryError(pub String);
+pub enum LibraryError {
+    /// A setting out of its range: `option` as the language spells it
+    /// (`rate`, `warps`), so a diagnostic can point at the argument.
+    #[error("{message}")]
+    InvalidOption {
+        option: &'static str,
+        message: String,
+    },
+    /// A skeleton without the joints the features are read from.
+    #[error(transparent)]
+    Keys(#[from] features::KeyJointsError),
+    /// A file or folder that cannot be read or written, or is no library.
+    #[error("{message}")]
+    File { path: PathBuf, message: String },
+    /// The clips, the motion or the gap cannot be indexed or matched.
+    #[error("{0}")]
+    Invalid(String),
+}
 
 impl LibraryError {
     pub fn new(s: impl Into<String>) -> Self {
-        LibraryError(s.into())
+        LibraryError::Invalid(s.into())
+    }
+
+    /// A [`LibraryError::File`] about `path`.
+    pub fn file(path: &Path, message: impl Into<String>) -> Self {
+        LibraryError::File {
+            path: path.to_path_buf(),
+            message: message.into(),
+        }
+    }
+
+    /// The option at fault, when the error is about one.
+    pub fn option(&self) -> Option<&'static str> {
+        match self {
+            LibraryError::InvalidOption { option, .. } => Some(option),
+            _ => None,
+        }
     }
 }
 
@@ -49,14 +82,33 @@ pub fn clip_name(path: &Path) -> String {
         .unwrap_or_else(|| path.display().to_string())
 }
 
+/// The `.bvh` file at `path` as a clip, its unit detected; a file that
+/// does not read is skipped with the reason.
+pub fn read_clip(path: &Path) -> Result<ClipInput, Skipped> {
+    let skip = |reason: String| Skipped {
+        clip: clip_name(path),
+        reason,
+    };
+    let bytes = std::fs::read(path).map_err(|e| skip(e.to_string()))?;
+    let file = bvh::parse(&String::from_utf8_lossy(&bytes)).map_err(|e| skip(e.to_string()))?;
+    let units =
+        bvh::resolve_units(Units::Auto, &file.skeleton).map_err(|e| skip(e.to_string()))?;
+    Ok(ClipInput {
+        name: clip_name(path),
+        file,
+        metres_per_unit: units.metres_per_unit,
+        source: Some((path.to_path_buf(), fingerprint(&bytes))),
+    })
+}
+
 /// Every `.bvh` file directly in `dir`, sorted by name, as clips; a file
 /// that does not read is skipped with the reason.
 pub fn clips_in_folder(dir: &Path) -> Result<(Vec<ClipInput>, Vec<Skipped>), LibraryError> {
     let entries = std::fs::read_dir(dir).map_err(|e| {
-        LibraryError::new(format!(
-            "cannot read the clip folder {}: {e}",
-            dir.display()
-        ))
+        LibraryError::file(
+            dir,
+            format!("cannot read the clip folder {}: {e}", dir.display()),
+        )
     })?;
     let mut paths: Vec<_> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -64,31 +116,20 @@ pub fn clips_in_folder(dir: &Path) -> Result<(Vec<ClipInput>, Vec<Skipped>), Lib
         .collect();
     paths.sort();
     if paths.is_empty() {
-        return Err(LibraryError::new(format!(
-            "no .bvh clips in {}: a library needs at least one clip",
-            dir.display()
-        )));
+        return Err(LibraryError::file(
+            dir,
+            format!(
+                "no .bvh clips in {}: a library needs at least one clip",
+                dir.display()
+            ),
+        ));
     }
     let mut clips = vec![];
     let mut skipped = vec![];
     for p in paths {
-        let name = clip_name(&p);
-        let read = std::fs::read(&p)
-            .map_err(|e| e.to_string())
-            .and_then(|bytes| {
-                let text = String::from_utf8_lossy(&bytes);
-                let file = bvh::parse(&text).map_err(|e| e.to_string())?;
-                let units = bvh::resolve_units(Units::Auto, &file.skeleton)?;
-                Ok(ClipInput {
-                    name: name.clone(),
-                    file,
-                    metres_per_unit: units.metres_per_unit,
-                    source: Some((p.clone(), fingerprint(&bytes))),
-                })
-            });
-        match read {
+        match read_clip(&p) {
             Ok(c) => clips.push(c),
-            Err(reason) => skipped.push(Skipped { clip: name, reason }),
+            Err(s) => skipped.push(s),
         }
     }
     Ok((clips, skipped))

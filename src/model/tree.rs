@@ -20,6 +20,9 @@ pub enum ModelError {
     Invalid(String),
     #[error("URDF: {0}")]
     Urdf(String),
+    /// Links that do not form a tree (the language's `body([...])`).
+    #[error(transparent)]
+    Tree(#[from] crate::model::link_tree::TreeError),
 }
 
 /// One link and the joint that carries it.

@@ -7,6 +7,7 @@
 //! Uses every library module but `lang` (the report is about the engine).
 
 pub mod cyclify;
+pub mod error;
 mod doc;
 pub mod fit;
 mod hard_case;
@@ -24,6 +25,7 @@ pub mod plot;
 mod sections;
 pub mod spacetime;
 
+use crate::report::error::ReportError;
 use doc::Doc;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
@@ -83,7 +85,7 @@ pub struct Summary {
 
 /// Regenerates the report. Errors only for the output folder itself; a
 /// section that cannot run is listed as pending in the report and the summary.
-pub fn generate(opts: &Options) -> Result<Summary, String> {
+pub fn generate(opts: &Options) -> Result<Summary, ReportError> {
     std::fs::create_dir_all(&opts.out)
         .map_err(|e| format!("cannot create {}: {e}", opts.out.display()))?;
     // From scratch: old figures must not survive a run that no longer makes them.

@@ -4,6 +4,7 @@
 //! the same file. The measurement is the one of `benches/dynamics.rs`, which
 //! also counts instructions per call under callgrind through [`drive`].
 
+use crate::report::error::ReportError;
 use crate::dynamics::{
     DynamicsError, JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics,
     mass_matrix, rnea_derivatives, torque_sq_gradient,
@@ -154,11 +155,11 @@ impl<'a> Calls<'a> {
 }
 
 /// Our medians in µs: rnea, aba, crba, rnea_derivatives, adjoint Σwτ² gradient.
-pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
+pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], ReportError> {
     let mut calls = Calls::new(model, n_states);
     // Check once that every algorithm accepts the model before timing (errors, not panics).
     for k in 0..5 {
-        calls.call(k, 0).map_err(|e| e.to_string())?;
+        calls.call(k, 0)?;
     }
     let mut t = [0.0; 5];
     for (k, tk) in t.iter_mut().enumerate() {
@@ -173,7 +174,7 @@ pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
 /// cycling over 64 random states, and nothing else: the driver a process runs
 /// under callgrind, so that two runs of different lengths differ only by calls
 /// and their difference gives instructions per call.
-pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), String> {
+pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), ReportError> {
     let k = ALGORITHMS
         .iter()
         .position(|a| *a == algorithm)
@@ -185,7 +186,7 @@ pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), Strin
         })?;
     let mut calls = Calls::new(model, 64);
     for i in 0..n_calls {
-        calls.call(k, i % 64).map_err(|e| e.to_string())?;
+        calls.call(k, i % 64)?;
     }
     Ok(())
 }

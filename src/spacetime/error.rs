@@ -21,6 +21,10 @@ pub enum SpError {
         option: &'static str,
         message: String,
     },
+    /// `contact:` and a `support:` other than the default given together:
+    /// contact planning holds the feet itself, in place of the support limbs.
+    #[error("`contact:` plans the feet itself and replaces `support:`")]
+    ContactReplacesSupport,
     /// The motion is multiply defined where a transition needs one value:
     /// DOF `dof` on [t0, t1].
     #[error(
@@ -114,6 +118,7 @@ impl SpError {
     pub fn option(&self) -> Option<&'static str> {
         match self {
             SpError::InvalidOption { option, .. } => Some(option),
+            SpError::ContactReplacesSupport => Some("contact"),
             _ => None,
         }
     }

@@ -617,7 +617,7 @@ pub fn register(reg: &mut Registry) {
 fn urdf_error(message: String) -> MxError {
     let e = MxError::new(ErrorKind::Io, message.clone());
     if message.contains("cannot read") {
-        e.help(super::mocap::MISSING_FILE_HELP)
+        e.help(crate::lang::host::errors::MISSING_FILE_HELP)
     } else if message.contains("could not parse") {
         e.help("the file is not well-formed XML with a <robot> root; open it in an XML viewer or export it again")
     } else if message.contains("not defined") {

@@ -5,6 +5,7 @@ use std::sync::Arc;
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
+use crate::lang::host::errors::diagnostic;
 use crate::lang::host::motion::skeleton_of as clip_of;
 use crate::lang::host::sp_report::{num, record};
 use crate::lang::host::{LibraryValue, Motion};
@@ -12,13 +13,11 @@ use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::library::{self, ClipInput, Library, LibraryError, Settings, Skipped, file};
-use crate::mocap::bvh::{self, Units};
 use crate::mocap::to_motion;
 
+/// A library error at the option it names (`rate`, `warps`), else at the call.
 fn lib_error(e: LibraryError, a: &Args) -> MxError {
-    MxError::new(ErrorKind::Value, e.0)
-        .at(a.call_span())
-        .help(format!("usage: {}", a.signature()))
+    diagnostic(&e, a, a.call_span())
 }
 
 /// `rate:` and `warps:`, if either is given.
@@ -64,23 +63,7 @@ fn clip_input(
     };
     if let Some(path) = v.as_str() {
         let p = ev.resolve_path(path, span_arg.span)?;
-        let read = std::fs::read(&p)
-            .map_err(|e| e.to_string())
-            .and_then(|bytes| {
-                let file =
-                    bvh::parse(&String::from_utf8_lossy(&bytes)).map_err(|e| e.to_string())?;
-                let units = bvh::resolve_units(Units::Auto, &file.skeleton)?;
-                Ok(ClipInput {
-                    name: library::clip_name(&p),
-                    file,
-                    metres_per_unit: units.metres_per_unit,
-                    source: Some((p.clone(), library::fingerprint(&bytes))),
-                })
-            });
-        return Ok(read.map_err(|reason| Skipped {
-            clip: library::clip_name(&p),
-            reason,
-        }));
+        return Ok(library::read_clip(&p));
     }
     let Some(Motion::Mu(mu)) = v.as_object::<Motion>() else {
         return Err(a.type_error(
@@ -228,7 +211,7 @@ pub fn register(reg: &mut Registry) {
         |path, a, _ev| {
             let expect = settings_arg(a)?;
             let lib = file::load(path, expect.as_ref()).map_err(|e| {
-                MxError::new(ErrorKind::Io, e.0)
+                MxError::new(ErrorKind::Io, e.to_string())
                     .at(a.call_span())
                     .help("rebuild it with library(…) and save it again")
             })?;
@@ -248,7 +231,7 @@ pub fn register(reg: &mut Registry) {
                     ),
                 ));
             };
-            file::save(&lib.0, path).map_err(|e| MxError::new(ErrorKind::Io, e.0).at(a.call_span()))
+            file::save(&lib.0, path).map_err(|e| lib_error(e, a))
         },
     );
 }

@@ -386,7 +386,7 @@ pub fn fit(
     }
     let w = options.angle_weight;
     if !(w.is_finite() && w >= 0.0) {
-        return Err(MocapError::invalid(format!(
+        return Err(MocapError::invalid_option("angle_weight", format!(
             "angle_weight must be a number of metres per radian ≥ 0, got {w}"
         )));
     }
