@@ -9,7 +9,14 @@ use pyo3::prelude::*;
 /// (`Diagnostic::place`: file, line, column, their ends and the span).
 pub fn raise_diag(py: Python<'_>, d: &Diagnostic) -> PyErr {
     let e = d.error();
-    make(py, e.kind, &d.render_plain(), &e.message, d.place(), e.help.as_deref())
+    make(
+        py,
+        e.kind,
+        &d.render_plain(),
+        &e.message,
+        d.place(),
+        e.help.as_deref(),
+    )
 }
 
 /// An error about arguments given from Python (no mx source to point at).
@@ -45,9 +52,10 @@ fn make(
             p.span,
         )
     });
-    let built = py
-        .import("mx._errors")
-        .and_then(|m| m.getattr("_make")?.call1((kind, diagnostic, message, at, help)));
+    let built = py.import("mx._errors").and_then(|m| {
+        m.getattr("_make")?
+            .call1((kind, diagnostic, message, at, help))
+    });
     match built {
         Ok(exc) => PyErr::from_value(exc),
         Err(e) => e,

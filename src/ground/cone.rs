@@ -57,9 +57,10 @@ pub fn best_contact_forces(
     length: f64,
 ) -> Result<ConeSolution, GroundError> {
     if !(friction.is_finite() && friction >= 0.0) {
-        return Err(invalid_option("friction", format!(
-            "friction must be a finite coefficient ≥ 0, got {friction}"
-        )));
+        return Err(invalid_option(
+            "friction",
+            format!("friction must be a finite coefficient ≥ 0, got {friction}"),
+        ));
     }
     if !(length.is_finite() && length > 0.0) {
         return Err(invalid(format!(

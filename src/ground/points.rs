@@ -76,30 +76,38 @@ impl GroundOptions {
     /// `Err` naming the first option out of range.
     pub fn check(&self) -> Result<(), GroundError> {
         if !(self.height.is_finite() && self.height >= 0.0) {
-            return Err(invalid_option("height", format!(
-                "height must be a finite distance ≥ 0 (m), got {}",
-                self.height
-            )));
+            return Err(invalid_option(
+                "height",
+                format!(
+                    "height must be a finite distance ≥ 0 (m), got {}",
+                    self.height
+                ),
+            ));
         }
         if self.speed.is_nan() || self.speed < 0.0 {
-            return Err(invalid_option("speed", format!(
-                "speed must be ≥ 0 (m/s; inf turns the speed test off), got {}",
-                self.speed
-            )));
+            return Err(invalid_option(
+                "speed",
+                format!(
+                    "speed must be ≥ 0 (m/s; inf turns the speed test off), got {}",
+                    self.speed
+                ),
+            ));
         }
         if let Floor::At(f) = self.floor
             && !f.is_finite()
         {
-            return Err(invalid_option("floor", format!(
-                "floor must be a finite height (m), got {f}"
-            )));
+            return Err(invalid_option(
+                "floor",
+                format!("floor must be a finite height (m), got {f}"),
+            ));
         }
         if let Some(r) = self.rate
             && !(r.is_finite() && r > 0.0)
         {
-            return Err(invalid_option("rate", format!(
-                "rate must be a positive number (Hz), got {r}"
-            )));
+            return Err(invalid_option(
+                "rate",
+                format!("rate must be a positive number (Hz), got {r}"),
+            ));
         }
         Ok(())
     }
@@ -114,10 +122,13 @@ impl GroundOptions {
 pub fn up_direction(gravity: &Vector3<f64>) -> Result<Vector3<f64>, GroundError> {
     let n = gravity.norm();
     if !(n.is_finite() && n > 0.0) {
-        return Err(invalid_option("gravity", format!(
-            "gravity [{}, {}, {}] gives no \"up\": ground measures need a nonzero, finite gravity",
-            gravity.x, gravity.y, gravity.z
-        )));
+        return Err(invalid_option(
+            "gravity",
+            format!(
+                "gravity [{}, {}, {}] gives no \"up\": ground measures need a nonzero, finite gravity",
+                gravity.x, gravity.y, gravity.z
+            ),
+        ));
     }
     Ok(-gravity / n)
 }
@@ -153,15 +164,19 @@ pub fn contact_points(
     let Some(names) = names else {
         let found = default_contact_points(body);
         if found.is_empty() {
-            return Err(invalid_option("points", format!(
-                "the body `{}` has no foot contact points (no joint named like Foot, Toe, Ankle, Heel or calcn); name its contact links with `points: [\"…\"]`",
-                body.name
-            )));
+            return Err(invalid_option(
+                "points",
+                format!(
+                    "the body `{}` has no foot contact points (no joint named like Foot, Toe, Ankle, Heel or calcn); name its contact links with `points: [\"…\"]`",
+                    body.name
+                ),
+            ));
         }
         return Ok(found);
     };
     if names.is_empty() {
-        return Err(invalid_option("points", 
+        return Err(invalid_option(
+            "points",
             "points: [] names no contact point; leave it out for the feet",
         ));
     }
@@ -192,18 +207,21 @@ pub fn contact_points(
                     .filter(|(s, _)| *s > 0.3)
                     .map(|(_, c)| *c)
                     .collect();
-                invalid_option("points", if hint.is_empty() {
-                    format!("the body `{}` has no link `{n}`", body.name)
-                } else {
-                    format!(
-                        "the body `{}` has no link `{n}`; did you mean {}?",
-                        body.name,
-                        hint.iter()
-                            .map(|h| format!("`{h}`"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )
-                })
+                invalid_option(
+                    "points",
+                    if hint.is_empty() {
+                        format!("the body `{}` has no link `{n}`", body.name)
+                    } else {
+                        format!(
+                            "the body `{}` has no link `{n}`; did you mean {}?",
+                            body.name,
+                            hint.iter()
+                                .map(|h| format!("`{h}`"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    },
+                )
             })?;
         if !out.iter().any(|p| p.link == link) {
             out.push(ContactPoint {

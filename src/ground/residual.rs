@@ -116,9 +116,10 @@ pub fn ground_residual(
 ) -> Result<GroundResidual, GroundError> {
     opts.check()?;
     if !(friction.is_finite() && friction >= 0.0) {
-        return Err(invalid_option("friction", format!(
-            "friction must be a finite coefficient ≥ 0, got {friction}"
-        )));
+        return Err(invalid_option(
+            "friction",
+            format!("friction must be a finite coefficient ≥ 0, got {friction}"),
+        ));
     }
     check_coordinates(m, body)?;
     check_floating(body)?;

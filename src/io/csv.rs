@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{ContentError, FileError};
 use super::atomic::write_atomic;
+use super::{ContentError, FileError};
 use crate::cancel::CancelToken;
 use crate::fmt_num::Shortest;
 use crate::motion::{MotionError, Mu, sample_grid};
@@ -86,14 +86,14 @@ pub fn from_csv_str(text: &str) -> Result<Mu, ContentError> {
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
-        .next()
-        .ok_or_else(|| {
-            ContentError::new("the file is empty; a motion CSV starts with a header `t,<DOF names>`")
-        })?;
+    let (_, header) = lines.next().ok_or_else(|| {
+        ContentError::new("the file is empty; a motion CSV starts with a header `t,<DOF names>`")
+    })?;
     let names = split_header(header.trim_end_matches('\r'))?;
     if names.first().map(String::as_str) != Some("t") {
-        return Err(ContentError::new("the first column must be `t` (time in seconds)"));
+        return Err(ContentError::new(
+            "the first column must be `t` (time in seconds)",
+        ));
     }
     let names = &names[1..];
     let mut times: Vec<f64> = Vec::new();
@@ -139,7 +139,10 @@ pub fn mu_from_grid(
     use crate::motion::{Curve, Dof, Interval};
 
     if let Some(k) = times.iter().position(|t| !t.is_finite()) {
-        return Err(ContentError::new(format!("time {k} is {}, not a finite number", times[k])));
+        return Err(ContentError::new(format!(
+            "time {k} is {}, not a finite number",
+            times[k]
+        )));
     }
     if cols.len() != names.len() || cols.iter().any(|c| c.len() != times.len()) {
         return Err(ContentError::new(format!(
@@ -169,7 +172,9 @@ pub fn mu_from_grid(
     let mut mu = Mu::new();
     for (c, name) in names.iter().enumerate() {
         if mu.get(name).is_some() {
-            return Err(ContentError::new(format!("DOF '{name}' appears twice in the header")));
+            return Err(ContentError::new(format!(
+                "DOF '{name}' appears twice in the header"
+            )));
         }
         let mut intervals = Vec::new();
         let col = &cols[c];

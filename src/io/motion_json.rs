@@ -21,8 +21,8 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::{ContentError, FileError};
 use super::atomic::write_atomic;
+use super::{ContentError, FileError};
 use crate::motion::{
     Curve, Dof, Func, HermiteCurve, Interval, Mu, SampledCurve, TimeFunction, time_tol,
 };
@@ -136,7 +136,8 @@ pub fn to_json_string(mu: &Mu) -> Result<String, ContentError> {
         curves,
         dofs,
     };
-    serde_json::to_string(&file).map_err(|e| ContentError::new(format!("cannot encode the motion as JSON: {e}")))
+    serde_json::to_string(&file)
+        .map_err(|e| ContentError::new(format!("cannot encode the motion as JSON: {e}")))
 }
 
 fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, ContentError> {
@@ -157,10 +158,13 @@ fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, ContentError> {
 
 /// Parse and validate a motion from JSON text.
 pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, ContentError> {
-    let file: File =
-        serde_json::from_str(text).map_err(|e| ContentError::new(format!("not an mx motion JSON file: {e}")))?;
+    let file: File = serde_json::from_str(text)
+        .map_err(|e| ContentError::new(format!("not an mx motion JSON file: {e}")))?;
     if file.format != FORMAT {
-        return Err(ContentError::new(format!("format is '{}', expected '{FORMAT}'", file.format)));
+        return Err(ContentError::new(format!(
+            "format is '{}', expected '{FORMAT}'",
+            file.format
+        )));
     }
     if file.version != VERSION {
         return Err(ContentError::new(format!(
@@ -179,11 +183,14 @@ pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, ContentErr
                 HermiteCurve::new(h.t0, h.q0, h.v0, h.t1, h.q1, h.v1)
                     .map_err(|e| ContentError::new(format!("curve {k}: {e}")))?,
             ),
-            CurveJson::Spline(c) => Curve::spline(c).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?,
-            CurveJson::Function { source } => Curve::Function(
-                compile_fn(&source)
-                    .map_err(|e| ContentError::new(format!("curve {k}: cannot compile `{source}`: {e}")))?,
-            ),
+            CurveJson::Spline(c) => {
+                Curve::spline(c).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
+            }
+            CurveJson::Function { source } => {
+                Curve::Function(compile_fn(&source).map_err(|e| {
+                    ContentError::new(format!("curve {k}: cannot compile `{source}`: {e}"))
+                })?)
+            }
         };
         curves.push(Arc::new(curve));
     }
@@ -196,9 +203,12 @@ pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, ContentErr
         for iv in d.intervals {
             let mut funcs = Vec::with_capacity(iv.funcs.len());
             for f in iv.funcs {
-                let curve = curves
-                    .get(f.curve)
-                    .ok_or_else(|| ContentError::new(format!("DOF '{}': curve {} does not exist", d.name, f.curve)))?;
+                let curve = curves.get(f.curve).ok_or_else(|| {
+                    ContentError::new(format!(
+                        "DOF '{}': curve {} does not exist",
+                        d.name, f.curve
+                    ))
+                })?;
                 funcs.push(Func {
                     curve: curve.clone(),
                     shift: f.shift,

@@ -13,8 +13,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{ContentError, FileError};
 use super::atomic::write_atomic;
+use super::{ContentError, FileError};
 use crate::fmt_num::Shortest;
 use crate::motion::{MotionError, Mu, sample_grid};
 
@@ -61,8 +61,9 @@ pub fn parse_storage(text: &str) -> Result<Storage, ContentError> {
             Some((k, v)) => {
                 let (k, v) = (k.trim(), v.trim());
                 let count = |v: &str| {
-                    v.parse::<usize>()
-                        .map_err(|_| ContentError::at(ln, format!("`{k}={v}` is not a whole number")))
+                    v.parse::<usize>().map_err(|_| {
+                        ContentError::at(ln, format!("`{k}={v}` is not a whole number"))
+                    })
                 };
                 match k {
                     "version" => {
@@ -75,9 +76,10 @@ pub fn parse_storage(text: &str) -> Result<Storage, ContentError> {
                             "yes" | "true" => true,
                             "no" | "false" => false,
                             _ => {
-                                return Err(ContentError::at(ln, format!(
-                                    "`inDegrees={v}`; expected yes or no"
-                                )));
+                                return Err(ContentError::at(
+                                    ln,
+                                    format!("`inDegrees={v}`; expected yes or no"),
+                                ));
                             }
                         }
                     }
@@ -88,9 +90,10 @@ pub fn parse_storage(text: &str) -> Result<Storage, ContentError> {
             }
             None if ln == 1 => name = Some(l.to_string()),
             None => {
-                return Err(ContentError::at(ln, format!(
-                    "`{l}` in the header is neither `key=value` nor `endheader`"
-                )));
+                return Err(ContentError::at(
+                    ln,
+                    format!("`{l}` in the header is neither `key=value` nor `endheader`"),
+                ));
             }
         }
     }
@@ -123,26 +126,38 @@ pub fn parse_storage(text: &str) -> Result<Storage, ContentError> {
         .first()
         .is_some_and(|t| t.eq_ignore_ascii_case("time"))
     {
-        return Err(ContentError::at(label_ln, format!(
-            "the first column is `{}`, not `time`",
-            labels.first().map_or("", String::as_str)
-        )));
+        return Err(ContentError::at(
+            label_ln,
+            format!(
+                "the first column is `{}`, not `time`",
+                labels.first().map_or("", String::as_str)
+            ),
+        ));
     }
     if let Some(nc) = n_columns
         && nc != labels.len()
     {
-        return Err(ContentError::at(label_ln, format!(
-            "{} column labels, but the header says nColumns={nc}",
-            labels.len()
-        )));
+        return Err(ContentError::at(
+            label_ln,
+            format!(
+                "{} column labels, but the header says nColumns={nc}",
+                labels.len()
+            ),
+        ));
     }
     let labels: Vec<String> = labels[1..].to_vec();
     for (i, l) in labels.iter().enumerate() {
         if l.is_empty() {
-            return Err(ContentError::at(label_ln, format!("column {} has no label", i + 2)));
+            return Err(ContentError::at(
+                label_ln,
+                format!("column {} has no label", i + 2),
+            ));
         }
         if labels[..i].contains(l) {
-            return Err(ContentError::at(label_ln, format!("column `{l}` appears twice")));
+            return Err(ContentError::at(
+                label_ln,
+                format!("column `{l}` appears twice"),
+            ));
         }
     }
     let mut time = Vec::new();
@@ -153,12 +168,15 @@ pub fn parse_storage(text: &str) -> Result<Storage, ContentError> {
         }
         let cells: Vec<&str> = line.split_whitespace().collect();
         if cells.len() != labels.len() + 1 {
-            return Err(ContentError::at(ln, format!(
-                "{} numbers, expected {} (time and {} columns)",
-                cells.len(),
-                labels.len() + 1,
-                labels.len()
-            )));
+            return Err(ContentError::at(
+                ln,
+                format!(
+                    "{} numbers, expected {} (time and {} columns)",
+                    cells.len(),
+                    labels.len() + 1,
+                    labels.len()
+                ),
+            ));
         }
         let mut row = cells.iter().map(|c| {
             c.parse::<f64>()
@@ -211,10 +229,7 @@ fn path_coordinate(label: &str) -> Option<&str> {
 
 /// The motion in a Storage: one DOF per column, in radians and metres.
 /// Returns the motion and notes for the user (how units were decided).
-pub fn storage_to_mu(
-    st: &Storage,
-    columns: Columns,
-) -> Result<(Mu, Vec<String>), ContentError> {
+pub fn storage_to_mu(st: &Storage, columns: Columns) -> Result<(Mu, Vec<String>), ContentError> {
     let mut names = Vec::with_capacity(st.labels.len());
     let mut rotational = Vec::with_capacity(st.labels.len());
     let mut notes = Vec::new();
@@ -228,7 +243,9 @@ pub fn storage_to_mu(
                 match name {
                     Some((c, rot)) => {
                         if names.contains(c) {
-                            return Err(ContentError::new(format!("coordinate `{c}` has two columns")));
+                            return Err(ContentError::new(format!(
+                                "coordinate `{c}` has two columns"
+                            )));
                         }
                         names.push(c.clone());
                         rotational.push(*rot);
@@ -392,7 +409,9 @@ mod tests {
     fn body_columns_must_name_coordinates() {
         let st = parse_storage(V1).unwrap();
         let coords = vec![("knee_angle_r".to_string(), true)];
-        let e = storage_to_mu(&st, Columns::Body(&coords)).unwrap_err().to_string();
+        let e = storage_to_mu(&st, Columns::Body(&coords))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("`pelvis_tx`") && e.contains("name no coordinate"),
             "{e}"
@@ -408,13 +427,21 @@ mod tests {
 
     #[test]
     fn bad_headers_are_clear_errors() {
-        let e = parse_storage("version=1\ntime\ta\n0\t1\n").unwrap_err().to_string();
+        let e = parse_storage("version=1\ntime\ta\n0\t1\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("endheader"), "{e}");
-        let e = parse_storage("version=1\nendheader\nt\ta\n0\t1\n1\t2\n").unwrap_err().to_string();
+        let e = parse_storage("version=1\nendheader\nt\ta\n0\t1\n1\t2\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not `time`"), "{e}");
-        let e = parse_storage("nRows=5\nendheader\ntime\ta\n0\t1\n1\t2\n").unwrap_err().to_string();
+        let e = parse_storage("nRows=5\nendheader\ntime\ta\n0\t1\n1\t2\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("nRows=5"), "{e}");
-        let e = parse_storage("endheader\ntime\ta\n0\t1\n1\tx\n").unwrap_err().to_string();
+        let e = parse_storage("endheader\ntime\ta\n0\t1\n1\tx\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 4") && e.contains("`x`"), "{e}");
     }
 

@@ -159,7 +159,11 @@ impl Diagnostic {
                 let (end_line, end_col) = line_col(&s.text, end);
                 location = Some(format!("{}:{}:{}", s.name, line, col));
                 too_wide = col.max(end_col) > MAX_SNIPPET_COLUMN;
-                let chars = |o: usize| s.text.get(..o.min(s.text.len())).map_or(0, |b| b.chars().count());
+                let chars = |o: usize| {
+                    s.text
+                        .get(..o.min(s.text.len()))
+                        .map_or(0, |b| b.chars().count())
+                };
                 place = Some(Location {
                     file: s.name.clone(),
                     line,

@@ -46,10 +46,7 @@ impl Settings {
         if !(self.rate.is_finite() && self.rate >= 1.0 && self.rate <= 1000.0) {
             return Err(LibraryError::InvalidOption {
                 option: "rate",
-                message: format!(
-                    "rate must be between 1 and 1000 Hz, found {}",
-                    self.rate
-                ),
+                message: format!("rate must be between 1 and 1000 Hz, found {}", self.rate),
             });
         }
         if self.warps.is_empty()

@@ -91,8 +91,7 @@ pub fn read_clip(path: &Path) -> Result<ClipInput, Skipped> {
     };
     let bytes = std::fs::read(path).map_err(|e| skip(e.to_string()))?;
     let file = bvh::parse(&String::from_utf8_lossy(&bytes)).map_err(|e| skip(e.to_string()))?;
-    let units =
-        bvh::resolve_units(Units::Auto, &file.skeleton).map_err(|e| skip(e.to_string()))?;
+    let units = bvh::resolve_units(Units::Auto, &file.skeleton).map_err(|e| skip(e.to_string()))?;
     Ok(ClipInput {
         name: clip_name(path),
         file,

@@ -96,9 +96,12 @@ pub fn body_of(
     metres_per_unit: f64,
 ) -> Result<(Model, MassReport), MocapError> {
     if !(mass.is_finite() && mass > 0.0) {
-        return Err(MocapError::invalid_option("mass", format!(
-            "body mass must be a positive number of kg, got {mass} (e.g. body_of(clip, mass: 70))"
-        )));
+        return Err(MocapError::invalid_option(
+            "mass",
+            format!(
+                "body mass must be a positive number of kg, got {mass} (e.g. body_of(clip, mass: 70))"
+            ),
+        ));
     }
     if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
         return Err(MocapError::invalid(format!(

@@ -172,9 +172,10 @@ fn chain(
 /// Builds the 44-DOF model with the clip skeleton's limb lengths and total `mass` kg.
 pub fn human(sk: &Skeleton, metres_per_unit: f64, mass: f64) -> Result<Human, MocapError> {
     if !(mass.is_finite() && mass > 0.0) {
-        return Err(MocapError::invalid_option("mass", format!(
-            "body mass must be a positive number of kg, got {mass}"
-        )));
+        return Err(MocapError::invalid_option(
+            "mass",
+            format!("body mass must be a positive number of kg, got {mass}"),
+        ));
     }
     let mut b = Build {
         sk,

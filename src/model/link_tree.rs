@@ -179,6 +179,9 @@ mod tests {
         let Err(TreeError::Cycle { links, joints }) = tree_order(&links, &joints) else {
             panic!("no cycle found");
         };
-        assert_eq!((links, joints), (vec!["d".into(), "c".into()], vec!["j2".into(), "j3".into()]));
+        assert_eq!(
+            (links, joints),
+            (vec!["d".into(), "c".into()], vec!["j2".into(), "j3".into()])
+        );
     }
 }

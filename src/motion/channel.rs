@@ -113,7 +113,11 @@ pub fn channel_for<'a>(names: &[&'a str], joint: &str, suffix: &str) -> Found<'a
     let own = |n: &str| n.strip_suffix(suffix).and_then(|j| j.strip_suffix('.')) == Some(joint);
     // the bare name first, then the joint's own
     let mut all = names.iter().copied();
-    if let Some(n) = all.clone().find(|n| *n == suffix).or_else(|| all.find(|n| own(n))) {
+    if let Some(n) = all
+        .clone()
+        .find(|n| *n == suffix)
+        .or_else(|| all.find(|n| own(n)))
+    {
         return Found::One(n);
     }
     let found: Vec<&str> = names
@@ -340,7 +344,10 @@ mod tests {
     #[test]
     fn a_joints_channel_is_found_by_its_suffix() {
         let names = ["LeftFoot.x", "RightFoot.x", "LeftFoot.y", "z", "Hips.rx"];
-        assert_eq!(channel_for(&names, "RightFoot", "x"), Found::One("RightFoot.x"));
+        assert_eq!(
+            channel_for(&names, "RightFoot", "x"),
+            Found::One("RightFoot.x")
+        );
         assert_eq!(channel_for(&names, "Any", "z"), Found::One("z"));
         // not the joint's own, but the only one
         assert_eq!(channel_for(&names, "Any", "y"), Found::One("LeftFoot.y"));
@@ -352,7 +359,10 @@ mod tests {
         assert_eq!(channel_for(&names, "LeftFoot", "ry"), Found::Missing);
         // a suffix is the part after the last dot, not any ending
         assert_eq!(channel_for(&["a.bx"], "a", "x"), Found::Missing);
-        assert_eq!(channel_for(&["Arm.L.x"], "Arm.L", "x"), Found::One("Arm.L.x"));
+        assert_eq!(
+            channel_for(&["Arm.L.x"], "Arm.L", "x"),
+            Found::One("Arm.L.x")
+        );
     }
 
     #[test]

@@ -2,13 +2,13 @@
 //! knot spacing of the cyclic least-squares fit → how far the loop departs
 //! from the clip and how well its seam closes, against time.
 
-use crate::report::error::ReportError;
 use super::plot::{Figure, Series};
 use super::timed;
 use crate::mocap::bvh::Units;
 use crate::motion::Mu;
 use crate::motion::cyclify::floor_drift;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, loop_motion};
+use crate::report::error::ReportError;
 use std::path::Path;
 
 /// The marks given to `cyclify` (s): about one stride of `examples/data/walk.bvh`.

@@ -2,11 +2,11 @@
 //! §6.2–6.3): control frames → max/RMS error against fit time, and the
 //! smoothing weight → error to the clean samples against ∫‖∇S‖².
 
-use crate::report::error::ReportError;
 use super::plot::{Figure, Series};
 use super::timed;
 use crate::model::joint_fit::{FitOptions, fit_spline_joint, hessian_energy};
 use crate::model::joints::{JointSamples, joint_error};
+use crate::report::error::ReportError;
 use std::path::Path;
 
 pub struct FrameRow {

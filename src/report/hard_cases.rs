@@ -5,7 +5,6 @@
 //! cannot drift apart. A case that expects a clear error measures 0 when the
 //! error arrives with the expected words, 1 otherwise (bound 0.5).
 
-use crate::report::error::ReportError;
 use crate::cancel::CancelToken;
 use crate::dynamics::{
     DynamicsError, Integrator, Scene, State, Workspace, forward_dynamics, inverse_dynamics,
@@ -16,6 +15,7 @@ use crate::model::joint_fit::{FitOptions, fit_spline_joint};
 use crate::model::joints::{EulerOrder, JointSamples, Revolute, Spherical};
 use crate::model::{Inertia, Model};
 use crate::motion::{Dof, Interval, Mu};
+use crate::report::error::ReportError;
 use crate::spacetime::planar2::TwoLinkArm;
 use crate::spacetime::{
     Continuity, EndState, GapDof, Objective, SolveOptions, TransitionCurve, TransitionSettings,
@@ -320,8 +320,7 @@ pub fn euler_100ms() -> HardCase {
                 inertia,
             )?;
         }
-        let scene = Scene::new(Arc::new(m))
-            .with_gravity(Vector3::new(0.0, -9.81, 0.0))?;
+        let scene = Scene::new(Arc::new(m)).with_gravity(Vector3::new(0.0, -9.81, 0.0))?;
         let init = State {
             q: vec![1.2, -0.5, 0.8],
             v: vec![0.0; 3],
@@ -396,8 +395,7 @@ pub fn arm_gap(
         })
         .collect();
     let inputs = |_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]| Ok(());
-    let obj =
-        Objective::new(&arm, dofs, settings, vec![1.0, 1.0], &inputs)?;
+    let obj = Objective::new(&arm, dofs, settings, vec![1.0, 1.0], &inputs)?;
     let sol = solve_group(&obj, &SolveOptions::default())?;
     if sol.coefficients.iter().flatten().any(|c| !c.is_finite()) {
         return Ok((f64::INFINITY, sol.report.initial_energy, f64::INFINITY));
@@ -501,14 +499,8 @@ pub fn wrapped_euler_angles() -> HardCase {
 
 pub fn conflicting_dofs() -> HardCase {
     let r = (|| -> Result<Option<[f64; 3]>, ReportError> {
-        let d = Dof::new(vec![
-            Interval::constant(1.0, 0.0, 2.0)?,
-        ])?
-        .plus(
-            &Dof::new(vec![
-                Interval::constant(2.0, 1.0, 3.0)?,
-            ])?,
-        );
+        let d = Dof::new(vec![Interval::constant(1.0, 0.0, 2.0)?])?
+            .plus(&Dof::new(vec![Interval::constant(2.0, 1.0, 3.0)?])?);
         let mut m = Mu::new();
         m.insert("Hips.Xposition", d);
         m.sample("Hips.Xposition", 1.5).map_err(ReportError::from)

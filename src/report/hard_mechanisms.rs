@@ -2,13 +2,13 @@
 //! Euler at 100 ms on beads sliding round closed wires of a spinning frame,
 //! and an n-DOF spline joint driven past the end of its parameter range.
 
-use crate::report::error::ReportError;
 use super::hard_case::{HardCase, case};
 use crate::cancel::CancelToken;
 use crate::dynamics::{Integrator, LimitPenalty, Scene, State, simulate};
 use crate::lie::{Se3, exp_so3};
 use crate::model::joints::{EulerOrder, FrameGrid, Revolute, SplineLoopJoint, SplineSurfaceJoint};
 use crate::model::{Inertia, Model};
+use crate::report::error::ReportError;
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -121,11 +121,10 @@ pub fn spline_surface_range_end() -> HardCase {
             Se3::identity(),
             Inertia::point(1.0, Vector3::zeros())?,
         )?;
-        let scene = Scene::new(Arc::new(m))
-            .with_limits(LimitPenalty {
-                stiffness: 1e4,
-                damping: 200.0,
-            })?;
+        let scene = Scene::new(Arc::new(m)).with_limits(LimitPenalty {
+            stiffness: 1e4,
+            damping: 200.0,
+        })?;
         let init = State {
             q: vec![0.9],
             v: vec![1.0],

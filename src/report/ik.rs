@@ -3,10 +3,10 @@
 //! walk has them 0.3 s later (reachable, ≈30 cm from each frame's pose) —
 //! the case `benches/motion.rs` times.
 
-use crate::report::error::ReportError;
 use super::timed;
 use crate::ik::{IkOptions, Settings, Target, ik};
 use crate::motion::{Curve, Dof, Interval, affine, grid_times};
+use crate::report::error::ReportError;
 
 pub struct Row {
     pub tolerance: f64,
@@ -40,9 +40,7 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> 
             let v: Vec<f64> = p.points.iter().map(|f| f[j][k]).collect();
             let c = Curve::samples(ts[0], ts[1] - ts[0], v)?;
             let stop = *ts.last().ok_or("no frames")?;
-            Ok(Dof::from(
-                Interval::curve(c, ts[0], stop)?,
-            ))
+            Ok(Dof::from(Interval::curve(c, ts[0], stop)?))
         };
         Ok(Target {
             link: link.into(),

@@ -30,13 +30,13 @@
 
 use super::leave_one_out::LeaveOneOut;
 use super::metrics;
-use crate::report::error::ReportError;
 use crate::lie::Se3;
 use crate::mocap::bvh::{Skeleton, Units};
 use crate::mocap::{self, positions::joint_points};
 use crate::model::Model;
 use crate::motion::channel::Channel;
 use crate::motion::{Curve, Dof, Interval, Mu};
+use crate::report::error::ReportError;
 use crate::spacetime::{SpOptions, sp, torque_energy};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
@@ -248,7 +248,9 @@ impl Case {
                         self.capture
                             .sample(name, self.time(k))?
                             .map(|s| s[0])
-                            .ok_or_else(|| ReportError::Check(format!("{name} undefined at frame {k}")))
+                            .ok_or_else(|| {
+                                ReportError::Check(format!("{name} undefined at frame {k}"))
+                            })
                     })
                     .collect()
             };
@@ -536,14 +538,8 @@ pub fn fill_window(
     };
     let clock = Instant::now();
     let (motion, report) = match method {
-        Method::Hermite => (
-            crate::spacetime::fill_hermite(&cut)?,
-            None,
-        ),
-        Method::Slerp => (
-            crate::motion::fill_slerp(&cut)?,
-            None,
-        ),
+        Method::Hermite => (crate::spacetime::fill_hermite(&cut)?, None),
+        Method::Slerp => (crate::motion::fill_slerp(&cut)?, None),
         Method::Capture => (case.capture.clone(), None),
         Method::Sp(_, opts) | Method::SpLibrary(_, opts, _) => {
             let mut o = (**opts).clone();

@@ -3,7 +3,6 @@
 //! run, or against our own tight Dormand–Prince run when the shared data is
 //! absent), and the energy drift of a conservative double pendulum.
 
-use crate::report::error::ReportError;
 use super::plot::{Figure, Series};
 use super::timed;
 use crate::cancel::CancelToken;
@@ -11,6 +10,7 @@ use crate::dynamics::{Integrator, Scene, SceneWorkspace, State, simulate};
 use crate::lie::Se3;
 use crate::model::joints::{FunctionJoint, Revolute};
 use crate::model::{Inertia, Model};
+use crate::report::error::ReportError;
 use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
 use serde_json::Value;
 use std::path::Path;
@@ -48,8 +48,7 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), ReportEr
                 .find(|r| r["name"] == "shank_foot_femur_flexed_50deg")
         })
         .ok_or_else(|| bad("run shank_foot_femur_flexed_50deg"))?;
-    let joint =
-        Arc::new(FunctionJoint::from_opensim_samples_json(&samples)?);
+    let joint = Arc::new(FunctionJoint::from_opensim_samples_json(&samples)?);
     let mut inertia = Inertia::zero();
     for b in run["setup"]["bodies"]
         .as_array()
@@ -80,8 +79,7 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), ReportEr
         Se3::from_rotation(Rotation3::from_axis_angle(&Vector3::z_axis(), flex).into_inner()),
         inertia,
     )?;
-    let scene = Scene::new(Arc::new(m))
-        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))?;
+    let scene = Scene::new(Arc::new(m)).with_gravity(Vector3::new(0.0, -9.80665, 0.0))?;
     let init = State {
         q: vec![run["q0"].as_f64().ok_or_else(|| bad("q0"))?],
         v: vec![run["u0"].as_f64().ok_or_else(|| bad("u0"))?],
@@ -108,8 +106,7 @@ pub fn double_pendulum() -> Result<(Scene, State), ReportError> {
             inertia,
         )?;
     }
-    let scene = Scene::new(Arc::new(m))
-        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))?;
+    let scene = Scene::new(Arc::new(m)).with_gravity(Vector3::new(0.0, -9.80665, 0.0))?;
     Ok((
         scene,
         State {
@@ -195,7 +192,11 @@ fn grid_error(q: &[Vec<f64>], dt: f64, q_ref: &[f64], ref_dt: f64) -> f64 {
     if shared == 0 { f64::INFINITY } else { worst }
 }
 
-pub fn run(shared: Option<&Path>, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
+pub fn run(
+    shared: Option<&Path>,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) -> Result<Outcome, ReportError> {
     let tok = CancelToken::new();
     let duration = if smoke { 0.3 } else { 1.0 };
     let (scene, init, q_ref, reference) = match shared.map(knee_pendulum) {
@@ -227,8 +228,7 @@ pub fn run(shared: Option<&Path>, smoke: bool, tick: &mut dyn FnMut()) -> Result
     };
     let (dp, dp0) = double_pendulum()?;
     let mut sw = SceneWorkspace::new(&dp);
-    let e0 = dp
-        .energy(&mut sw, &dp0.q, &dp0.v)?;
+    let e0 = dp.energy(&mut sw, &dp0.q, &dp0.v)?;
     let mut rows = Vec::new();
     for (method, setting, m, dt) in cases(smoke) {
         let (r, secs) = timed(|| simulate(&scene, duration, dt, m, &init, &tok, &mut |_| {}));

@@ -3,11 +3,11 @@
 //! periodic = the cyclic fit used for cyclification) and the sampling rate of
 //! a sampled curve → reconstruction error against time.
 
-use crate::report::error::ReportError;
 use super::plot::{Figure, Series};
 use super::timed;
 use crate::mocap::bvh::Units;
 use crate::motion::Curve;
+use crate::report::error::ReportError;
 use crate::spline::{BSplineBasis, fit_least_squares};
 use std::path::Path;
 
@@ -88,8 +88,7 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
     for &cps in rates {
         let n = ((cps * duration).round() as usize + 3).clamp(4, clip.frames);
         // Clamped cubic through every frame.
-        let basis =
-            BSplineBasis::clamped_uniform(3, n, 0.0, duration)?;
+        let basis = BSplineBasis::clamped_uniform(3, n, 0.0, duration)?;
         let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
             let mut errs = Vec::new();
             for y in &chans {
@@ -114,8 +113,7 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
         let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
             let mut errs = Vec::new();
             for y in &chans {
-                let c =
-                    fit_least_squares(&pb, body, &y[..body.len()])?;
+                let c = fit_least_squares(&pb, body, &y[..body.len()])?;
                 errs.extend(ts.iter().zip(y).map(|(t, v)| c.eval(*t)[0] - v));
             }
             Ok(errs)
@@ -157,10 +155,7 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
                 let re = Curve::samples(0.0, h, vals)?;
                 for &t in &fine {
                     let t = t.min(duration);
-                    errs.push(
-                        re.value(t)?
-                            - c.value(t)?,
-                    );
+                    errs.push(re.value(t)? - c.value(t)?);
                 }
             }
             Ok(errs)

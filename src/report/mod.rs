@@ -7,8 +7,8 @@
 //! Uses every library module but `lang` (the report is about the engine).
 
 pub mod cyclify;
-pub mod error;
 mod doc;
+pub mod error;
 pub mod fit;
 mod hard_case;
 pub mod hard_cases;

@@ -4,12 +4,12 @@
 //! the same file. The measurement is the one of `benches/dynamics.rs`, which
 //! also counts instructions per call under callgrind through [`drive`].
 
-use crate::report::error::ReportError;
 use crate::dynamics::{
     DynamicsError, JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics,
     mass_matrix, rnea_derivatives, torque_sq_gradient,
 };
 use crate::model::Model;
+use crate::report::error::ReportError;
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};

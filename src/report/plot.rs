@@ -61,7 +61,10 @@ pub fn draw(fig: &Figure, dir: &Path) -> Result<(), ReportError> {
         .filter(|(x, y)| x.is_finite() && y.is_finite())
         .collect();
     if pts.is_empty() {
-        return Err(ReportError::Check(format!("{}: no finite points to plot", fig.file)));
+        return Err(ReportError::Check(format!(
+            "{}: no finite points to plot",
+            fig.file
+        )));
     }
     let floor = 1e-16;
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);

@@ -2,12 +2,12 @@
 //! its measurement (the files beside this one) and writes its prose, figures
 //! and tables. A section that cannot run is listed as pending.
 
-use crate::report::error::ReportError;
 use super::doc::Doc;
 use super::hard_cases::HardCase;
 use super::{
     Options, cyclify, fit, hard_cases, ik, inbetween, integrators, mocap, perf, spacetime,
 };
+use crate::report::error::ReportError;
 use indicatif::ProgressBar;
 use std::fmt::Write as _;
 use std::path::PathBuf;

@@ -4,8 +4,8 @@
 //! torque energy is re-measured with one common fine quadrature so settings
 //! compare on the same scale; the gap is relative to the best of the table.
 
-use crate::report::error::ReportError;
 use super::plot::{Figure, Series};
+use crate::report::error::ReportError;
 use crate::spacetime::{Continuity, SolveOptions, TransitionSettings, fig8, solve_group};
 
 pub struct Row {
@@ -85,15 +85,13 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> 
                     },
                 )?;
                 let ms = started.elapsed().as_secs_f64() * 1e3;
-                let fine = case
-                    .objective(&TransitionSettings {
-                        samples: fine_samples,
-                        ..settings.clone()
-                    })?;
+                let fine = case.objective(&TransitionSettings {
+                    samples: fine_samples,
+                    ..settings.clone()
+                })?;
                 let mut s = fine.scratch();
                 let energy = fine.eval(&mut s, &sol.x, None)?;
-                let hermite_energy = fine
-                    .eval(&mut s, &fine.hermite_start(), None)?;
+                let hermite_energy = fine.eval(&mut s, &fine.hermite_start(), None)?;
                 // Continuity: the worst jump of q, q̇ (scaled by the gap length) at both ends.
                 let mut jump = 0.0f64;
                 for (i, dof) in obj.dofs().iter().enumerate() {

@@ -183,7 +183,10 @@ fn bad_input_is_a_clear_error_or_a_reported_skip() {
     let e = Library::build(clips, skipped, Settings::default())
         .err()
         .unwrap();
-    assert!(e.to_string().contains("`arm`") && e.to_string().contains("left foot"), "{e}");
+    assert!(
+        e.to_string().contains("`arm`") && e.to_string().contains("left foot"),
+        "{e}"
+    );
     assert!(e.to_string().contains("`junk`"), "{e}");
     // beside a real clip: indexed, the others reported
     let Some(t) = template() else { return };
@@ -264,7 +267,10 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
     let good = std::fs::read(&p).unwrap();
     let load_bytes = |b: &[u8]| {
         std::fs::write(&p, b).unwrap();
-        file::load(&p, None).err().map(|e| e.to_string()).unwrap_or_default()
+        file::load(&p, None)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
     };
     // one byte changed anywhere, or the file cut short
     for at in [20, good.len() / 2, good.len() - 20] {
@@ -291,7 +297,10 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
     changed.values[5] += 1.0;
     std::fs::write(&clip_path, bvh::to_string(&changed).unwrap()).unwrap();
     let e = file::load(&p, None).err().unwrap();
-    assert!(e.to_string().contains("stale") && e.to_string().contains("`walk`"), "{e}");
+    assert!(
+        e.to_string().contains("stale") && e.to_string().contains("`walk`"),
+        "{e}"
+    );
     std::fs::remove_file(&clip_path).unwrap();
     assert_eq!(file::load(&p, None).unwrap().clips.len(), 1);
 }

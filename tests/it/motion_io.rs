@@ -2,8 +2,8 @@
 
 use std::sync::Arc;
 
-use mx::io::csv::{save_csv, to_csv_string};
 use mx::io::ContentError;
+use mx::io::csv::{save_csv, to_csv_string};
 use mx::io::motion_json::{from_json_str, load_json, save_json, to_json_string};
 use mx::motion::*;
 
@@ -26,7 +26,8 @@ impl TimeFunction for Slope {
 fn compile(src: &str) -> Result<Arc<dyn TimeFunction>, ContentError> {
     let k = src.strip_suffix("*t").ok_or("not k*t")?;
     Ok(Arc::new(Slope(
-        k.parse::<f64>().map_err(|e| ContentError::new(e.to_string()))?,
+        k.parse::<f64>()
+            .map_err(|e| ContentError::new(e.to_string()))?,
     )))
 }
 

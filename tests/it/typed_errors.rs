@@ -23,7 +23,10 @@ fn code_only(src: &str) -> String {
     while i < b.len() {
         match b[i] {
             b'/' if b.get(i + 1) == Some(&b'/') => {
-                let end = b[i..].iter().position(|&c| c == b'\n').map_or(b.len(), |n| i + n);
+                let end = b[i..]
+                    .iter()
+                    .position(|&c| c == b'\n')
+                    .map_or(b.len(), |n| i + n);
                 blank(&mut out, i, end);
                 i = end;
             }
@@ -42,7 +45,9 @@ fn code_only(src: &str) -> String {
                 }
                 let close = format!("\"{}", "#".repeat(hashes));
                 let body = i + 2 + hashes;
-                let end = src[body..].find(&close).map_or(b.len(), |n| body + n + close.len());
+                let end = src[body..]
+                    .find(&close)
+                    .map_or(b.len(), |n| body + n + close.len());
                 blank(&mut out, i, end);
                 i = end;
             }
@@ -111,9 +116,15 @@ fn string_results(code: &str) -> Vec<(usize, String)> {
             [] => continue,
         };
         let err = code[c + 1..end].trim();
-        if matches!(err, "String" | "std::string::String" | "alloc::string::String") {
+        if matches!(
+            err,
+            "String" | "std::string::String" | "alloc::string::String"
+        ) {
             let line = code[..k].matches('\n').count() + 1;
-            found.push((line, code[k..=j.min(b.len() - 1)].split_whitespace().collect()));
+            found.push((
+                line,
+                code[k..=j.min(b.len() - 1)].split_whitespace().collect(),
+            ));
         }
     }
     found
@@ -136,7 +147,11 @@ fn no_engine_error_is_a_bare_string() {
     let mut files = vec![];
     rust_files(&src, &mut files);
     files.sort();
-    assert!(files.len() > 50, "found only {} files under src/", files.len());
+    assert!(
+        files.len() > 50,
+        "found only {} files under src/",
+        files.len()
+    );
     let mut bad = vec![];
     for f in files.iter().filter(|f| !f.starts_with(src.join("lang"))) {
         let text = fs::read_to_string(f).expect("read a source file");

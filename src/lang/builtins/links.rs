@@ -200,7 +200,8 @@ fn make_link(a: &mut Args) -> MxResult<Value> {
         Some(i) => inertia_matrix(a, &i)?,
         None => Matrix3::zeros(),
     };
-    let inertia = Inertia::from_com(mass, com, i_com).map_err(|e| diagnostic(&e, a, a.call_span()))?;
+    let inertia =
+        Inertia::from_com(mass, com, i_com).map_err(|e| diagnostic(&e, a, a.call_span()))?;
     Ok(Value::object(LinkSpec {
         name,
         parent,

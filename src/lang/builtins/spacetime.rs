@@ -183,14 +183,14 @@ fn root_fill(a: &mut Args) -> MxResult<RootFill> {
         Some("shift") => Ok(RootFill::Shift),
         Some("pinned") => Ok(RootFill::Pinned),
         _ => Err(bad_sp_option(
-                    a,
-                    &arg,
-                    "root",
-                    format!(
+            a,
+            &arg,
+            "root",
+            format!(
                 "`root:` must be \"auto\", \"shift\" or \"pinned\", found {}",
                 arg.value.repr()
             ),
-                )),
+        )),
     }
 }
 

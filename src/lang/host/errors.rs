@@ -22,8 +22,8 @@ use crate::model::joints::JointSpecError;
 use crate::model::{InertiaError, ModelError};
 use crate::motion::MotionError;
 use crate::motion::cyclify::CyclifyError;
-use crate::spline::SplineError;
 use crate::spacetime::{SpError, SpOptions};
+use crate::spline::SplineError;
 
 /// What the language needs from an engine error to report it.
 pub trait EngineError: std::fmt::Display {

@@ -179,32 +179,38 @@ pub fn function_from_json(f: &Value) -> Result<ScalarFunction, FunctionJointErro
         "LinearFunction" => {
             let c = f64s(f.get("coefficients"))
                 .filter(|c| c.len() == 2)
-                .ok_or_else(|| FunctionJointError("LinearFunction needs `coefficients` [slope, intercept]".into()))?;
+                .ok_or_else(|| {
+                    FunctionJointError(
+                        "LinearFunction needs `coefficients` [slope, intercept]".into(),
+                    )
+                })?;
             Ok(ScalarFunction::Linear {
                 slope: c[0],
                 intercept: c[1],
             })
         }
         "SimmSpline" => {
-            let x = f64s(f.get("x")).ok_or_else(|| FunctionJointError("SimmSpline needs numeric `x`".into()))?;
-            let y = f64s(f.get("y")).ok_or_else(|| FunctionJointError("SimmSpline needs numeric `y`".into()))?;
+            let x = f64s(f.get("x"))
+                .ok_or_else(|| FunctionJointError("SimmSpline needs numeric `x`".into()))?;
+            let y = f64s(f.get("y"))
+                .ok_or_else(|| FunctionJointError("SimmSpline needs numeric `y`".into()))?;
             Ok(ScalarFunction::SimmSpline(
                 SimmSpline::new(x, y).map_err(|e| FunctionJointError(e.to_string()))?,
             ))
         }
         "PolynomialFunction" => Ok(ScalarFunction::Polynomial {
-            coefficients: f64s(f.get("coefficients"))
-                .ok_or_else(|| FunctionJointError("PolynomialFunction needs `coefficients`".into()))?,
+            coefficients: f64s(f.get("coefficients")).ok_or_else(|| {
+                FunctionJointError("PolynomialFunction needs `coefficients`".into())
+            })?,
         }),
         "MultiplierFunction" => {
             let scale = f
                 .get("scale")
                 .and_then(Value::as_f64)
                 .ok_or_else(|| FunctionJointError("MultiplierFunction needs `scale`".into()))?;
-            let inner = function_from_json(
-                f.get("function")
-                    .ok_or_else(|| FunctionJointError("MultiplierFunction needs `function`".into()))?,
-            )?;
+            let inner = function_from_json(f.get("function").ok_or_else(|| {
+                FunctionJointError("MultiplierFunction needs `function`".into())
+            })?)?;
             Ok(ScalarFunction::Multiplier {
                 scale,
                 function: Box::new(inner),

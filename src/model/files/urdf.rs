@@ -278,7 +278,8 @@ fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
     let mut inertias: Vec<Inertia> = Vec::new();
     // Per link placed: the moving body it belongs to and its pose in that body
     // (a fixed joint's child joins its parent's body).
-    let mut placed: HashMap<&str, (Option<usize>, Se3)> = HashMap::from([(root, (None, Se3::identity()))]);
+    let mut placed: HashMap<&str, (Option<usize>, Se3)> =
+        HashMap::from([(root, (None, Se3::identity()))]);
     for j in order.into_iter().map(|i| joints[i]) {
         let (body, acc) = placed[j.parent.link.as_str()];
         let child = links[j.child.link.as_str()];

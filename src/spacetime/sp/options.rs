@@ -342,7 +342,11 @@ mod tests {
                     ..Default::default()
                 };
                 let e = opts.check(&model).unwrap_err();
-                assert_eq!(e, SpError::ContactReplacesSupport, "{support:?} {contact:?}");
+                assert_eq!(
+                    e,
+                    SpError::ContactReplacesSupport,
+                    "{support:?} {contact:?}"
+                );
                 assert_eq!(e.option(), Some("contact"));
                 let e = crate::spacetime::sp(&m, &model, &opts).unwrap_err();
                 assert_eq!(e, SpError::ContactReplacesSupport);
