@@ -19,13 +19,15 @@ pub enum TreeError {
     DuplicateLink(String),
     #[error("joint `{0}` is defined twice; joint names must be unique")]
     DuplicateJoint(String),
-    /// A joint names a link no one defined (`nearest`: the closest name).
+    /// A joint names a link no one defined as its `end` (`"parent"` or
+    /// `"child"`; `nearest`: the closest name).
     #[error(
-        "joint `{joint}` refers to link `{link}`, which is not defined{}",
+        "joint `{joint}` names {end} link `{link}`, which is not defined{}",
         nearest.as_ref().map(|n| format!(" (did you mean `{n}`?)")).unwrap_or_default()
     )]
     UnknownLink {
         joint: String,
+        end: &'static str,
         link: String,
         nearest: Option<String>,
     },
@@ -69,14 +71,17 @@ pub fn tree_order(links: &[&str], joints: &[TreeJoint]) -> Result<Vec<usize>, Tr
     let mut children: std::collections::HashMap<Option<&str>, Vec<usize>> =
         std::collections::HashMap::new();
     for (i, j) in joints.iter().enumerate() {
-        for end in j.parent.iter().chain([&j.child]) {
-            if !known.contains(end) {
+        let ends = j.parent.map(|p| ("parent", p)).into_iter().chain([("child", j.child)]);
+        for (end, link) in ends {
+            if !known.contains(link) {
                 return Err(TreeError::UnknownLink {
                     joint: j.name.to_string(),
-                    link: end.to_string(),
+                    end,
+                    link: link.to_string(),
                     nearest: links
                         .iter()
-                        .min_by_key(|k| strsim::levenshtein(k, end))
+                        .filter(|k| **k != j.child)
+                        .min_by_key(|k| strsim::levenshtein(k, link))
                         .map(|k| k.to_string()),
                 });
             }
@@ -165,7 +170,7 @@ mod tests {
         let e = tree_order(&["arm", "hand"], &[j("wrist", Some("amr"), "hand")]).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "joint `wrist` refers to link `amr`, which is not defined (did you mean `arm`?)"
+            "joint `wrist` names parent link `amr`, which is not defined (did you mean `arm`?)"
         );
         let e = tree_order(&["a", "b"], &[j("j1", None, "b"), j("j2", Some("a"), "b")]);
         assert!(matches!(e, Err(TreeError::TwoParents { .. })), "{e:?}");

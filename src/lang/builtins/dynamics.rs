@@ -14,6 +14,7 @@ use crate::dynamics::{
     State, Workspace, coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix,
     forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
+use crate::lang::host::errors::EngineError;
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
@@ -25,7 +26,7 @@ use crate::lang::value::Value;
 
 // The scene value lives in `lang::host`; this keeps the path embedders use.
 pub use crate::lang::host::scene::SceneValue;
-use crate::model::Model;
+use crate::model::{Model, ModelError};
 use crate::model::urdf::UrdfOptions;
 use crate::motion::{Curve, Dof, Interval, Mu};
 
@@ -508,7 +509,7 @@ pub fn register(reg: &mut Registry) {
                 },
             };
             let (m, coupling) = Model::from_urdf_file_with(path, UrdfOptions { mimic })
-                .map_err(|e| urdf_error(e.to_string()))?;
+                .map_err(|e| urdf_error(&e))?;
             let mut b = Body::from_model(Arc::new(m));
             b.coupling = coupling.map(Arc::new);
             Ok(Value::object(b))
@@ -612,17 +613,8 @@ pub fn register(reg: &mut Registry) {
     );
 }
 
-/// A URDF error with the help that fits it: the reader's messages already say
-/// what is wrong in the file; a missing file or broken XML needs other advice.
-fn urdf_error(message: String) -> MxError {
-    let e = MxError::new(ErrorKind::Io, message.clone());
-    if message.contains("cannot read") {
-        e.help(crate::lang::host::errors::MISSING_FILE_HELP)
-    } else if message.contains("could not parse") {
-        e.help("the file is not well-formed XML with a <robot> root; open it in an XML viewer or export it again")
-    } else if message.contains("not defined") {
-        e.help("define that link or correct the joint's <parent>/<child> link name")
-    } else {
-        e.help("fix the file as the message says")
-    }
+/// A URDF error with the help that fits it (the engine's, by the error's
+/// variant): the reader's messages already say what is wrong in the file.
+fn urdf_error(e: &ModelError) -> MxError {
+    MxError::new(e.kind(), e.to_string()).help(e.advice().unwrap_or_default())
 }

@@ -19,6 +19,7 @@ use crate::library::LibraryError;
 use crate::mocap::MocapError;
 use crate::mocap::bvh::BvhError;
 use crate::model::joints::JointSpecError;
+use crate::model::link_tree::TreeError;
 use crate::model::{InertiaError, ModelError};
 use crate::motion::MotionError;
 use crate::motion::cyclify::CyclifyError;
@@ -313,9 +314,24 @@ impl EngineError for GltfError {
 impl EngineError for ModelError {
     fn kind(&self) -> ErrorKind {
         match self {
-            ModelError::Urdf(_) => ErrorKind::Io,
             ModelError::Invalid(_) | ModelError::Tree(_) => ErrorKind::Value,
+            _ => ErrorKind::Io,
         }
+    }
+    // a URDF's: what to do about the file (the reader's messages say what is wrong in it)
+    fn advice(&self) -> Option<&'static str> {
+        Some(match self {
+            ModelError::Invalid(_) | ModelError::Tree(_) => return None,
+            ModelError::UrdfUnreadable(_) => MISSING_FILE_HELP,
+            ModelError::UrdfMalformed(_) => {
+                "the file is not well-formed XML with a <robot> root; open it in an XML viewer or export it again"
+            }
+            ModelError::UrdfTree {
+                error: TreeError::UnknownLink { .. },
+                ..
+            } => "define that link or correct the joint's <parent>/<child> link name",
+            ModelError::Urdf(_) | ModelError::UrdfTree { .. } => "fix the file as the message says",
+        })
     }
 }
 

@@ -123,7 +123,7 @@ impl Model {
         options: UrdfOptions,
     ) -> Result<(Model, Option<Coupling>), ModelError> {
         let robot = urdf_rs::read_from_string(text).map_err(|e| {
-            ModelError::Urdf(format!("could not parse the URDF ({e}); check that it is well-formed XML with a <robot> root"))
+            ModelError::UrdfMalformed(format!("could not parse the URDF ({e}); check that it is well-formed XML with a <robot> root"))
         })?;
         check_limits(text)?;
         let model = build(&robot)?;
@@ -143,9 +143,19 @@ impl Model {
     ) -> Result<(Model, Option<Coupling>), ModelError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path)
-            .map_err(|e| ModelError::Urdf(format!("cannot read `{}`: {e}", path.display())))?;
+            .map_err(|e| {
+                ModelError::UrdfUnreadable(format!("cannot read `{}`: {e}", path.display()))
+            })?;
+        // the file's name leads every message about its content
         Self::from_urdf_str_with(&text, options).map_err(|e| match e {
             ModelError::Urdf(m) => ModelError::Urdf(format!("{}: {m}", path.display())),
+            ModelError::UrdfMalformed(m) => {
+                ModelError::UrdfMalformed(format!("{}: {m}", path.display()))
+            }
+            ModelError::UrdfTree { error, .. } => ModelError::UrdfTree {
+                path: Some(path.to_path_buf()),
+                error,
+            },
             other => other,
         })
     }
@@ -155,7 +165,7 @@ impl Model {
 /// (urdf-rs would fill in zeros silently).
 fn check_limits(text: &str) -> Result<(), ModelError> {
     let doc = roxmltree::Document::parse(text)
-        .map_err(|e| ModelError::Urdf(format!("could not parse the URDF XML: {e}")))?;
+        .map_err(|e| ModelError::UrdfMalformed(format!("could not parse the URDF XML: {e}")))?;
     let robot = doc.root_element();
     for j in robot.children().filter(|n| n.has_tag_name("joint")) {
         let kind = j.attribute("type").unwrap_or("");
@@ -221,7 +231,7 @@ fn mimic_coupling(
 // `link_tree`'s; a URDF adds one root, welded to the world, and Pinocchio's
 // order (children by joint name), then builds depth first.
 fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
-    let urdf = |e: TreeError| ModelError::Urdf(e.to_string());
+    let urdf = |error: TreeError| ModelError::UrdfTree { path: None, error };
     for l in &robot.links {
         // Every link, the root's too (welded to the world, but a broken file).
         check_inertia(&l.name, l.inertial.mass.value, &inertia_matrix(l))?;
