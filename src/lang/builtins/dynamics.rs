@@ -14,11 +14,10 @@ use crate::dynamics::{
     State, Workspace, coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix,
     forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
-use crate::lang::host::errors::EngineError;
 use crate::lang::args::{ArgValue, Args};
-use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::diagnostics::{MxError, MxResult};
 use crate::lang::eval::Evaluator;
-use crate::lang::host::errors::dyn_error;
+use crate::lang::host::errors::{EngineError, dyn_error};
 use crate::lang::host::{Body, Motion};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
