@@ -71,7 +71,11 @@ pub fn tree_order(links: &[&str], joints: &[TreeJoint]) -> Result<Vec<usize>, Tr
     let mut children: std::collections::HashMap<Option<&str>, Vec<usize>> =
         std::collections::HashMap::new();
     for (i, j) in joints.iter().enumerate() {
-        let ends = j.parent.map(|p| ("parent", p)).into_iter().chain([("child", j.child)]);
+        let ends = j
+            .parent
+            .map(|p| ("parent", p))
+            .into_iter()
+            .chain([("child", j.child)]);
         for (end, link) in ends {
             if !known.contains(link) {
                 return Err(TreeError::UnknownLink {

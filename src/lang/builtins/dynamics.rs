@@ -17,7 +17,7 @@ use crate::dynamics::{
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{MxError, MxResult};
 use crate::lang::eval::Evaluator;
-use crate::lang::host::errors::{EngineError, dyn_error};
+use crate::lang::host::errors::{dyn_error, engine_error};
 use crate::lang::host::{Body, Motion};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
@@ -25,7 +25,7 @@ use crate::lang::value::Value;
 
 // The scene value lives in `lang::host`; this keeps the path embedders use.
 pub use crate::lang::host::scene::SceneValue;
-use crate::model::{Model, ModelError};
+use crate::model::Model;
 use crate::model::urdf::UrdfOptions;
 use crate::motion::{Curve, Dof, Interval, Mu};
 
@@ -508,7 +508,7 @@ pub fn register(reg: &mut Registry) {
                 },
             };
             let (m, coupling) = Model::from_urdf_file_with(path, UrdfOptions { mimic })
-                .map_err(|e| urdf_error(&e))?;
+                .map_err(|e| engine_error(&e))?;
             let mut b = Body::from_model(Arc::new(m));
             b.coupling = coupling.map(Arc::new);
             Ok(Value::object(b))
@@ -610,10 +610,4 @@ pub fn register(reg: &mut Registry) {
          driven: coordinates moved at a constant rate whatever the forces (a motor; the clock of a deforming_surface).",
         |a, _| build_scene(a),
     );
-}
-
-/// A URDF error with the help that fits it (the engine's, by the error's
-/// variant): the reader's messages already say what is wrong in the file.
-fn urdf_error(e: &ModelError) -> MxError {
-    MxError::new(e.kind(), e.to_string()).help(e.advice().unwrap_or_default())
 }

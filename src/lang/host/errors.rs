@@ -380,10 +380,17 @@ impl EngineError for ViewerError {
 /// `e` as a diagnostic at `span`, for callers without the call's arguments
 /// at hand: the engine's kind and advice, no argument to point at.
 pub fn error_at(e: &dyn EngineError, span: Span) -> MxError {
-    MxError::new(e.kind(), e.to_string())
-        .at(span)
-        .label(e.label())
-        .help(e.advice().unwrap_or_default())
+    engine_error(e).at(span).label(e.label())
+}
+
+/// `e` as a diagnostic with its kind and advice, placed by the caller (a
+/// loader's error is placed at the call by the evaluator).
+pub fn engine_error(e: &dyn EngineError) -> MxError {
+    let err = MxError::new(e.kind(), e.to_string());
+    match e.advice() {
+        Some(h) => err.help(h),
+        None => err,
+    }
 }
 
 /// A motion error as a diagnostic at `span`, with advice by kind (for

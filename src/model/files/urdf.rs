@@ -142,10 +142,9 @@ impl Model {
         options: UrdfOptions,
     ) -> Result<(Model, Option<Coupling>), ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| {
-                ModelError::UrdfUnreadable(format!("cannot read `{}`: {e}", path.display()))
-            })?;
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ModelError::UrdfUnreadable(format!("cannot read `{}`: {e}", path.display()))
+        })?;
         // the file's name leads every message about its content
         Self::from_urdf_str_with(&text, options).map_err(|e| match e {
             ModelError::Urdf(m) => ModelError::Urdf(format!("{}: {m}", path.display())),
