@@ -40,7 +40,6 @@ impl Rng {
     }
 }
 
-use mx::report::error::ReportError;
 use mx::report::perf::{ALGORITHMS, median_us};
 
 /// Runs of mx's timing and Pinocchio's timer, alternated, per model: ratios are
@@ -106,13 +105,14 @@ fn instructions_driver(args: &[String]) {
         eprintln!("usage: instructions-driver URDF ALGORITHM N");
         std::process::exit(2);
     };
+    // (a message is all this binary prints)
     let result = Model::from_urdf_file(Path::new(urdf))
-        .map_err(ReportError::from)
+        .map_err(|e| e.to_string())
         .and_then(|m| {
             let n = n
                 .parse()
                 .map_err(|_| format!("N must be a count, got `{n}`"))?;
-            mx::report::perf::drive(&m, algorithm, n)
+            mx::report::perf::drive(&m, algorithm, n).map_err(|e| e.to_string())
         });
     if let Err(e) = result {
         eprintln!("{e}");
