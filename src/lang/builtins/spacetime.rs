@@ -62,6 +62,12 @@ fn bad_option(a: &Args, arg: &ArgValue, msg: String, help: &str) -> MxError {
         .help(help.to_string())
 }
 
+/// [`bad_option`] for an option of `SP`, with the engine's one text of what
+/// it takes ([`SpOptions::help`]).
+fn bad_sp_option(a: &Args, arg: &ArgValue, option: &str, msg: String) -> MxError {
+    bad_option(a, arg, msg, SpOptions::help(option).unwrap_or_default())
+}
+
 /// A whole number given as the named option `name` (its range is the
 /// engine's to check: `SpOptions::check`).
 fn whole(a: &mut Args, name: &str) -> MxResult<Option<usize>> {
@@ -84,11 +90,11 @@ fn continuity(a: &mut Args) -> MxResult<Continuity> {
             Ok(Continuity::from_order(x as i64)
                 .map_err(|e| bad_option(a, &arg, e.to_string(), ""))?)
         }
-        _ => Err(bad_option(
+        _ => Err(bad_sp_option(
             a,
             &arg,
+            "continuity",
             format!("`continuity:` must be 1 or 2, found {}", arg.value.repr()),
-            "1: position and velocity continuous at the gap ends (Rose's transitions); 2: acceleration too",
         )),
     }
 }
@@ -127,32 +133,23 @@ fn frame_names(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vec<String>> {
 /// `contact: "none"` (the default: Rose's supports alone), `"auto"` (a
 /// stance schedule planned per gap for the frames near the floor, held by the
 /// support IK with the floor below) or `["Toes_L", …]` (those frames).
-/// Planning replaces `support:`, so the two are not given together.
-fn contact(a: &mut Args, support_given: bool) -> MxResult<Contact> {
+/// Planning replaces `support:`: the engine rejects the two together.
+fn contact(a: &mut Args) -> MxResult<Contact> {
     let Some(arg) = a.opt_named("contact") else {
         return Ok(Contact::default());
     };
-    let contact = match &arg.value {
-        Value::Str(s) if &**s == "none" => return Ok(Contact::None),
-        Value::Str(s) if &**s == "auto" => Contact::Auto,
-        Value::List(items) if !items.is_empty() => Contact::Named(frame_names(a, &arg, "contact")?),
-        _ => {
-            return Err(a.type_error(
-                "contact",
-                "\"none\", \"auto\" or a list of frame names like [\"Toes_L\"]",
-                &arg,
-            ));
+    match &arg.value {
+        Value::Str(s) if &**s == "none" => Ok(Contact::None),
+        Value::Str(s) if &**s == "auto" => Ok(Contact::Auto),
+        Value::List(items) if !items.is_empty() => {
+            Ok(Contact::Named(frame_names(a, &arg, "contact")?))
         }
-    };
-    if support_given {
-        return Err(bad_option(
-            a,
+        _ => Err(a.type_error(
+            "contact",
+            "\"none\", \"auto\" or a list of frame names like [\"Toes_L\"]",
             &arg,
-            "`contact:` plans the feet itself and replaces `support:`".into(),
-            "give one of the two",
-        ));
+        )),
     }
-    Ok(contact)
 }
 
 /// `floor: h`: the floor's height (m, along −gravity) for `contact:`.
@@ -163,14 +160,14 @@ fn floor(a: &mut Args) -> MxResult<Option<f64>> {
     match arg.value {
         Value::Number(h) => Ok(Some(h)),
         Value::Str(ref s) if &**s == "auto" => Ok(None),
-        _ => Err(bad_option(
+        _ => Err(bad_sp_option(
             a,
             &arg,
+            "floor",
             format!(
                 "`floor:` must be a height in metres or \"auto\", found {}",
                 arg.value.repr()
             ),
-            "\"auto\" (default): the lowest contact point of the motion's recorded part",
         )),
     }
 }
@@ -185,16 +182,14 @@ fn root_fill(a: &mut Args) -> MxResult<RootFill> {
         Some("auto") => Ok(RootFill::Auto),
         Some("shift") => Ok(RootFill::Shift),
         Some("pinned") => Ok(RootFill::Pinned),
-        _ => Err(bad_option(
+        _ => Err(bad_sp_option(
             a,
             &arg,
+            "root",
             format!(
                 "`root:` must be \"auto\", \"shift\" or \"pinned\", found {}",
                 arg.value.repr()
             ),
-            "\"auto\" (default): pinned where both sides look like one recording, shifted otherwise; \
-             \"shift\": the root's x–z follows interpolated velocities and what follows the gap moves to continue it \
-             (Rose); \"pinned\": the motion after the gap stays where it is and the root's x–z is a Hermite curve",
         )),
     }
 }
@@ -224,15 +219,14 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
             Some("effort") => {}
             Some("torque") => p = Prior::none(),
             _ => {
-                return Err(bad_option(
+                return Err(bad_sp_option(
                     a,
                     &arg,
+                    "objective",
                     format!(
                         "`objective:` must be \"effort\" or \"torque\", found {}",
                         arg.value.repr()
                     ),
-                    "\"effort\" (default): ∫Στ² plus a kinematic prior that holds light and gimbal-locked DOFs, kept \
-                     below Hermite's ∫Στ²; \"torque\": Rose's ∫Στ² alone",
                 ));
             }
         }
@@ -249,14 +243,14 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
             Value::Str(ref t) if &**t == "auto" => p.time_constant = None,
             Value::Number(x) => p.time_constant = Some(x),
             _ => {
-                return Err(bad_option(
+                return Err(bad_sp_option(
                     a,
                     &arg,
+                    "time_constant",
                     format!(
                         "`time_constant:` must be a positive time or \"auto\", found {}",
                         arg.value.repr()
                     ),
-                    "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: (0.32 s)²/gap length)",
                 ));
             }
         }
@@ -274,16 +268,14 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
                 *library = Some(lib);
             }
             _ => {
-                return Err(bad_option(
+                return Err(bad_sp_option(
                     a,
                     &arg,
+                    "example",
                     format!(
                         "`example:` must be \"self\", \"none\", a clip library or [library, \"self\"], found {}",
                         arg.value.repr()
                     ),
-                    "\"self\" (default): where the motion repeats (a walk, a run), the prior follows the stretch of it \
-                     whose frames around it best match the frames around the gap; \"none\": the plain prior; a library (library(\"clips/\")): \
-                     the best stretch of its clips; [lib, \"self\"]: the better of the two",
                 ));
             }
         }
@@ -314,9 +306,8 @@ fn sp_options(a: &mut Args, ev: &Evaluator, (m, marg): (&Mu, &ArgValue)) -> MxRe
     if let Some(g) = a.opt_named("gravity") {
         o.gravity = Some(vec3(a, &g, "gravity")?);
     }
-    let support_given = a.has_named("support");
     o.support = support(a)?;
-    o.contact = contact(a, support_given)?;
+    o.contact = contact(a)?;
     o.floor = floor(a)?;
     o.root = root_fill(a)?;
     let mut library = None;

@@ -114,6 +114,11 @@ impl SpOptions {
                 ),
             ));
         }
+        // planning replaces the support limbs: a support given beside it
+        // would be silently ignored (`sp` holds contacts only under the default)
+        if self.contact != Contact::None && self.support != Support::default() {
+            return Err(SpError::ContactReplacesSupport);
+        }
         if let Support::Named(names) = &self.support {
             crate::spacetime::hold::named(model, names, "support")?;
         }
@@ -121,6 +126,55 @@ impl SpOptions {
             crate::spacetime::hold::named(model, names, "contact")?;
         }
         Ok(())
+    }
+
+    /// What the option `option` (as the language spells it) means and takes:
+    /// the one text the help line under its error shows, whether the engine
+    /// found the value out of range or the language found it of the wrong type.
+    pub fn help(option: &str) -> Option<&'static str> {
+        Some(match option {
+            "coefficients" => {
+                "free B-spline coefficients per DOF and gap: at least 2 with continuity: 1, 3 with continuity: 2 \
+                 (default 5, as in Rose's Fig. 8; Rose uses 5–10)"
+            }
+            "samples" => {
+                "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)"
+            }
+            "continuity" => {
+                "1: position and velocity continuous at the gap ends (Rose's transitions); 2: acceleration too"
+            }
+            "iterations" => "solver iterations per gap group (default 300)",
+            "tolerance" => {
+                "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)"
+            }
+            "objective" => {
+                "\"effort\" (default): ∫Στ² plus a kinematic prior that holds light and gimbal-locked DOFs, kept \
+                 below Hermite's ∫Στ²; \"torque\": Rose's ∫Στ² alone"
+            }
+            "smoothness" => {
+                "weight λ of the kinematic prior against ∫Στ² (default 1e6; 0 is objective: \"torque\")"
+            }
+            "time_constant" => {
+                "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: \
+                 (0.32 s)²/gap length)"
+            }
+            "example" => {
+                "\"self\" (default): where the motion repeats (a walk, a run), the prior follows the stretch of it \
+                 whose frames around it best match the frames around the gap; \"none\": the plain prior; a library (library(\"clips/\")): \
+                 the best stretch of its clips; [lib, \"self\"]: the better of the two"
+            }
+            "root" => {
+                "\"auto\" (default): pinned where both sides look like one recording, shifted otherwise; \
+                 \"shift\": the root's x–z follows interpolated velocities and what follows the gap moves to continue it \
+                 (Rose); \"pinned\": the motion after the gap stays where it is and the root's x–z is a Hermite curve"
+            }
+            "floor" => "\"auto\" (default): the lowest contact point of the motion's recorded part",
+            "support" | "contact" => {
+                "name frames (links) of the body, e.g. a clip's joints: [\"LeftFoot\", \"RightFoot\"]"
+            }
+            "gravity" => "a finite vector in m/s², e.g. [0, -9.81, 0]",
+            _ => return None,
+        })
     }
 }
 
@@ -262,4 +316,71 @@ pub const ROOT_TOLERANCE_RELATIVE: f64 = 0.5;
 /// which case keeping them where they are is what was asked.
 pub fn root_tolerance(predicted: f64) -> f64 {
     ROOT_TOLERANCE_FIXED + ROOT_TOLERANCE_RELATIVE * predicted
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{body, motion};
+    use super::*;
+
+    /// The engine itself refuses `contact:` beside a `support:` it would
+    /// ignore, before any work, naming `contact`; the default support is no
+    /// clash (planning replaces it).
+    #[test]
+    fn contact_beside_a_given_support_is_refused_by_the_engine() {
+        let model = body();
+        let m = motion(&model, &[3, 4], (0.8, 1.2));
+        for support in [
+            Support::Off,
+            Support::Named(vec!["thigh".into()]),
+            Support::Auto { box_size: 0.05 },
+        ] {
+            for contact in [Contact::Auto, Contact::Named(vec!["shin".into()])] {
+                let opts = SpOptions {
+                    support: support.clone(),
+                    contact: contact.clone(),
+                    ..Default::default()
+                };
+                let e = opts.check(&model).unwrap_err();
+                assert_eq!(
+                    e,
+                    SpError::ContactReplacesSupport,
+                    "{support:?} {contact:?}"
+                );
+                assert_eq!(e.option(), Some("contact"));
+                let e = crate::spacetime::sp(&m, &model, &opts).unwrap_err();
+                assert_eq!(e, SpError::ContactReplacesSupport);
+            }
+        }
+        let planned = SpOptions {
+            contact: Contact::Auto,
+            ..Default::default()
+        };
+        assert_eq!(planned.check(&model), Ok(()));
+        let off = SpOptions {
+            support: Support::Off,
+            ..Default::default()
+        };
+        assert_eq!(off.check(&model), Ok(()));
+    }
+
+    /// Every option an error can name has its one help text.
+    #[test]
+    fn every_checked_option_has_help() {
+        for o in [
+            "coefficients",
+            "samples",
+            "iterations",
+            "tolerance",
+            "gravity",
+            "smoothness",
+            "time_constant",
+            "floor",
+            "support",
+            "contact",
+        ] {
+            assert!(SpOptions::help(o).is_some(), "{o}");
+        }
+        assert_eq!(SpOptions::help("nonsense"), None);
+    }
 }
