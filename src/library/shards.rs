@@ -179,8 +179,9 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, LibraryError> {
             frames,
         };
         let dir = parts_dir(&o.out);
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| LibraryError::file(&dir, format!("cannot create {}: {e}", dir.display())))?;
+        std::fs::create_dir_all(&dir).map_err(|e| {
+            LibraryError::file(&dir, format!("cannot create {}: {e}", dir.display()))
+        })?;
         let path = dir.join(format!("{}.part", o.shard.dir_name()));
         let cs: Vec<&IndexedClip> = clips.iter().map(|(_, c)| c).collect();
         write_part(&path, &header, &cs)?;
