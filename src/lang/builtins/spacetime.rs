@@ -23,6 +23,7 @@ use crate::model::Model;
 use crate::motion::Mu;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
 use crate::spacetime::reference::LibrarySource;
+use crate::spacetime::sp::SP_OPTIONS;
 use crate::spacetime::{
     Contact, Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
     Tally, fill_hermite, sp, torque_energy,
@@ -434,33 +435,37 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     Ok(Value::object(Motion::Mu(out)))
 }
 
-pub fn register(reg: &mut Registry) {
-    reg.topic(Topic::Spacetime);
-    reg.add(
-        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"auto\", contact: \"none\", floor: \"auto\")",
+/// `SP(…)`'s usage line: its two arguments, then every option of
+/// [`SP_OPTIONS`] with its default.
+fn sp_signature() -> String {
+    let options: Vec<String> = SP_OPTIONS
+        .iter()
+        .map(|o| format!("{}: {}", o.name, o.default))
+        .collect();
+    format!("SP(m, body: b, {})", options.join(", "))
+}
+
+/// `:help SP`: what SP does, then each option in the engine's one text of it
+/// ([`SP_OPTIONS`], the help under an option's error too).
+fn sp_doc() -> String {
+    let options: Vec<String> = SP_OPTIONS
+        .iter()
+        .map(|o| format!("{}: {}.", o.name, o.help))
+        .collect();
+    format!(
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
-         coefficients: free B-spline coefficients per DOF (at least 2, or 3 with continuity: 2); samples: Gauss points \
-         of the torque integral (at least 6 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
-         iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. \
-         objective: \"effort\" (default) adds to ∫Στ² a kinematic prior, λ Σ M_dd² ∫ q̈² + q̇²/T² (smoothness: λ, time_constant: T, default (0.32 s)²/gap length), \
-         lowered tenfold until the transition costs at least 1 % less ∫Στ² than the Hermite curves; \"torque\" is Rose's ∫Στ² alone. \
-         example: \"self\" (default): where the motion repeats (a walk, a run), the prior follows the velocities of the stretch of m \
-         whose 0.3 s on each side best match those around the gap, λ Σ M_dd² ∫ (q̈ − r̈)² + (q̇ − ṙ)²/T², if it matches better than \
-         the context's own mean pose; \"none\": the plain prior; a clip library (library(…)): the stretch of its clips that best \
-         matches the gap's context, turned and moved onto the gap in the floor plane (sp_report names clip, time, warp and mismatch); \
-         [lib, \"self\"]: the better of the two. \
-         root: \"auto\" (default: per gap, \"pinned\" when the recorded x–z displacement across it is within 0.5 m + half the \
-         displacement T (v₀ + v₁)/2 the end velocities predict, i.e. a hole inside one recording, else \"shift\"), \"shift\" \
-         (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays where it was recorded). \
-         contact: \"none\" (default: Rose's support: alone), \"auto\" (a stance schedule per foot planned from the stances around \
-         each gap, planted frames held by IK with the floor below them; replaces support:) or [\"Toes_L\", …]; floor: its height \
-         (m, default \"auto\": the lowest contact point of the recorded part); sp_report(result).contacts lists the plan. \
+         {} \
          Translation DOFs constant on both sides (bone offsets) stay constant. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
-        run_sp,
-    );
+        options.join(" ")
+    )
+}
+
+pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Spacetime);
+    reg.add(&sp_signature(), &sp_doc(), run_sp);
     reg.add(
         "sp_report(m)",
         "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \
