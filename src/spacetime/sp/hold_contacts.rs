@@ -101,7 +101,7 @@ fn hold_group(
     floor: &FloorPlane,
     group: Vec<GapDof>,
 ) -> Result<Vec<GapDof>, SpError> {
-    let model = f.model;
+    let (model, root) = (f.model, &f.root);
     let (t0, t1) = span(&group);
     let solved = {
         let sampler = f.sampler();
@@ -112,7 +112,7 @@ fn hold_group(
         let on_chain = |c: usize| {
             plan.points
                 .iter()
-                .any(|p| !p.stances.is_empty() && moves(model, p.link, c))
+                .any(|p| !p.stances.is_empty() && moves(model, root, p.link, c))
         };
         let (ik, rest): (Vec<GapDof>, Vec<GapDof>) =
             group.into_iter().partition(|d| on_chain(d.coord));
@@ -123,7 +123,7 @@ fn hold_group(
             let (frames, stances): (Vec<usize>, Vec<_>) = plan
                 .points
                 .iter()
-                .filter(|p| ik.iter().any(|d| moves(model, p.link, d.coord)))
+                .filter(|p| ik.iter().any(|d| moves(model, root, p.link, d.coord)))
                 .map(|p| (p.link, p.stances.clone()))
                 .unzip();
             let obj = HoldObjective::planned(

@@ -40,7 +40,7 @@ pub use options::{
     RootFill, SpOptions, Support, root_tolerance,
 };
 pub use prior_weights::prior_weights;
-pub use report::{PinnedRoot, RootShift, SpReport, Undefined};
+pub use report::{FreeRoot, PinnedRoot, RootShift, SpReport, Undefined};
 
 use crate::model::Model;
 use crate::motion::Mu;
@@ -54,10 +54,8 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     checks::check_conflicts(m)?;
     checks::check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);
-    // the root as it moves in m: a constant placeholder above it is skipped
-    let root = crate::ground::moving_root(model, &gravity, m);
     let mut f = Filling::new(m, model, gravity);
-    root_fill::fill_root(&mut f, &root, opts.root)?;
+    root_fill::fill_root(&mut f, opts.root, false)?;
     let gaps = f.gaps()?;
     // what the prior's transitions must undercut: the motion filled by Hermite curves
     let hermite_all = fill_hermite(&f.motion)?;
@@ -68,7 +66,7 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
         hold_supports::hold_supports(&mut f, opts, gaps)?
     };
     if !gaps.is_empty() {
-        transitions::solve_transitions(&mut f, opts, &root, &hermite_all, gaps)?;
+        transitions::solve_transitions(&mut f, opts, &hermite_all, gaps)?;
     }
     Ok(f.finish())
 }

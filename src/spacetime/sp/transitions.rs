@@ -9,7 +9,6 @@ use super::filling::Filling;
 use super::offsets::is_translation;
 use super::options::SpOptions;
 use super::prior_weights::prior_weights;
-use crate::model::RootCoords;
 use crate::motion::{Curve, Mu};
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs};
@@ -23,12 +22,11 @@ use crate::spacetime::torque::BodyDynamics;
 pub(super) fn solve_transitions(
     f: &mut Filling<'_>,
     opts: &SpOptions,
-    root: &RootCoords,
     hermite_all: &Mu,
     gaps: Vec<GapDof>,
 ) -> Result<(), SpError> {
     let (model, gravity, names) = (f.model, f.gravity, f.names);
-    let weights = joint_weights(model, root);
+    let weights = joint_weights(model, &f.root);
     let baseline = |t0: f64, t1: f64| -> Result<f64, SpError> {
         let piece = crate::motion::clip_in_place(t0, t1, hermite_all).map_err(motion_err)?;
         torque_energy(&piece, model, Some(gravity))
@@ -67,6 +65,7 @@ pub(super) fn solve_transitions(
             inputs,
             opts: &opts.solve,
             names,
+            ground: None,
         };
         solve_all(&problem, gaps)?
     };
