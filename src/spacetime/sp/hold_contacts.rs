@@ -22,7 +22,7 @@ use nalgebra::Vector3;
 
 /// The links `contact:` plans (named, or `ground`'s contact points of the
 /// body) and whether they were named.
-fn contact_links(model: &Model, contact: &Contact) -> Result<(Vec<usize>, bool), SpError> {
+pub(super) fn contact_links(model: &Model, contact: &Contact) -> Result<(Vec<usize>, bool), SpError> {
     Ok(match contact {
         Contact::Named(n) => (hold::named(model, n, "contact")?, true),
         _ => (

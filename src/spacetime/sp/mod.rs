@@ -19,6 +19,7 @@
 mod checks;
 mod energy;
 mod filling;
+mod grounded;
 #[cfg(test)]
 mod fixture;
 mod held_limbs;
@@ -34,6 +35,7 @@ mod transitions;
 pub use checks::fill_hermite;
 pub use energy::{joint_weights, torque_energy};
 pub use filling::Filling;
+pub use grounded::stands;
 pub use hold_contacts::contact_floor;
 pub use options::{
     AUTO_TIME_SCALE, DEFAULT_SMOOTHNESS, Prior, ROOT_TOLERANCE_FIXED, ROOT_TOLERANCE_RELATIVE,

@@ -201,12 +201,47 @@ mod tests {
     }
 
     fn fill(dx: f64, how: RootFill) -> Filling<'static> {
+        fill_free(dx, how, false)
+    }
+
+    fn fill_free(dx: f64, how: RootFill, free: bool) -> Filling<'static> {
         let (model, m) = gapped(dx);
         let model: &'static crate::model::Model = Box::leak(Box::new(model));
         let m: &'static crate::motion::Mu = Box::leak(Box::new(m));
         let mut f = Filling::new(m, model, Y_UP);
-        fill_root(&mut f, how, false).unwrap();
+        fill_root(&mut f, how, free).unwrap();
         f
+    }
+
+    #[test]
+    fn grounded_sp_leaves_one_recordings_root_open_for_the_solve() {
+        let f = fill_free(0.0, RootFill::Auto, true);
+        assert_eq!(f.report.free_root.len(), 1, "{:?}", f.report);
+        assert_eq!(f.report.free_root[0].dofs, ["x", "y", "rz"]);
+        assert!(f.report.pinned.is_empty() && f.report.root.is_empty());
+        assert!(f.report.hermite.is_empty());
+        // the root's coordinates are gap DOFs, the frames after the gap as recorded
+        let mut open: Vec<usize> = f.gaps().unwrap().iter().map(|d| d.coord).collect();
+        open.sort_unstable();
+        assert_eq!(open, [0, 1, 2]);
+        let x = f.motion.sample_value("x", 1.5).unwrap().unwrap();
+        assert!((x - 1.1 * 1.5).abs() < 1e-9, "{x}");
+    }
+
+    #[test]
+    fn grounded_sp_still_joins_two_recordings_and_keeps_a_kinematic_root_asked_for() {
+        // two recordings: shifted as before (nothing pins the end)
+        let joined = fill_free(3.0, RootFill::Auto, true);
+        assert!(joined.report.free_root.is_empty());
+        assert_eq!(joined.report.root.len(), 1);
+        // root: "shift" / "pinned": Rose's kinematic root, as without the ground
+        for how in [RootFill::Shift, RootFill::Pinned] {
+            let f = fill_free(0.0, how, true);
+            let before = fill(0.0, how);
+            assert!(f.report.free_root.is_empty());
+            assert_eq!(f.report, before.report);
+            assert!(f.gaps().unwrap().is_empty());
+        }
     }
 
     #[test]
