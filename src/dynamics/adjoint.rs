@@ -20,7 +20,7 @@ use crate::dynamics::external::{PointForce, add_turning_gradient, check_points};
 use crate::dynamics::rnea::{check_inputs, check_out, rnea_points};
 use crate::dynamics::state::{JointState, StateGradient};
 use crate::dynamics::workspace::Workspace;
-use crate::lie::{Twist, ad, ad_dual};
+use crate::lie::{Twist, Wrench, ad, ad_dual};
 use crate::model::Model;
 use crate::model::joint::MAX_JOINT_DOF;
 use nalgebra::Vector3;
@@ -74,15 +74,40 @@ pub fn torque_sq_gradient_at_points(
         // τ̄ is kept in place of τ from here on.
         tau[i] *= 2.0 * weights[i];
     }
-    let tbar = &tau;
+    reverse_sweep(model, ws, x, &tau, None, [gq, gv, ga]);
+    ws.tau = tau;
+    if !forces.is_empty() {
+        add_turning_gradient(model, ws, forces, gq);
+    }
+    Ok(cost)
+}
+
+/// The reverse sweep after an RNEA on `ws` at `x`: writes into `gq, gv, ga`
+/// the gradient of τ̄·τ + ρ·w_root with respect to q, q̇, q̈, τ̄ = `tbar`
+/// and ρ = `root` (none: 0), w_root the wrench the world applies through
+/// the root joints ([`crate::dynamics::root_wrench`]). The world is the
+/// roots' parent, so ρ enters as the parent's F̄ does for any link: the
+/// derivative of each root's own transform is then the `X F̄_p` term. The
+/// forces' turning part is not added here ([`add_turning_gradient`]).
+fn reverse_sweep(
+    model: &Model,
+    ws: &mut Workspace,
+    x: &JointState,
+    tbar: &[f64],
+    root: Option<&Twist>,
+    [gq, gv, ga]: [&mut [f64]; 3],
+) {
+    let (q, v, a) = (x.q, x.v, x.a);
     // Reuse the derivative buffers: dv = V̄, da = Λ, df = F̄.
     for (i, l) in model.links().iter().enumerate() {
         let mut fb = Twist::zeros();
         for m in 0..l.dof {
             fb += ws.kin[i].s[m] * tbar[l.q_index + m];
         }
-        if let Some(p) = l.parent {
-            fb += ws.xt[i].inv_ad_twist(&ws.df[p]);
+        match (l.parent, root) {
+            (Some(p), _) => fb += ws.xt[i].inv_ad_twist(&ws.df[p]),
+            (None, Some(rho)) => fb += ws.xt[i].inv_ad_twist(rho),
+            (None, None) => {}
         }
         ws.df[i] = fb;
         let g = &l.inertia;
@@ -141,9 +166,96 @@ pub fn torque_sq_gradient_at_points(
             ws.dv[p] += up_v;
         }
     }
-    ws.tau = tau;
-    if !forces.is_empty() {
-        add_turning_gradient(model, ws, forces, gq);
+}
+
+/// Inverse dynamics with world forces at link points at one state, kept so
+/// that any number of reverse sweeps can follow it: the gradient of any
+/// function of the torques and of the root's wrench for the price of one
+/// RNEA plus one sweep each (a residual's Jacobian rows, one sweep a row).
+/// Holds the workspace until dropped.
+pub struct InverseDynamicsPass<'w> {
+    model: &'w Model,
+    ws: &'w mut Workspace,
+    x: JointState<'w>,
+    forces: &'w [PointForce],
+    tau: Vec<f64>,
+}
+
+impl<'w> InverseDynamicsPass<'w> {
+    /// Runs the RNEA at `x` with the forces `forces` acting
+    /// (`τ = ID − Σ J_cᵀ [m_c; f_c]`, as [`crate::dynamics::inverse_dynamics_at_points`]).
+    pub fn new(
+        model: &'w Model,
+        ws: &'w mut Workspace,
+        x: JointState<'w>,
+        gravity: &Vector3<f64>,
+        forces: &'w [PointForce],
+    ) -> Result<Self, DynamicsError> {
+        check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
+        check_points(model, forces)?;
+        let mut tau = std::mem::take(&mut ws.tau);
+        rnea_points(model, ws, &x, gravity, forces, &mut tau);
+        Ok(InverseDynamicsPass {
+            model,
+            ws,
+            x,
+            forces,
+            tau,
+        })
     }
-    Ok(cost)
+
+    /// τ at the state.
+    pub fn tau(&self) -> &[f64] {
+        &self.tau
+    }
+
+    /// The wrench the world applies through the root joints (moment about
+    /// the world origin, force; world axes): with a free root, what the
+    /// forces leave for the ground to supply.
+    pub fn root_wrench(&self) -> Wrench {
+        crate::dynamics::root_wrench(self.model, self.ws)
+    }
+
+    /// Writes into `grad` the gradient with respect to q, q̇, q̈ of
+    /// `tau_bar · τ + root_bar · w_root` (a vector–Jacobian product; for
+    /// J(τ, w_root), the seeds are ∂J/∂τ and ∂J/∂w_root), the forces held
+    /// fixed in the world. `root_bar` pairs with the wrench `[moment; force]`
+    /// component by component.
+    pub fn reverse(
+        &mut self,
+        tau_bar: &[f64],
+        root_bar: &Twist,
+        grad: StateGradient,
+    ) -> Result<(), DynamicsError> {
+        let model = self.model;
+        check_out(model, "tau_bar", tau_bar)?;
+        let StateGradient { q, v, a } = grad;
+        for (name, g) in [("gq", &*q), ("gv", &*v), ("ga", &*a)] {
+            check_out(model, name, g)?;
+        }
+        if !tau_bar.iter().chain(root_bar.iter()).all(|x| x.is_finite()) {
+            return Err(DynamicsError::Input(
+                "the seeds of a reverse sweep must be finite".into(),
+            ));
+        }
+        reverse_sweep(
+            model,
+            self.ws,
+            &self.x,
+            tau_bar,
+            Some(root_bar),
+            [&mut *q, &mut *v, &mut *a],
+        );
+        if !self.forces.is_empty() {
+            add_turning_gradient(model, self.ws, self.forces, q);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for InverseDynamicsPass<'_> {
+    fn drop(&mut self) {
+        // the workspace keeps its buffer
+        self.ws.tau = std::mem::take(&mut self.tau);
+    }
 }

@@ -31,7 +31,7 @@ mod variation;
 mod workspace;
 
 pub use aba::{forward_dynamics, forward_dynamics_ext};
-pub use adjoint::{torque_sq_gradient, torque_sq_gradient_at_points};
+pub use adjoint::{InverseDynamicsPass, torque_sq_gradient, torque_sq_gradient_at_points};
 pub use coupled::{coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix};
 pub use crba::{mass_matrix, mass_matrix_in};
 pub use crba_frame::{CrbaFrame, crba_frame_for};

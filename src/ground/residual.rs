@@ -79,7 +79,7 @@ fn check_floating(body: &Model, up: &Vector3<f64>) -> Result<(), GroundError> {
 }
 
 /// The body length scale: the largest extent of its joint points' bounding box.
-fn length_scale(poses: &[Se3], body: &Model) -> f64 {
+pub(crate) fn length_scale(poses: &[Se3], body: &Model) -> f64 {
     let (links, _) = joint_points(body);
     let mut lo = Vector3::repeat(f64::INFINITY);
     let mut hi = Vector3::repeat(f64::NEG_INFINITY);
@@ -90,7 +90,7 @@ fn length_scale(poses: &[Se3], body: &Model) -> f64 {
     (hi - lo).max().max(0.1)
 }
 
-fn centre_of_mass(poses: &[Se3], body: &Model) -> Vector3<f64> {
+pub(crate) fn centre_of_mass(poses: &[Se3], body: &Model) -> Vector3<f64> {
     let mut c = Vector3::zeros();
     let mut m = 0.0;
     for (i, l) in body.links().iter().enumerate() {

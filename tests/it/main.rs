@@ -20,6 +20,7 @@ mod first_hour;
 mod gltf;
 mod graph;
 mod ground;
+mod grounded_terms;
 #[cfg(feature = "report")]
 mod hard_cases;
 mod ik;

@@ -17,12 +17,17 @@
 use super::error::{SpError, invalid};
 use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
-use crate::dynamics::PointForce;
 
+mod base;
+mod clearance;
+mod floor;
+mod forces;
 mod gauss_newton;
 pub mod layout;
+mod points;
 mod prior;
 mod sampled;
+mod stance;
 pub mod term;
 #[cfg(test)]
 mod term_tests;
@@ -30,9 +35,15 @@ mod term_tests;
 mod tests;
 mod torque_term;
 
+pub use base::BaseTerm;
+pub use clearance::{Clearance, clearance_term};
+pub use floor::floor_term;
+pub use forces::{ContactForces, GroundScale, NodeForces};
 pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
+pub use points::{PointRow, PointTerm};
 use prior::KinematicPrior;
 use sampled::Sampled;
+pub use stance::stance_term;
 pub use term::{GaussNewtonNode, Node, NodeGrad, NodeSum, Term, TermScratch, scratch_of};
 use torque_term::TorqueTerm;
 
@@ -213,11 +224,13 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         })
     }
 
-    /// The world forces at link points that act at each node besides the
-    /// joints (`per_node[k]` at node k; empty: none anywhere): the torque
-    /// term becomes Σwᵢτᵢ² with τ = ID − Σ J_cᵀ f_c, differentiated with the
-    /// forces held fixed. Replaces those set before.
-    pub fn set_forces(&mut self, per_node: Vec<Vec<PointForce>>) -> Result<(), SpError> {
+    /// The contact forces held fixed at each node (`per_node[k]` at node k,
+    /// with the point their moments are taken about; empty: none anywhere):
+    /// the torque term becomes Σwᵢτᵢ² with τ = ID − Σ J_cᵀ f_c,
+    /// differentiated with the forces held fixed, and every other term gets
+    /// them too ([`Term::set_forces`]: the base term balances the root with
+    /// the same forces). Replaces those set before.
+    pub fn set_forces(&mut self, per_node: Vec<NodeForces>) -> Result<(), SpError> {
         if !per_node.is_empty() && per_node.len() != self.n_nodes() {
             return Err(invalid(format!(
                 "forces are given at {} nodes but the objective has {}",
@@ -225,8 +238,22 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                 self.n_nodes()
             )));
         }
-        self.torque.forces = per_node;
+        for t in &mut self.more {
+            t.set_forces(&per_node);
+        }
+        self.torque.forces = per_node.into_iter().map(|f| f.forces).collect();
         Ok(())
+    }
+
+    /// Sets the weight of the added term named `term` ([`Term::name`]; the
+    /// first of that name), e.g. the base term's continuation, without
+    /// rebuilding the objective; an error if none has that name or it has
+    /// no weight.
+    pub fn set_weight(&mut self, term: &str, w: f64) -> Result<(), SpError> {
+        match self.more.iter_mut().find(|t| t.name() == term) {
+            Some(t) => t.set_weight(w),
+            None => Err(invalid(format!("the objective has no `{term}` term"))),
+        }
     }
 
     /// q, q̇, q̈ of every coordinate at node k for unknowns x (the state every

@@ -14,6 +14,7 @@
 
 use super::super::error::SpError;
 use super::super::torque::TorqueModel;
+use super::forces::NodeForces;
 use super::layout::{GapLayout, NodeRows};
 use nalgebra::DMatrix;
 
@@ -57,6 +58,20 @@ pub trait Term<M: TorqueModel>: Send + Sync {
         _gn: &mut GaussNewtonNode<'_>,
     ) -> Result<(), SpError> {
         Ok(())
+    }
+
+    /// Takes the contact forces held fixed at each node (`per_node[k]` at
+    /// node k; empty: none), from [`super::Objective::set_forces`]. Terms
+    /// that do not read them ignore them (the default).
+    fn set_forces(&mut self, _per_node: &[NodeForces]) {}
+
+    /// Sets the term's weight (a continuation's step) without rebuilding
+    /// the objective; by default an error naming the term, which has none.
+    fn set_weight(&mut self, _w: f64) -> Result<(), SpError> {
+        Err(SpError::Invalid(format!(
+            "the objective's `{}` term has no weight to set",
+            self.name()
+        )))
     }
 }
 

@@ -225,14 +225,17 @@ fn forces_at_the_nodes_enter_the_torque_term_and_its_gradient() {
     let e0 = obj.eval(&mut s, &x, None).unwrap();
     // the ground pushes up under the shin's end, more as time goes on
     let nodes = obj.layout().nodes().0.to_vec();
-    let forces: Vec<Vec<PointForce>> = nodes
+    let forces: Vec<NodeForces> = nodes
         .iter()
         .map(|t| {
             let f = Vector3::new(30.0 * t, 80.0 + 100.0 * t, 0.0);
-            vec![
-                PointForce::at(4, Vector3::new(0.02, -0.4, 0.0), f)
-                    .with_moment(Vector3::new(0.0, 0.0, 5.0)),
-            ]
+            NodeForces {
+                forces: vec![
+                    PointForce::at(4, Vector3::new(0.02, -0.4, 0.0), f)
+                        .with_moment(Vector3::new(0.0, 0.0, 5.0)),
+                ],
+                reference: Vector3::zeros(),
+            }
         })
         .collect();
     assert!(obj.set_forces(forces[1..].to_vec()).is_err());
