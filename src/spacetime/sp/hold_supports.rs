@@ -35,12 +35,7 @@ pub(super) fn hold_supports(
 /// The frames some gap DOF of `group` moves: the gap DOFs on the chains
 /// from the frames to the root are the IK unknowns, and a frame no gap DOF
 /// moves has nothing to solve.
-fn moved_by(
-    model: &Model,
-    root: &RootCoords,
-    frames: Vec<usize>,
-    group: &[GapDof],
-) -> Vec<usize> {
+fn moved_by(model: &Model, root: &RootCoords, frames: Vec<usize>, group: &[GapDof]) -> Vec<usize> {
     frames
         .into_iter()
         .filter(|&fr| group.iter().any(|d| moves(model, root, fr, d.coord)))

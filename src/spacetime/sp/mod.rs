@@ -19,9 +19,9 @@
 mod checks;
 mod energy;
 mod filling;
-mod grounded;
 #[cfg(test)]
 mod fixture;
+mod grounded;
 mod held_limbs;
 mod hold_contacts;
 mod hold_supports;
@@ -57,18 +57,26 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     checks::check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);
     let mut f = Filling::new(m, model, gravity);
-    root_fill::fill_root(&mut f, opts.root, false)?;
+    // grounded (issue 35): the body has feet, gravity acts, `contact:` is
+    // not "none", and there is a floor to stand on
+    let standing = grounded::stands(model, &gravity, opts)?
+        && hold_contacts::contact_floor(m, model, &gravity, opts)?.is_some();
+    let free_root = standing && f.root.is_floating();
+    root_fill::fill_root(&mut f, opts.root, free_root)?;
     let gaps = f.gaps()?;
     // what the prior's transitions must undercut: the motion filled by Hermite curves
     let hermite_all = fill_hermite(&f.motion)?;
     let gaps = offsets::hold_constant_offsets(&mut f, gaps)?;
-    let gaps = if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
-        hold_contacts::hold_contacts(&mut f, opts, gaps)?
+    let gaps = if standing {
+        // the plan only: the ground's terms hold the feet in the solve
+        hold_contacts::hold_contacts(&mut f, opts, gaps, false)?
+    } else if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
+        hold_contacts::hold_contacts(&mut f, opts, gaps, true)?
     } else {
         hold_supports::hold_supports(&mut f, opts, gaps)?
     };
     if !gaps.is_empty() {
-        transitions::solve_transitions(&mut f, opts, &hermite_all, gaps)?;
+        transitions::solve_transitions(&mut f, opts, &hermite_all, gaps, standing)?;
     }
     Ok(f.finish())
 }

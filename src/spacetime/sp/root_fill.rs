@@ -42,7 +42,8 @@ pub(super) fn fill_root(f: &mut Filling<'_>, how: RootFill, free: bool) -> Resul
     let root = &root;
     let pinned = pinned_gaps(f, root, how)?;
     let same = |t0: f64, t1: f64, a: f64, b: f64| {
-        (a - t0).abs() <= crate::motion::time_tol(t0) && (b - t1).abs() <= crate::motion::time_tol(t1)
+        (a - t0).abs() <= crate::motion::time_tol(t0)
+            && (b - t1).abs() <= crate::motion::time_tol(t1)
     };
     let is_pinned = |t0: f64, t1: f64| pinned.iter().any(|p| same(t0, t1, p.t0, p.t1));
     // spans a horizontal coordinate is cut over (those not pinned are shifted)
@@ -66,7 +67,12 @@ pub(super) fn fill_root(f: &mut Filling<'_>, how: RootFill, free: bool) -> Resul
         for (t0, t1) in gaps {
             // a constant placeholder above the root is bridged, never solved
             if open(t0, t1) && !root.fixed.contains(&c) {
-                match f.report.free_root.iter_mut().find(|r| same(t0, t1, r.t0, r.t1)) {
+                match f
+                    .report
+                    .free_root
+                    .iter_mut()
+                    .find(|r| same(t0, t1, r.t0, r.t1))
+                {
                     Some(r) => r.dofs.push(name.clone()),
                     None => f.report.free_root.push(FreeRoot {
                         t0,
