@@ -95,7 +95,7 @@ pub(super) fn solve_group_in<M: TorqueModel>(
 }
 
 /// Tells the progress callback that solve `k` (from 0) of at most `of` starts.
-fn step<M: TorqueModel>(problem: &Problem<'_, M>, k: usize, of: usize) {
+pub(super) fn step<M: TorqueModel>(problem: &Problem<'_, M>, k: usize, of: usize) {
     problem.opts.progress.report(ProgressEvent::Step {
         step: k + 1,
         steps: of,
@@ -177,7 +177,7 @@ impl<'p, M: TorqueModel> EffortCheck<'p, M> {
 /// The continuation's objective: ∫Στ² and the prior scaled by `scale`
 /// (the steps after rescale it in place), following `example` where it can (`example` is dropped when the
 /// objective cannot follow it).
-fn step_objective<'p, M: TorqueModel>(
+pub(super) fn step_objective<'p, M: TorqueModel>(
     problem: &'p Problem<'_, M>,
     prior: &PriorTerm<'_>,
     dofs: &[GapDof],

@@ -3,6 +3,7 @@
 //! are solved together; disjoint groups are independent and run in parallel.
 
 use super::continuation::solve_group_in;
+use super::grounded::solve_grounded;
 use super::problem::Problem;
 use super::report::GroupSolution;
 use crate::spacetime::error::SpError;
@@ -39,7 +40,10 @@ pub fn solve_all<M: TorqueModel>(
     groups
         .into_par_iter()
         .map(|dofs| {
-            let solution = solve_group_in(problem, dofs);
+            let solution = match problem.ground {
+                Some((ground, schedule)) => solve_grounded(problem, ground, schedule, dofs),
+                None => solve_group_in(problem, dofs),
+            };
             progress.report(ProgressEvent::GroupDone);
             solution
         })
@@ -110,6 +114,7 @@ mod tests {
             inputs: &inputs,
             opts: &o,
             names: &[],
+            ground: None,
         };
         let all = solve_all(&problem, vec![gap(1, 0.0, 0.5), gap(1, 2.0, 2.7)]).unwrap();
         assert_eq!(all.len(), 2);
@@ -135,6 +140,7 @@ mod tests {
             inputs: &inputs,
             opts: &SolveOptions::default(),
             names: &[],
+            ground: None,
         };
         let r = solve_all(&problem, vec![gap(1, 0.0, 0.5)]);
         assert!(matches!(r, Err(SpError::Numerical(_))));
@@ -163,6 +169,7 @@ mod tests {
             inputs: &inputs,
             opts: &o,
             names: &names,
+            ground: None,
         };
         let all = solve_all(&problem, vec![gap(1, 0.0, 0.5)]).unwrap();
         assert_eq!(all[0].report.names, vec!["elbow".to_string()]);

@@ -43,6 +43,7 @@
 
 mod continuation;
 mod eval;
+pub mod grounded;
 pub mod groups;
 pub mod options;
 pub mod problem;
@@ -50,6 +51,7 @@ pub mod report;
 mod run;
 mod stall;
 
+pub use grounded::{GroundModel, GroundSchedule};
 pub use groups::{group_overlapping, solve_all};
 pub use options::SolveOptions;
 pub use problem::{FindExample, PriorTerm, Problem};

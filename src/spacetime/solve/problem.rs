@@ -2,6 +2,7 @@
 //! settings, the torque weights, the prior, the motion outside the gaps, the
 //! solver's options and the coordinates' names.
 
+use super::grounded::{GroundModel, GroundSchedule};
 use super::options::SolveOptions;
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs, Objective, TransitionSettings};
@@ -50,6 +51,10 @@ pub struct Problem<'a, M: TorqueModel> {
     pub opts: &'a SolveOptions,
     /// The model's coordinate names, for the reports (empty: unnamed).
     pub names: &'a [String],
+    /// The ground the body stands on and the grounded continuation
+    /// ([`super::grounded`]); `None`: Rose's objective and the prior's
+    /// continuation ([`super::continuation`]).
+    pub ground: Option<(&'a dyn GroundModel<M>, &'a GroundSchedule)>,
 }
 
 impl<M: TorqueModel> Problem<'_, M> {

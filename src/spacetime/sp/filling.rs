@@ -4,7 +4,7 @@
 
 use super::checks::motion_err;
 use super::report::{SpReport, Undefined};
-use crate::model::Model;
+use crate::model::{Model, RootCoords};
 use crate::motion::{Curve, Dof, HermiteCurve, Interval, JointSampler, Mu};
 use crate::spacetime::contact::ContactPlan;
 use crate::spacetime::error::{SpError, invalid};
@@ -23,6 +23,9 @@ pub struct Filling<'a> {
     /// The body's coordinate names (the order of every state and gap's `coord`).
     pub names: &'a [String],
     pub gravity: Vector3<f64>,
+    /// The root's coordinates as the motion moves them
+    /// ([`crate::ground::moving_root`]).
+    pub root: RootCoords,
     /// Where and when contact points stand in each gap (`contact:`); `None`
     /// without a plan. The report lists it.
     pub contacts: Option<ContactPlan>,
@@ -44,6 +47,7 @@ impl<'a> Filling<'a> {
             model,
             names: model.coordinate_names(),
             gravity,
+            root: crate::ground::moving_root(model, &gravity, m),
             contacts: None,
         }
     }

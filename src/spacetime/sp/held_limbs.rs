@@ -3,16 +3,18 @@
 //! span, and writing a solved hold IK back.
 
 use super::filling::Filling;
-use crate::model::Model;
+use crate::model::{Model, RootCoords};
 use crate::motion::Curve;
 use crate::spacetime::error::SpError;
 use crate::spacetime::hold::{self, HeldFrame, HoldObjective};
 use crate::spacetime::objective::GapDof;
 
-/// Whether gap coordinate `c` moves frame `f` (it is on the chain from the
-/// frame to the root).
-pub fn moves(model: &Model, f: usize, c: usize) -> bool {
-    hold::owner(model, c).is_some_and(|o| model.is_ancestor(o, f))
+/// Whether gap coordinate `c` moves frame `f` by a joint of the limb (it is
+/// on the chain from the frame to the root, and not the root's own: a foot's
+/// IK must not carry the body by moving the root, which grounded SP solves
+/// with the dynamics and Rose's root fill places beforehand).
+pub fn moves(model: &Model, root: &RootCoords, f: usize, c: usize) -> bool {
+    !root.all.contains(&c) && hold::owner(model, c).is_some_and(|o| model.is_ancestor(o, f))
 }
 
 /// The span of a group of gaps.

@@ -22,7 +22,10 @@ use nalgebra::Vector3;
 
 /// The links `contact:` plans (named, or `ground`'s contact points of the
 /// body) and whether they were named.
-fn contact_links(model: &Model, contact: &Contact) -> Result<(Vec<usize>, bool), SpError> {
+pub(super) fn contact_links(
+    model: &Model,
+    contact: &Contact,
+) -> Result<(Vec<usize>, bool), SpError> {
     Ok(match contact {
         Contact::Named(n) => (hold::named(model, n, "contact")?, true),
         _ => (
@@ -74,11 +77,14 @@ pub fn contact_floor(
 }
 
 /// The gaps left for the spacetime solve after the contact plan's chains
-/// were solved by IK and written into the motion.
+/// were solved by IK and written into the motion. Without `ik` (grounded
+/// SP: the ground's terms hold the planted points in the solve itself) only
+/// the plan is made and every gap is left.
 pub(super) fn hold_contacts(
     f: &mut Filling<'_>,
     opts: &SpOptions,
     gaps: Vec<GapDof>,
+    ik: bool,
 ) -> Result<Vec<GapDof>, SpError> {
     let Some(floor) = contact_floor(f.recorded, f.model, &f.gravity, opts)? else {
         return Ok(gaps); // nothing to stand on, or nothing to stand with
@@ -87,7 +93,7 @@ pub(super) fn hold_contacts(
     f.contacts = Some(ContactPlan::new(floor));
     let mut left = vec![];
     for group in group_overlapping(gaps) {
-        left.extend(hold_group(f, opts, (&links, named), &floor, group)?);
+        left.extend(hold_group(f, opts, (&links, named), &floor, group, ik)?);
     }
     Ok(left)
 }
@@ -100,8 +106,9 @@ fn hold_group(
     (links, named): (&[usize], bool),
     floor: &FloorPlane,
     group: Vec<GapDof>,
+    ik: bool,
 ) -> Result<Vec<GapDof>, SpError> {
-    let model = f.model;
+    let (model, root) = (f.model, &f.root);
     let (t0, t1) = span(&group);
     let solved = {
         let sampler = f.sampler();
@@ -110,9 +117,10 @@ fn hold_group(
         let plan = ctx.plan();
         // the chains of the planted points are solved by IK
         let on_chain = |c: usize| {
-            plan.points
+            ik && plan
+                .points
                 .iter()
-                .any(|p| !p.stances.is_empty() && moves(model, p.link, c))
+                .any(|p| !p.stances.is_empty() && moves(model, root, p.link, c))
         };
         let (ik, rest): (Vec<GapDof>, Vec<GapDof>) =
             group.into_iter().partition(|d| on_chain(d.coord));
@@ -123,7 +131,7 @@ fn hold_group(
             let (frames, stances): (Vec<usize>, Vec<_>) = plan
                 .points
                 .iter()
-                .filter(|p| ik.iter().any(|d| moves(model, p.link, d.coord)))
+                .filter(|p| ik.iter().any(|d| moves(model, root, p.link, d.coord)))
                 .map(|p| (p.link, p.stances.clone()))
                 .unzip();
             let obj = HoldObjective::planned(
@@ -165,11 +173,14 @@ mod tests {
         };
         let mut f = Filling::new(&m, &model, Vector3::zeros());
         let gaps = f.gaps().unwrap();
-        assert_eq!(hold_contacts(&mut f, &opts, gaps.clone()).unwrap(), gaps);
+        assert_eq!(
+            hold_contacts(&mut f, &opts, gaps.clone(), true).unwrap(),
+            gaps
+        );
         assert!(f.contacts.is_none());
         let mut f = Filling::new(&m, &model, Y_UP);
         // a floor far below: the foot is never planted, nothing held by IK
-        let left = hold_contacts(&mut f, &opts, gaps.clone()).unwrap();
+        let left = hold_contacts(&mut f, &opts, gaps.clone(), true).unwrap();
         assert_eq!(left, gaps);
         let plan = f.contacts.as_ref().unwrap();
         assert_eq!((plan.floor.height, plan.floor.up), (-2.0, Vector3::y()));

@@ -7,7 +7,7 @@ use super::checks::motion_err;
 use super::filling::Filling;
 use super::held_limbs::{moves, span, write_hold_solve};
 use super::options::{SpOptions, Support};
-use crate::model::Model;
+use crate::model::{Model, RootCoords};
 use crate::spacetime::error::SpError;
 use crate::spacetime::hold::{self, HoldObjective};
 use crate::spacetime::objective::GapDof;
@@ -35,10 +35,10 @@ pub(super) fn hold_supports(
 /// The frames some gap DOF of `group` moves: the gap DOFs on the chains
 /// from the frames to the root are the IK unknowns, and a frame no gap DOF
 /// moves has nothing to solve.
-fn moved_by(model: &Model, frames: Vec<usize>, group: &[GapDof]) -> Vec<usize> {
+fn moved_by(model: &Model, root: &RootCoords, frames: Vec<usize>, group: &[GapDof]) -> Vec<usize> {
     frames
         .into_iter()
-        .filter(|&fr| group.iter().any(|d| moves(model, fr, d.coord)))
+        .filter(|&fr| group.iter().any(|d| moves(model, root, fr, d.coord)))
         .collect()
 }
 
@@ -57,10 +57,11 @@ fn hold_group(
         let sampler = f.sampler();
         let configuration = |t: f64| sampler.positions(t).map_err(motion_err);
         let frames = match named {
-            Some(frames) => moved_by(model, frames.to_vec(), &group),
+            Some(frames) => moved_by(model, &f.root, frames.to_vec(), &group),
             None => detect_frames(f, opts, &group, &configuration)?,
         };
-        let on_chain = |c: usize| frames.iter().any(|&fr| moves(model, fr, c));
+        let root = &f.root;
+        let on_chain = |c: usize| frames.iter().any(|&fr| moves(model, root, fr, c));
         let (ik, rest): (Vec<GapDof>, Vec<GapDof>) =
             group.into_iter().partition(|d| on_chain(d.coord));
         if ik.is_empty() {
@@ -99,8 +100,10 @@ fn detect_frames(
             }
         }
     }
+    let root = &f.root;
     let frames = moved_by(
         model,
+        root,
         hold::detect(model, &qs, &f.gravity, box_size)?,
         group,
     );
@@ -112,7 +115,7 @@ fn detect_frames(
     // curves already keep it planted, and IK would only add torque.
     let chain: Vec<GapDof> = group
         .iter()
-        .filter(|d| frames.iter().any(|&fr| moves(model, fr, d.coord)))
+        .filter(|d| frames.iter().any(|&fr| moves(model, root, fr, d.coord)))
         .cloned()
         .collect();
     let probe = HoldObjective::new(model, frames.clone(), chain, &opts.settings, configuration)?;

@@ -21,6 +21,7 @@ mod energy;
 mod filling;
 #[cfg(test)]
 mod fixture;
+mod grounded;
 mod held_limbs;
 mod hold_contacts;
 mod hold_supports;
@@ -34,13 +35,14 @@ mod transitions;
 pub use checks::fill_hermite;
 pub use energy::{joint_weights, torque_energy};
 pub use filling::Filling;
+pub use grounded::stands;
 pub use hold_contacts::contact_floor;
 pub use options::{
     AUTO_TIME_SCALE, DEFAULT_SMOOTHNESS, OptionDoc, Prior, ROOT_TOLERANCE_FIXED,
     ROOT_TOLERANCE_RELATIVE, RootFill, SP_OPTIONS, SpOptions, Support, root_tolerance,
 };
 pub use prior_weights::prior_weights;
-pub use report::{PinnedRoot, RootShift, SpReport, Undefined};
+pub use report::{FreeRoot, PinnedRoot, RootShift, SpReport, Undefined};
 
 use crate::model::Model;
 use crate::motion::Mu;
@@ -54,21 +56,27 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     checks::check_conflicts(m)?;
     checks::check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);
-    // the root as it moves in m: a constant placeholder above it is skipped
-    let root = crate::ground::moving_root(model, &gravity, m);
     let mut f = Filling::new(m, model, gravity);
-    root_fill::fill_root(&mut f, &root, opts.root)?;
+    // grounded (issue 35): the body has feet, gravity acts, `contact:` is
+    // not "none", and there is a floor to stand on
+    let standing = grounded::stands(model, &gravity, opts)?
+        && hold_contacts::contact_floor(m, model, &gravity, opts)?.is_some();
+    let free_root = standing && f.root.is_floating();
+    root_fill::fill_root(&mut f, opts.root, free_root)?;
     let gaps = f.gaps()?;
     // what the prior's transitions must undercut: the motion filled by Hermite curves
     let hermite_all = fill_hermite(&f.motion)?;
     let gaps = offsets::hold_constant_offsets(&mut f, gaps)?;
-    let gaps = if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
-        hold_contacts::hold_contacts(&mut f, opts, gaps)?
+    let gaps = if standing {
+        // the plan only: the ground's terms hold the feet in the solve
+        hold_contacts::hold_contacts(&mut f, opts, gaps, false)?
+    } else if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
+        hold_contacts::hold_contacts(&mut f, opts, gaps, true)?
     } else {
         hold_supports::hold_supports(&mut f, opts, gaps)?
     };
     if !gaps.is_empty() {
-        transitions::solve_transitions(&mut f, opts, &root, &hermite_all, gaps)?;
+        transitions::solve_transitions(&mut f, opts, &hermite_all, gaps, standing)?;
     }
     Ok(f.finish())
 }

@@ -29,6 +29,17 @@ pub struct PinnedRoot {
     pub tolerance: f64,
 }
 
+/// A gap of the root left open for the transitions (grounded SP, `root:
+/// "auto"` inside one recording): its coordinates are unknowns of the solve,
+/// the frames after the gap stay where they were recorded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FreeRoot {
+    pub t0: f64,
+    pub t1: f64,
+    /// The root coordinates solved over it.
+    pub dofs: Vec<String>,
+}
+
 /// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Undefined {
@@ -49,6 +60,8 @@ pub struct SpReport {
     pub support: Vec<HeldFrame>,
     /// Gaps whose root x–z was pinned (the motion after them not moved).
     pub pinned: Vec<PinnedRoot>,
+    /// Gaps of the root solved with the rest (grounded SP).
+    pub free_root: Vec<FreeRoot>,
     /// The contact plan (`contact:` other than `"none"`, under gravity, on
     /// a motion with a recorded part), from [`super::Filling::contacts`].
     pub contacts: Option<ContactPlan>,
@@ -61,6 +74,7 @@ impl fmt::Display for SpReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.groups.is_empty()
             && self.root.is_empty()
+            && self.free_root.is_empty()
             && self.hermite.is_empty()
             && self.constant.is_empty()
         {
@@ -90,6 +104,15 @@ impl SpReport {
                 r.t0,
                 r.t1,
                 s.join(", ")
+            )?;
+        }
+        for r in &self.free_root {
+            writeln!(
+                f,
+                "root over [{:.4}, {:.4}] s: solved with the body under the ground's forces ({}), the motion after the gap where it was",
+                r.t0,
+                r.t1,
+                r.dofs.join(", ")
             )?;
         }
         for p in &self.pinned {

@@ -1,11 +1,14 @@
 //! Stage 1, the root (Rose §3.2.1): its horizontal translations from the
 //! interpolated velocities (the motion after the gap shifted to continue
 //! them) or pinned where both sides look like one recording; its vertical
-//! and rotations by Hermite curves.
+//! and rotations by Hermite curves. Grounded SP (see [`super::grounded`])
+//! leaves the root's gaps inside one recording open instead: its six
+//! coordinates are then unknowns of the transition like any gap DOF, both
+//! ends fixed, and the ground's forces decide where the body goes.
 
 use super::filling::{Filling, hermite_curve};
 use super::options::{RootFill, root_tolerance};
-use super::report::{PinnedRoot, RootShift, Undefined};
+use super::report::{FreeRoot, PinnedRoot, RootShift, Undefined};
 use crate::model::RootCoords;
 use crate::motion::{Dof, Func};
 use crate::spacetime::error::SpError;
@@ -28,19 +31,32 @@ fn shift_after(dof: &mut Dof, t: f64, delta: f64) {
 
 /// Fill the root's gaps (§3.2.1): horizontal translations from interpolated
 /// velocities (shifting what follows), the vertical and rotations by Hermite.
-pub(super) fn fill_root(
-    f: &mut Filling<'_>,
-    root: &RootCoords,
-    how: RootFill,
-) -> Result<(), SpError> {
+/// With `free` (grounded SP) and `root: "auto"`, a gap that `"auto"` takes
+/// for one recording is left open (all of the root's moving coordinates over
+/// it), listed in the report's `free_root`: the transitions solve it. Two
+/// recordings joined are still shifted (the frames after the gap are then
+/// not where they were recorded, so nothing pins the root's end), and
+/// `root: "shift"` / `"pinned"` ask for Rose's kinematic root.
+pub(super) fn fill_root(f: &mut Filling<'_>, how: RootFill, free: bool) -> Result<(), SpError> {
+    let root = f.root.clone();
+    let root = &root;
     let pinned = pinned_gaps(f, root, how)?;
-    let is_pinned = |t0: f64, t1: f64| {
-        pinned.iter().any(|p| {
-            (p.t0 - t0).abs() <= crate::motion::time_tol(t0)
-                && (p.t1 - t1).abs() <= crate::motion::time_tol(t1)
-        })
+    let same = |t0: f64, t1: f64, a: f64, b: f64| {
+        (a - t0).abs() <= crate::motion::time_tol(t0)
+            && (b - t1).abs() <= crate::motion::time_tol(t1)
     };
-    f.report.pinned.extend(pinned.iter().cloned());
+    let is_pinned = |t0: f64, t1: f64| pinned.iter().any(|p| same(t0, t1, p.t0, p.t1));
+    // spans a horizontal coordinate is cut over (those not pinned are shifted)
+    let horizontal_spans: Vec<(f64, f64)> = root
+        .horizontal
+        .iter()
+        .filter_map(|&c| f.motion.get(&f.names[c]))
+        .flat_map(|d| d.gaps())
+        .collect();
+    let open = |t0: f64, t1: f64| {
+        free && how == RootFill::Auto
+            && (is_pinned(t0, t1) || !horizontal_spans.iter().any(|&(a, b)| same(t0, t1, a, b)))
+    };
     let names = f.names;
     for &c in &root.all {
         let name = &names[c];
@@ -49,6 +65,23 @@ pub(super) fn fill_root(
         };
         let gaps = dof.gaps();
         for (t0, t1) in gaps {
+            // a constant placeholder above the root is bridged, never solved
+            if open(t0, t1) && !root.fixed.contains(&c) {
+                match f
+                    .report
+                    .free_root
+                    .iter_mut()
+                    .find(|r| same(t0, t1, r.t0, r.t1))
+                {
+                    Some(r) => r.dofs.push(name.clone()),
+                    None => f.report.free_root.push(FreeRoot {
+                        t0,
+                        t1,
+                        dofs: vec![name.clone()],
+                    }),
+                }
+                continue;
+            }
             let a = f.end_state(name, t0)?;
             let b = f.end_state(name, t1)?;
             let curve = if root.horizontal.contains(&c) && !is_pinned(t0, t1) {
@@ -64,6 +97,13 @@ pub(super) fn fill_root(
             f.write(name, curve, t0, t1)?;
         }
     }
+    // a pinned gap left open is the transitions', not a pin
+    let free_spans = &f.report.free_root;
+    let kept: Vec<PinnedRoot> = pinned
+        .into_iter()
+        .filter(|p| !free_spans.iter().any(|r| same(p.t0, p.t1, r.t0, r.t1)))
+        .collect();
+    f.report.pinned.extend(kept);
     Ok(())
 }
 
@@ -167,13 +207,47 @@ mod tests {
     }
 
     fn fill(dx: f64, how: RootFill) -> Filling<'static> {
+        fill_free(dx, how, false)
+    }
+
+    fn fill_free(dx: f64, how: RootFill, free: bool) -> Filling<'static> {
         let (model, m) = gapped(dx);
         let model: &'static crate::model::Model = Box::leak(Box::new(model));
         let m: &'static crate::motion::Mu = Box::leak(Box::new(m));
-        let root = crate::ground::moving_root(model, &Y_UP, m);
         let mut f = Filling::new(m, model, Y_UP);
-        fill_root(&mut f, &root, how).unwrap();
+        fill_root(&mut f, how, free).unwrap();
         f
+    }
+
+    #[test]
+    fn grounded_sp_leaves_one_recordings_root_open_for_the_solve() {
+        let f = fill_free(0.0, RootFill::Auto, true);
+        assert_eq!(f.report.free_root.len(), 1, "{:?}", f.report);
+        assert_eq!(f.report.free_root[0].dofs, ["x", "y", "rz"]);
+        assert!(f.report.pinned.is_empty() && f.report.root.is_empty());
+        assert!(f.report.hermite.is_empty());
+        // the root's coordinates are gap DOFs, the frames after the gap as recorded
+        let mut open: Vec<usize> = f.gaps().unwrap().iter().map(|d| d.coord).collect();
+        open.sort_unstable();
+        assert_eq!(open, [0, 1, 2]);
+        let x = f.motion.sample_value("x", 1.5).unwrap().unwrap();
+        assert!((x - 1.1 * 1.5).abs() < 1e-9, "{x}");
+    }
+
+    #[test]
+    fn grounded_sp_still_joins_two_recordings_and_keeps_a_kinematic_root_asked_for() {
+        // two recordings: shifted as before (nothing pins the end)
+        let joined = fill_free(3.0, RootFill::Auto, true);
+        assert!(joined.report.free_root.is_empty());
+        assert_eq!(joined.report.root.len(), 1);
+        // root: "shift" / "pinned": Rose's kinematic root, as without the ground
+        for how in [RootFill::Shift, RootFill::Pinned] {
+            let f = fill_free(0.0, how, true);
+            let before = fill(0.0, how);
+            assert!(f.report.free_root.is_empty());
+            assert_eq!(f.report, before.report);
+            assert!(f.gaps().unwrap().is_empty());
+        }
     }
 
     #[test]

@@ -6,14 +6,15 @@
 use super::checks::motion_err;
 use super::energy::{joint_weights, torque_energy};
 use super::filling::Filling;
+use super::grounded::SpGround;
 use super::offsets::is_translation;
 use super::options::SpOptions;
 use super::prior_weights::prior_weights;
-use crate::model::RootCoords;
 use crate::motion::{Curve, Mu};
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs};
 use crate::spacetime::reference::{self, Example};
+use crate::spacetime::solve::{GroundModel, GroundSchedule};
 use crate::spacetime::solve::{GroupSolution, PriorTerm, Problem, solve_all};
 use crate::spacetime::torque::BodyDynamics;
 
@@ -23,12 +24,12 @@ use crate::spacetime::torque::BodyDynamics;
 pub(super) fn solve_transitions(
     f: &mut Filling<'_>,
     opts: &SpOptions,
-    root: &RootCoords,
     hermite_all: &Mu,
     gaps: Vec<GapDof>,
+    standing: bool,
 ) -> Result<(), SpError> {
     let (model, gravity, names) = (f.model, f.gravity, f.names);
-    let weights = joint_weights(model, root);
+    let weights = joint_weights(model, &f.root);
     let baseline = |t0: f64, t1: f64| -> Result<f64, SpError> {
         let piece = crate::motion::clip_in_place(t0, t1, hermite_all).map_err(motion_err)?;
         torque_energy(&piece, model, Some(gravity))
@@ -53,6 +54,12 @@ pub(super) fn solve_transitions(
             example: &example,
         };
         let body = BodyDynamics { model, gravity };
+        let root = f.root.clone();
+        let schedule = GroundSchedule::default();
+        let ground = match (&f.contacts, standing) {
+            (Some(plan), true) => Some(SpGround::new(f, &body, &root, plan)?),
+            _ => None,
+        };
         // the objective's inputs: every body coordinate at t, NaN where undefined
         let sampler = f.sampler();
         let inputs_fn = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
@@ -67,6 +74,9 @@ pub(super) fn solve_transitions(
             inputs,
             opts: &opts.solve,
             names,
+            ground: ground
+                .as_ref()
+                .map(|g| (g as &dyn GroundModel<BodyDynamics<'_>>, &schedule)),
         };
         solve_all(&problem, gaps)?
     };
