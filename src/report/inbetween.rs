@@ -25,7 +25,7 @@
 //! floor, cm/s), penetration (deepest foot joint below it, cm) and the ground
 //! residual (the force no friction-cone contact forces, μ 0.8, at foot joints
 //! within 2 cm can supply, % of body weight); the capture is their reference
-//! row, and the locomotion clips (walk*, run*, dash*) are summarised on their own.
+//! row, and the locomotion clips (walk, run, dash, turn) are summarised on their own.
 //! Used by `benches/inbetween.rs`, `mx report` and the plausibility tests.
 
 use super::leave_one_out::LeaveOneOut;
@@ -114,6 +114,9 @@ impl Method {
 /// One clip of the benchmark: its captured motion and the body of its skeleton.
 pub struct Case {
     pub name: String,
+    /// The file (name without extension) the clip was read from: its own
+    /// name, or the clip a time warp or mirror was made of.
+    pub source: String,
     pub capture: Mu,
     pub body: Model,
     pub frame_time: f64,
@@ -128,27 +131,79 @@ pub struct Case {
     pub metres_per_unit: f64,
 }
 
+/// The frame rate the protocol counts frames at (Hz): gaps of 15/30/45
+/// frames are 0.5/1/1.5 s, whatever rate a clip was captured at.
+pub const PROTOCOL_RATE: f64 = 30.0;
+
 /// Body mass of the benchmark's bodies (kg), `body_of`'s default.
 pub const BODY_MASS: f64 = 70.0;
 
 impl Case {
+    /// The clip at `path` at its own frame rate.
     pub fn load(path: &Path) -> Result<Case, String> {
+        Case::load_at(path, None)
+    }
+
+    /// The clip at `path`, resampled to `rate` Hz when it was captured at
+    /// another rate (`super::heldout::regrid`): the protocol counts frames at
+    /// 30 fps ([`PROTOCOL_RATE`]), so a 120 Hz clip is read as its every
+    /// fourth frame and a gap of 30 frames is 1 s on every clip.
+    pub fn load_at(path: &Path, rate: Option<f64>) -> Result<Case, String> {
         let clip =
             mocap::load(path, Units::Auto).map_err(|e| format!("{}: {e}", path.display()))?;
-        let (body, _) = mocap::body_of(&clip.skeleton, BODY_MASS, clip.units.metres_per_unit)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let names = clip.skeleton.channel_names();
-        let starts = clip.skeleton.channel_starts();
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let (mu, frame_time, frames) = match rate {
+            Some(r) if ((1.0 / clip.frame_time) - r).abs() > 1e-3 * r => {
+                let dt = 1.0 / r;
+                let (mu, frames) = super::heldout::regrid(
+                    &clip.mu,
+                    (clip.frames - 1) as f64 * clip.frame_time,
+                    1.0,
+                    dt,
+                )
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+                (mu, dt, frames)
+            }
+            _ => (clip.mu, clip.frame_time, clip.frames),
+        };
+        Case::from_motion(
+            &name,
+            &name,
+            mu,
+            Arc::new(clip.skeleton),
+            clip.units.metres_per_unit,
+            (frame_time, frames),
+        )
+        .map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    /// A case from a motion sampled every `frame_time` s over `frames`
+    /// frames from t = 0, played on `skeleton`'s body; `source` names the
+    /// file it came from (a leave-one-out library leaves that file out).
+    pub fn from_motion(
+        name: &str,
+        source: &str,
+        mu: Mu,
+        skeleton: Arc<Skeleton>,
+        metres_per_unit: f64,
+        (frame_time, frames): (f64, usize),
+    ) -> Result<Case, String> {
+        let (body, _) =
+            mocap::body_of(&skeleton, BODY_MASS, metres_per_unit).map_err(|e| e.to_string())?;
+        let names = skeleton.channel_names();
+        let starts = skeleton.channel_starts();
         let joint_dofs = |j: usize| -> Vec<String> {
-            let n = clip.skeleton.joints[j].channels.len();
+            let n = skeleton.joints[j].channels.len();
             names[starts[j]..starts[j] + n].to_vec()
         };
         let constant = |dof: &str| {
-            (0..clip.frames).all(|k| {
-                let t = k as f64 * clip.frame_time;
-                let v = clip.mu.sample(dof, t).ok().flatten().map(|s| s[0]);
-                let v0 = clip.mu.sample(dof, 0.0).ok().flatten().map(|s| s[0]);
-                v == v0
+            let v0 = mu.sample(dof, 0.0).ok().flatten().map(|s| s[0]);
+            (0..frames).all(|k| {
+                let t = k as f64 * frame_time;
+                mu.sample(dof, t).ok().flatten().map(|s| s[0]) == v0
             })
         };
         let mut root_dofs = vec![];
@@ -157,34 +212,26 @@ impl Case {
             let dofs = joint_dofs(j);
             let still = dofs.iter().all(|d| constant(d));
             root_dofs.extend(dofs);
-            match clip.skeleton.children(j).next() {
+            match skeleton.children(j).next() {
                 Some(k) if still => j = k,
                 _ => break,
             }
         }
-        let feet = crate::ground::contact_points(&body, None)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let floor = crate::ground::tracks(
-            &clip.mu,
-            &body,
-            &feet,
-            &ground_options(None, clip.frame_time),
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?
-        .lowest();
+        let feet = crate::ground::contact_points(&body, None).map_err(|e| e.to_string())?;
+        let floor = crate::ground::tracks(&mu, &body, &feet, &ground_options(None, frame_time))
+            .map_err(|e| e.to_string())?
+            .lowest();
         Ok(Case {
             floor,
-            name: path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-            capture: clip.mu,
+            name: name.to_string(),
+            source: source.to_string(),
+            capture: mu,
             body,
-            frame_time: clip.frame_time,
-            frames: clip.frames,
+            frame_time,
+            frames,
             root_dofs,
-            metres_per_unit: clip.units.metres_per_unit,
-            skeleton: Arc::new(clip.skeleton),
+            metres_per_unit,
+            skeleton,
         })
     }
 
@@ -350,9 +397,11 @@ fn ground_options(floor: Option<f64>, frame_time: f64) -> crate::ground::GroundO
 /// Friction coefficient of the ground residual (the README's μ).
 pub const FRICTION: f64 = 0.8;
 
-/// Whether a clip is locomotion (walk*, run*, dash*: the subset shown on its own).
+/// Whether a clip is locomotion (its name has walk, run, dash or turn: the
+/// subset shown on its own).
 pub fn is_locomotion(clip: &str) -> bool {
-    ["walk", "run", "dash"].iter().any(|k| clip.contains(k))
+    let c = clip.to_ascii_lowercase();
+    ["walk", "run", "dash", "turn"].iter().any(|k| c.contains(k))
 }
 
 fn is_foot(name: &str) -> bool {
@@ -554,9 +603,6 @@ pub fn fill_window(
             if library.is_some() {
                 o.library = library;
             }
-            if root == RootMode::Filled {
-                o.root = crate::spacetime::RootFill::Pinned;
-            }
             let (m, r) = sp(&cut, &case.body, &o).map_err(|e| format!("{}: {e}", case.name))?;
             (m, Some(r))
         }
@@ -595,28 +641,81 @@ pub fn run_window(
     Ok(r)
 }
 
-/// Every window of every case under every method (methods side by side on the same windows).
+/// Every window of every case under every method (methods side by side on
+/// the same windows), in parallel over windows (rayon; `RAYON_NUM_THREADS=1`
+/// for one thread). Each window's methods run one after the other on one
+/// thread, so their times compare; the results, in window order, do not
+/// depend on the number of threads. SP rows whose options are the same
+/// ([`same_options`]) are solved once per window and copied under each label.
 pub fn run(
     cases: &[Case],
     p: &Protocol,
     methods: &[Method],
-    mut progress: impl FnMut(&WindowResult),
+    progress: impl Fn(&WindowResult) + Sync,
 ) -> Result<Vec<WindowResult>, String> {
-    let mut out = vec![];
+    use rayon::prelude::*;
+    let mut windows = vec![];
     for &root in &p.roots {
         for &gap in &p.gaps {
             for case in cases {
                 for start in case.windows(p, gap) {
-                    for m in methods {
-                        let r = run_window(case, p, start, gap, root, m)?;
-                        progress(&r);
-                        out.push(r);
-                    }
+                    windows.push((root, gap, case, start));
                 }
             }
         }
     }
+    let firsts = [RootMode::Given, RootMode::Filled].map(|r| same_options(methods, r));
+    let per_window: Vec<Result<Vec<WindowResult>, String>> = windows
+        .par_iter()
+        .map(|&(root, gap, case, start)| {
+            let mut rows: Vec<WindowResult> = Vec::with_capacity(methods.len());
+            for (i, m) in methods.iter().enumerate() {
+                let r = match firsts[usize::from(root == RootMode::Filled)][i] {
+                    Some(j) => WindowResult {
+                        method: m.label().to_string(),
+                        ..rows[j].clone()
+                    },
+                    None => run_window(case, p, start, gap, root, m)?,
+                };
+                progress(&r);
+                rows.push(r);
+            }
+            Ok(rows)
+        })
+        .collect();
+    let mut out = Vec::with_capacity(windows.len() * methods.len());
+    for rows in per_window {
+        out.extend(rows?);
+    }
     Ok(out)
+}
+
+/// For each method, the index of an earlier SP method with the same options
+/// (their `Debug` text), whose result it shares; `None`: solve it. Only
+/// [`Method::Sp`] rows share (a library row's options are filled per
+/// window). With the root given no root channel is cut, so `root:` is moot
+/// and left out of the comparison.
+pub fn same_options(methods: &[Method], root: RootMode) -> Vec<Option<usize>> {
+    let keys: Vec<Option<String>> = methods
+        .iter()
+        .map(|m| match m {
+            Method::Sp(_, o) => {
+                let mut o = (**o).clone();
+                if root == RootMode::Given {
+                    o.root = crate::spacetime::RootFill::default();
+                }
+                Some(format!("{o:?}"))
+            }
+            _ => None,
+        })
+        .collect();
+    keys.iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let k = k.as_ref()?;
+            keys[..i].iter().position(|e| e.as_ref() == Some(k))
+        })
+        .collect()
 }
 
 /// One row of the summary: a method at one gap length and root setting.
@@ -808,13 +907,61 @@ pub fn table(rows: &[Summary]) -> String {
     s
 }
 
+/// Label of SP at its defaults, the row issue 35's goals judge.
+pub const SP_DEFAULTS: &str = "SP defaults";
+/// Label of [`todays_sp`].
+pub const TODAYS_SP: &str = "today's SP";
+
+/// SP as it was before grounded SP changed the defaults: no contact
+/// planning (`contact: "none"`), the kinematic root (`root: "pinned"`: the
+/// frames after a cut root stay where they were captured, the root's x–z
+/// a cubic between the sides) and the prior at its old weight with the
+/// motion's own example. Every option that reproduces the old behaviour is
+/// set here explicitly, so the row stays the "before" when a default moves
+/// (the BOARD of issues 35/36 keeps this list).
+pub fn todays_sp() -> SpOptions {
+    use crate::spacetime::{Contact, Prior, RootFill, Support};
+    SpOptions {
+        contact: Contact::None,
+        root: RootFill::Pinned,
+        support: Support::Auto { box_size: 0.02 },
+        prior: Prior {
+            smoothness: 1e6,
+            time_constant: None,
+            example: true,
+        },
+        ..Default::default()
+    }
+}
+
 /// The methods the benchmark and the report compare, on the same windows:
-/// the two interpolation baselines, SP at its defaults, and a row for each
-/// knob of SP's objective — Rose's ∫Στ² alone (`objective: "torque"`), the
-/// prior's weight (`smoothness:`), its time constant (`time_constant:`,
-/// fixed instead of (0.32 s)²/gap) — SP without support IK, and SP with
-/// foot contact planned (`contact: "auto"`).
+/// the two interpolation baselines, the capture itself (the reference row),
+/// SP at its defaults, SP as it was before grounded SP ([`todays_sp`]) and
+/// with foot contact planned (`contact: "auto"`).
 pub fn methods() -> Vec<Method> {
+    use crate::spacetime::SpOptions;
+    vec![
+        Method::Hermite,
+        Method::Slerp,
+        Method::Capture,
+        Method::Sp(SP_DEFAULTS.into(), Box::default()),
+        Method::Sp(TODAYS_SP.into(), Box::new(todays_sp())),
+        Method::Sp(
+            "SP contact: \"auto\"".into(),
+            Box::new(SpOptions {
+                contact: crate::spacetime::Contact::Auto,
+                ..Default::default()
+            }),
+        ),
+    ]
+}
+
+/// A row for each knob of SP's objective (`MX_INBETWEEN_KNOBS=1` in the
+/// bench): Rose's ∫Στ² alone (`objective: "torque"`), the prior without the
+/// example, the prior's weight (`smoothness:`), its time constant
+/// (`time_constant:`, fixed instead of (0.32 s)²/gap), and SP without
+/// support IK; each otherwise at the defaults.
+pub fn knob_methods() -> Vec<Method> {
     use crate::spacetime::{Prior, SpOptions, Support};
     let sp = |label: &str, o: SpOptions| Method::Sp(label.into(), Box::new(o));
     let with_prior = |prior: Prior| SpOptions {
@@ -822,10 +969,6 @@ pub fn methods() -> Vec<Method> {
         ..Default::default()
     };
     vec![
-        Method::Hermite,
-        Method::Slerp,
-        Method::Capture,
-        Method::Sp("SP defaults".into(), Box::default()),
         sp("SP objective: \"torque\" (Rose)", with_prior(Prior::none())),
         sp(
             "SP example: \"none\"",
@@ -862,16 +1005,13 @@ pub fn methods() -> Vec<Method> {
                 ..Default::default()
             },
         ),
-        // foot contact planned per gap (issue #25; opt-in until it helps)
-        sp(
-            "SP contact: \"auto\"",
-            SpOptions {
-                contact: crate::spacetime::Contact::Auto,
-                ..Default::default()
-            },
-        ),
     ]
 }
+
+/// Label of SP following the leave-one-out library alone (issue 36's goals).
+pub const SP_LIBRARY: &str = "SP example: lib (leave-one-out)";
+/// Label of SP following `[lib, "self"]` (issue 36's goals).
+pub const SP_LIBRARY_SELF: &str = "SP example: [lib, \"self\"] (leave-one-out)";
 
 /// The rows that follow a clip library held out from the window's own file
 /// (`MX_INBETWEEN_LIBRARY=1` in the bench): SP with `example: lib` and with
@@ -889,8 +1029,8 @@ pub fn library_methods(libraries: Arc<LeaveOneOut>) -> Vec<Method> {
         Method::SpLibrary(label.into(), Box::new(o), libraries.clone())
     };
     vec![
-        with("SP example: lib (leave-one-out)", false),
-        with("SP example: [lib, \"self\"] (leave-one-out)", true),
+        with(SP_LIBRARY, false),
+        with(SP_LIBRARY_SELF, true),
     ]
 }
 
@@ -937,7 +1077,7 @@ pub(super) fn section(
     d: &mut super::doc::Doc,
     shared: Option<&Path>,
     smoke: bool,
-    tick: &mut dyn FnMut(),
+    tick: &(dyn Fn() + Sync),
 ) {
     use std::fmt::Write as _;
     let Some(dir) = shared.map(|s| s.join("data").join("inbetween")) else {
@@ -1060,7 +1200,7 @@ pub(super) fn section(
          the deepest foot joint under it (cm; mean, and worst window); ground residual: the force the \
          floating base needs that no friction-cone (μ {FRICTION}) forces at the foot joints within 2 cm can \
          supply (% of body weight; mean, and worst frame). The capture row is the reference. All clips, then \
-         the locomotion clips (walk*, run*, dash*) alone.\n"
+         the locomotion clips (walk, run, dash, turn) alone.\n"
     );
     for (title, rows) in [
         ("all clips", rows.clone()),

@@ -3,9 +3,10 @@
 //! from its own file, so the library cannot hand back the frames that were
 //! cut (the held-out protocol the literature reports).
 //!
-//! The folder is read once; each file's library is built the first time one
-//! of its windows asks for it and kept for the rest (every gap length, root
-//! setting and method of that file shares it).
+//! The folders are read once; each file's library is built the first time
+//! one of its windows asks for it and kept for the rest (every gap length,
+//! root setting and method of that file, and every clip made from it by a
+//! time warp or mirror, share it; windows asking at once wait for one build).
 
 use super::inbetween::Case;
 use crate::library::{self, ClipInput, Library, LibraryError, Settings, Skipped};
@@ -19,7 +20,9 @@ pub struct LeaveOneOut {
     clips: Vec<ClipInput>,
     skipped: Vec<Skipped>,
     settings: Settings,
-    built: Mutex<HashMap<String, Arc<Library>>>,
+    /// Per held-out clip, its library once built (its own lock: one build
+    /// per clip, other clips' windows go on meanwhile).
+    built: Mutex<HashMap<String, Arc<Mutex<Option<Arc<Library>>>>>>,
 }
 
 impl std::fmt::Debug for LeaveOneOut {
@@ -31,8 +34,19 @@ impl std::fmt::Debug for LeaveOneOut {
 impl LeaveOneOut {
     /// Every `.bvh` clip of `dir` (as `library(dir)` reads them).
     pub fn new(dir: &Path, settings: Settings) -> Result<LeaveOneOut, LibraryError> {
+        LeaveOneOut::of_folders(&[dir], settings)
+    }
+
+    /// Every `.bvh` clip of every folder of `dirs` (the held-out runs'
+    /// library can be the shared clips while the windows come from elsewhere).
+    pub fn of_folders(dirs: &[&Path], settings: Settings) -> Result<LeaveOneOut, LibraryError> {
         settings.check()?;
-        let (clips, skipped) = library::clips_in_folder(dir)?;
+        let (mut clips, mut skipped) = (vec![], vec![]);
+        for dir in dirs {
+            let (c, s) = library::clips_in_folder(dir)?;
+            clips.extend(c);
+            skipped.extend(s);
+        }
         Ok(LeaveOneOut {
             clips,
             skipped,
@@ -53,7 +67,15 @@ impl LeaveOneOut {
     /// The library of every clip but `clip` (a file's name without its
     /// extension), built once.
     pub fn without(&self, clip: &str) -> Result<Arc<Library>, LibraryError> {
-        if let Some(l) = self.built.lock().expect("library cache").get(clip) {
+        let cell = self
+            .built
+            .lock()
+            .expect("library cache")
+            .entry(clip.to_string())
+            .or_default()
+            .clone();
+        let mut slot = cell.lock().expect("library slot");
+        if let Some(l) = slot.as_ref() {
             return Ok(l.clone());
         }
         let others: Vec<ClipInput> = self
@@ -69,18 +91,15 @@ impl LeaveOneOut {
             .cloned()
             .collect();
         let lib = Arc::new(Library::build(others, skipped, self.settings.clone())?);
-        self.built
-            .lock()
-            .expect("library cache")
-            .insert(clip.to_string(), lib.clone());
+        *slot = Some(lib.clone());
         Ok(lib)
     }
 
     /// SP's `example:` source for a window of `case`: the library without
-    /// the case's own file, read through the case's skeleton.
+    /// the file the case was read or made from, read through its skeleton.
     pub fn source(&self, case: &Case) -> Result<LibrarySource, LibraryError> {
         Ok(LibrarySource {
-            library: self.without(&case.name)?,
+            library: self.without(&case.source)?,
             skeleton: case.skeleton.clone(),
             metres_per_unit: case.metres_per_unit,
         })

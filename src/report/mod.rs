@@ -9,7 +9,9 @@
 pub mod cyclify;
 mod doc;
 pub mod fit;
+pub mod goals;
 mod hard_case;
+pub mod heldout;
 pub mod hard_cases;
 pub mod hard_mechanisms;
 pub mod ik;
