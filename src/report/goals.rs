@@ -391,6 +391,6 @@ mod tests {
         let g = goals(&table_rows());
         let t = table(&g);
         assert_eq!(t.lines().count(), g.len() + 2);
-        assert!(t.contains("| #35 | root filled | 30 | skate ÷ capture's | ≤ 1.50 | 1.60 | MISS by 0.100 |"), "{t}");
+        assert!(t.contains("| #35 | natural cut | 30 | skate ÷ capture's | ≤ 1.50 | 1.60 | MISS by 0.100 |"), "{t}");
     }
 }

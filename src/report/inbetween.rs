@@ -80,7 +80,7 @@ impl RootMode {
     pub fn label(self) -> &'static str {
         match self {
             RootMode::Given => "root given",
-            RootMode::Filled => "root filled",
+            RootMode::Filled => "natural cut",
         }
     }
 }
@@ -1100,6 +1100,7 @@ pub(super) fn section(
         // every other clip, one window per clip and gap: minutes, not the bench's hour
         cases = cases.into_iter().step_by(2).collect();
         Protocol {
+            gaps: vec![15, 30, 45],
             windows_per_clip: Some(1),
             ..Protocol::default()
         }
@@ -1114,7 +1115,8 @@ pub(super) fn section(
         "Cut a gap out of a real clip, fill it, compare with what the person did (the protocol of \
          `data/inbetween/README.md`, after Harvey et al. 2020): {} clips (every other one of the folder), at most {} window per clip and gap \
          (`cargo bench --bench inbetween` runs every window), {} context frames, root given (its channels kept) \
-         and root filled (the frames after the gap stay where they were captured: SP's `root: \"pinned\"`). \
+         and the natural cut (every DOF cut, the frames after the gap where they were captured; SP at its own \
+         `root:` default, today's SP with `root: \"pinned\"`). \
          L2P: mean joint-position error over the gap (cm); ×Hermite: its ratio to `fill(m, \"hermite\")` on the \
          same windows; worst: the largest joint error and where; L2Q: Harvey et al.'s mean over frames of \
          the L2 distance of the stacked world orientations (unit quaternions, sign-aligned); NPSS: normalised power \
@@ -1192,48 +1194,47 @@ pub(super) fn section(
         ];
         d.row(&cells);
     }
+    let loco = summarise_locomotion(&results);
     let _ = writeln!(
         d.md,
-        "\nStanding on the ground (`data/inbetween/README.md`'s ground measures, `crate::ground`), over \
-         each gap and the step on either side, against the floor of the whole captured clip: skate: \
-         horizontal speed of a foot joint (`Foot_*`, `Toes_*`) within 2 cm of the floor (cm/s); below floor: \
-         the deepest foot joint under it (cm; mean, and worst window); ground residual: the force the \
-         floating base needs that no friction-cone (μ {FRICTION}) forces at the foot joints within 2 cm can \
-         supply (% of body weight; mean, and worst frame). The capture row is the reference. All clips, then \
-         the locomotion clips (walk, run, dash, turn) alone.\n"
+        "\nAccuracy and standing on the ground, one row per method (`data/inbetween/README.md`'s ground \
+         measures, `crate::ground`, over each gap and the step on either side, against the floor of the whole \
+         captured clip): skate: horizontal speed of a foot joint (found by name: Foot, Toe, Ankle, Heel) within \
+         2 cm of the floor (cm/s), and its ratio to the capture's on the same windows; below floor: the deepest \
+         foot joint under it (cm; mean, and worst window); ground residual: the force the floating base needs \
+         that no friction-cone (μ {FRICTION}) forces at the foot joints within 2 cm can supply (% of body \
+         weight; mean, its excess over the capture's, and worst frame); SP's evaluations and seconds per solve. \
+         The capture row is the reference. `today's SP` is SP with the options that reproduce it before grounded \
+         SP (`contact: \"none\"`, `root: \"pinned\"`, the old prior); where its options equal the defaults it \
+         is the same solve. All clips, then the locomotion clips (walk, run, dash, turn) alone.\n"
     );
-    for (title, rows) in [
-        ("all clips", rows.clone()),
-        ("locomotion", summarise_locomotion(&results)),
-    ] {
-        d.header(&[
-            "clips",
-            "root",
-            "gap",
-            "method",
-            "windows",
-            "L2P cm",
-            "skate 2 cm cm/s",
-            "below floor cm",
-            "worst below cm",
-            "residual % BW",
-            "worst frame % BW",
-        ]);
-        for r in &rows {
-            let cells = [
-                title.to_string(),
-                r.root.label().to_string(),
-                r.gap.to_string(),
-                r.method.clone(),
-                r.windows.to_string(),
-                d.n(r.l2p),
-                d.n(r.ground_skate),
-                d.n(r.penetration),
-                d.n(r.penetration_worst),
-                d.n(r.residual),
-                d.n(r.residual_worst),
-            ];
-            d.row(&cells);
-        }
+    for (title, rows) in [("all clips", &rows), ("locomotion", &loco)] {
+        let _ = writeln!(
+            d.md,
+            "\n{title}:\n\n{}",
+            super::inbetween_tables::accuracy_and_ground(rows)
+        );
+    }
+    let _ = writeln!(
+        d.md,
+        "\nThe goals of issue 35 (SP at its defaults: skate ≤ {} × the capture's, no foot point more than \
+         {} cm below the floor, residual ≤ the capture's + {} % BW, natural-cut L2P ≤ {} × Hermite's, root-given \
+         L2P ÷ Hermite's no worse than today's SP's, no blow-up, every solve converged, bones kept, ≤ {} × \
+         today's SP's time) and of issue 36 (leave-one-out library rows, where they ran: `cargo bench --bench \
+         inbetween` with `MX_INBETWEEN_LIBRARY=1`), measured on these windows: PASS, or MISS by how much \
+         above the bound.\n",
+        super::goals::SKATE_RATIO,
+        super::goals::DEPTH_CM,
+        super::goals::RESIDUAL_EXCESS,
+        super::goals::NATURAL_CUT_VS_HERMITE,
+        super::goals::TIME_RATIO,
+    );
+    for (title, rows) in [("all clips", &rows), ("locomotion", &loco)] {
+        let _ = writeln!(
+            d.md,
+            "\ngoals, {title}:\n\n{}",
+            super::goals::table(&super::goals::goals(rows))
+        );
     }
 }
+

@@ -16,6 +16,7 @@ pub mod hard_cases;
 pub mod hard_mechanisms;
 pub mod ik;
 pub mod inbetween;
+pub mod inbetween_tables;
 pub mod integrators;
 pub mod leave_one_out;
 pub mod machine;
