@@ -1,30 +1,53 @@
-//! The clip library at scale (`mx::library`): libraries of 10², 10³ (and,
-//! with `MX_LIBRARY_SIZES=100,1000,10000`, 10⁴) clips made in memory from
-//! the shared clips (`data/mocap` and `data/inbetween`) by time-warping,
-//! mirroring and renaming, so it runs anywhere the shared data is. Per size:
-//! index build time and memory, query time per gap (tree and brute force),
-//! and SP time per gap with the library against `example: "self"`.
+//! The clip library at scale (`mx::library`): libraries of 10², 10³ and 10⁴
+//! clips made from the shared clips (`data/mocap` and `data/inbetween`) by
+//! time warps and mirrors, written as `.bvh` files under
+//! `target/library-bench/` (made once, never committed), so it runs
+//! anywhere the shared data is. Each size is built from its files as `mx
+//! library build` does (read, indexed and let go file by file), saved as an
+//! `.mxlib`, and loaded. Per size, each phase in a child process of its own
+//! so its peak resident memory is its own:
+//! - build: time and peak memory (the goal: ≤ 2 min and ≤ 2 GB at 10⁴);
+//! - use: the `.mxlib`'s load time (the tree built at the first query),
+//!   query time per gap (tree; brute force on a few; goal ≤ 5 ms), peak
+//!   memory, and SP's time per gap following the library against the same
+//!   windows following the library of the base clips, run alternately in
+//!   the same process (the goal: a ratio ≤ 1.5).
 //!
 //! Run: `cargo bench --bench library`. Environment:
-//! - `MX_LIBRARY_SIZES=100,1000`: the library sizes (clips);
-//! - `MX_LIBRARY_SP=N`: SP windows timed per size (default 4; 0: none).
+//! - `MX_LIBRARY_SIZES=100,1000,10000` (default): the library sizes (clips);
+//! - `MX_LIBRARY_SP=N`: SP windows timed per size (default 4; 0: none);
+//! - `MX_LIBRARY_DIR=PATH`: where the clips and libraries go.
 
 mod common;
 use common::shared;
 
-use mx::library::{self, ClipInput, Library, Settings};
-use mx::mocap::bvh::{BvhFile, Channel};
+use mx::library::{self, ClipInput, Library, Settings, file};
+use mx::mocap::bvh::{self, BvhFile, Channel};
 use mx::report::inbetween::{Case, RootMode};
 use mx::spacetime::reference::LibrarySource;
 use mx::spacetime::{Prior, SpOptions, sp};
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// `file` played `w` times as fast (linear between frames; angles were
-/// unwrapped by the reader's caller, so linear is safe between close frames).
+/// `file` played `w` times as fast (linear between frames, its rotation
+/// channels unwrapped first so no interpolation crosses a ±180° wrap).
 fn warped(file: &BvhFile, w: f64) -> BvhFile {
     let nch = file.skeleton.channel_count();
     let n = file.frame_count();
+    let mut src = file.values.clone();
+    let kinds: Vec<Channel> = file
+        .skeleton
+        .joints
+        .iter()
+        .flat_map(|j| j.channels.iter().copied())
+        .collect();
+    for (c, kind) in kinds.iter().enumerate() {
+        if kind.is_rotation() {
+            bvh::unwrap_degrees_in(src.iter_mut().skip(c).step_by(nch));
+        }
+    }
     let m = (((n - 1) as f64) / w).floor() as usize + 1;
     let mut values = Vec::with_capacity(m * nch);
     for k in 0..m {
@@ -32,7 +55,7 @@ fn warped(file: &BvhFile, w: f64) -> BvhFile {
         let (i, f) = (x.floor() as usize, x.fract());
         let j = (i + 1).min(n - 1);
         for c in 0..nch {
-            let (a, b) = (file.values[i * nch + c], file.values[j * nch + c]);
+            let (a, b) = (src[i * nch + c], src[j * nch + c]);
             values.push(a + f * (b - a));
         }
     }
@@ -93,117 +116,245 @@ fn base_clips() -> Vec<ClipInput> {
     all
 }
 
-/// `n` clips: the base clips, then warped and mirrored copies, renamed.
-fn library_of(base: &[ClipInput], n: usize) -> Vec<ClipInput> {
-    const WARPS: [f64; 8] = [1.0, 0.85, 1.15, 0.92, 1.08, 0.8, 1.2, 0.96];
-    (0..n)
-        .map(|i| {
-            let b = &base[i % base.len()];
-            let round = i / base.len();
-            let w = WARPS[round % WARPS.len()];
-            let mut file = if w == 1.0 {
-                b.file.clone()
-            } else {
-                warped(&b.file, w)
-            };
-            if (round / WARPS.len()) % 2 == 1 {
-                file = mirrored(&file);
-            }
-            ClipInput {
-                name: format!("{}#{round}", b.name),
-                file,
-                metres_per_unit: b.metres_per_unit,
-                source: None,
-            }
+/// Clip `i` of the generated set: base clip `i mod B` in round `i / B`,
+/// played at a warp of its own (round 0 as captured), mirrored in odd
+/// rounds; named so that the first `n` files in name order are rounds
+/// 0, 1, … (every base clip in each).
+fn generated(base: &[ClipInput], i: usize) -> (String, BvhFile) {
+    let b = &base[i % base.len()];
+    let round = i / base.len();
+    let w = if round == 0 {
+        1.0
+    } else {
+        0.8 + 0.4 * (round as f64 * 0.618_033_988_75).fract()
+    };
+    let mut file = if w == 1.0 {
+        b.file.clone()
+    } else {
+        warped(&b.file, w)
+    };
+    if round % 2 == 1 {
+        file = mirrored(&file);
+    }
+    (format!("r{round:04}_{}", b.name), file)
+}
+
+fn bench_dir() -> PathBuf {
+    std::env::var_os("MX_LIBRARY_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("target")
+                .join("library-bench")
         })
+}
+
+/// The first `n` generated clips' files (written once; a stamp marks the
+/// count written).
+fn clip_files(base: &[ClipInput], n: usize) -> Vec<PathBuf> {
+    let dir = bench_dir().join("clips");
+    let stamp = dir.join(".written");
+    let have: usize = std::fs::read_to_string(&stamp)
+        .ok()
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or(0);
+    if have < n {
+        std::fs::create_dir_all(&dir).unwrap();
+        eprintln!("writing {} generated clips to {}", n - have, dir.display());
+        use rayon::prelude::*;
+        (have..n).into_par_iter().for_each(|i| {
+            let (name, file) = generated(base, i);
+            let text = bvh::to_string(&file).unwrap();
+            std::fs::write(dir.join(format!("{name}.bvh")), text).unwrap();
+        });
+        std::fs::write(&stamp, n.to_string()).unwrap();
+    }
+    let mut all = library::bvh_files(&dir).unwrap();
+    all.truncate(n);
+    all
+}
+
+/// This process's peak resident memory (MB), from /proc.
+fn peak_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// Runs this bench again as a child for one phase; its `key=value` line.
+fn child(phase: &str) -> std::collections::HashMap<String, String> {
+    let o = Command::new(std::env::current_exe().unwrap())
+        .env("MX_LIBRARY_CHILD", phase)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{phase}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("RESULT"))
+        .unwrap_or_else(|| panic!("{phase}: no result in {out}"));
+    line.split_whitespace()
+        .skip(1)
+        .filter_map(|kv| kv.split_once('='))
+        .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect()
+}
+
+/// Child: builds the library of the first `n` clips and saves it.
+fn build_phase(n: usize, out: &Path) {
+    let base = base_clips();
+    let files = clip_files(&base, n);
+    drop(base);
+    let t = Instant::now();
+    let lib = Library::build_files(&files, Settings::default()).unwrap();
+    let build = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    file::save(&lib, out).unwrap();
+    let save = t.elapsed().as_secs_f64();
+    println!(
+        "RESULT build_s={build:.2} save_s={save:.2} frames={} memory_mb={:.0} peak_mb={:.0}",
+        lib.frames(),
+        lib.memory_bytes() as f64 / 1e6,
+        peak_mb()
+    );
+}
+
+/// Child: loads `lib` (and the base library), times queries and SP.
+fn use_phase(lib_path: &Path, base_path: &Path, sp_windows: usize) {
+    let t = Instant::now();
+    let lib = Arc::new(file::load(lib_path, None).unwrap());
+    let load = t.elapsed().as_secs_f64();
+    let base_lib = Arc::new(file::load(base_path, None).unwrap());
+    let cases = Case::load_dir(&shared().join("data").join("inbetween")).unwrap();
+    // one 30-frame gap with 10 frames of context in the middle of each in-betweening clip
+    let mut queries = vec![];
+    for case in &cases {
+        let w = case.windows(&Default::default(), 30);
+        let Some(&start) = w.get(w.len() / 2) else {
+            continue;
+        };
+        let t0 = (start + 10) as f64 * case.frame_time;
+        let t1 = t0 + 30.0 * case.frame_time;
+        if let Ok(q) = lib.query(&case.capture, &case.skeleton, case.metres_per_unit, t0, t1) {
+            queries.push(q);
+        }
+    }
+    let t = Instant::now();
+    std::hint::black_box(lib.match_gap(&queries[0], 5));
+    let first = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    for q in &queries {
+        std::hint::black_box(lib.match_gap(q, 5));
+    }
+    let tree_ms = t.elapsed().as_secs_f64() * 1e3 / queries.len() as f64;
+    let brute_n = queries.len().min(3);
+    let t = Instant::now();
+    for q in &queries[..brute_n] {
+        std::hint::black_box(lib.match_brute(q, 5));
+    }
+    let brute_ms = t.elapsed().as_secs_f64() * 1e3 / brute_n as f64;
+    // SP on the same windows, following the base library and this one in turn
+    let (mut t_base, mut t_lib) = (0.0, 0.0);
+    let opts = |l: &Arc<Library>, case: &Case| SpOptions {
+        library: Some(LibrarySource {
+            library: l.clone(),
+            skeleton: case.skeleton.clone(),
+            metres_per_unit: case.metres_per_unit,
+        }),
+        prior: Prior {
+            example: false,
+            ..Prior::default()
+        },
+        ..Default::default()
+    };
+    for case in cases.iter().take(sp_windows) {
+        let w = case.windows(&Default::default(), 30);
+        let start = w[w.len() / 2];
+        let m = case.cut(start, 10, 30, RootMode::Given).unwrap();
+        let t = Instant::now();
+        sp(&m, &case.body, &opts(&base_lib, case)).unwrap();
+        t_base += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        sp(&m, &case.body, &opts(&lib, case)).unwrap();
+        t_lib += t.elapsed().as_secs_f64();
+    }
+    let per = sp_windows.max(1) as f64;
+    println!(
+        "RESULT load_s={load:.2} tree_s={first:.2} query_ms={tree_ms:.2} brute_ms={brute_ms:.1} sp_base_s={:.3} sp_lib_s={:.3} peak_mb={:.0}",
+        t_base / per,
+        t_lib / per,
+        peak_mb()
+    );
 }
 
 fn main() {
     let sizes: Vec<usize> = std::env::var("MX_LIBRARY_SIZES")
         .ok()
         .map(|s| s.split(',').filter_map(|x| x.trim().parse().ok()).collect())
-        .unwrap_or(vec![100, 1000]);
+        .unwrap_or(vec![100, 1000, 10000]);
     let sp_windows: usize = std::env::var("MX_LIBRARY_SP")
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(4);
+    let dir = bench_dir();
+    let lib_path = |n: usize| dir.join(format!("lib-{n}.mxlib"));
+    if let Ok(phase) = std::env::var("MX_LIBRARY_CHILD") {
+        let (what, n) = phase.split_once(':').unwrap();
+        let n: usize = n.parse().unwrap();
+        match what {
+            "build" => build_phase(n, &lib_path(n)),
+            _ => use_phase(&lib_path(n), &dir.join("lib-base.mxlib"), sp_windows),
+        }
+        return;
+    }
     let base = base_clips();
-    let inbetween = shared().join("data").join("inbetween");
-    let cases = Case::load_dir(&inbetween).unwrap_or_else(|e| panic!("{e}"));
+    let nb = base.len();
+    std::fs::create_dir_all(&dir).unwrap();
+    clip_files(&base, sizes.iter().copied().max().unwrap_or(0).max(nb));
+    drop(base);
+    // the base library: the shared clips themselves (round 0)
+    let b = child(&format!("build:{nb}"));
+    std::fs::rename(lib_path(nb), dir.join("lib-base.mxlib")).unwrap();
     println!(
-        "{} base clips; gaps of 30 frames with 10 frames of context in {} in-betweening clips",
-        base.len(),
-        cases.len()
+        "base library: {nb} clips (the shared ones), built in {} s; SP windows: {sp_windows} (30-frame gaps, root given)",
+        b["build_s"]
     );
     println!(
-        "| clips | frames | build s | memory MB | query ms (tree) | query ms (brute) | SP s/gap self | SP s/gap library |"
+        "| clips | frames | build s | save s | build peak MB | index MB | .mxlib MB | load s | tree s | query ms (tree) | query ms (brute) | use peak MB | SP s/gap base | SP s/gap this | ratio |"
     );
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for &n in &sizes {
-        let clips = library_of(&base, n);
-        let t = Instant::now();
-        let lib = Arc::new(Library::build(clips, vec![], Settings::default()).unwrap());
-        let build = t.elapsed().as_secs_f64();
-        // one gap per in-betweening clip, from its own motion
-        let mut queries = vec![];
-        for case in &cases {
-            let b = base.iter().find(|b| b.name == case.name).unwrap();
-            // a middle window: at frame 0 the context starts 3e-7 s before the clip
-            let w = case.windows(&Default::default(), 30);
-            let Some(&start) = w.get(w.len() / 2) else {
-                continue;
-            };
-            let t0 = (start + 10) as f64 * case.frame_time;
-            let t1 = t0 + 30.0 * case.frame_time;
-            if let Ok(q) = lib.query(&case.capture, &b.file.skeleton, b.metres_per_unit, t0, t1) {
-                queries.push(q);
-            }
-        }
-        let t = Instant::now();
-        for q in &queries {
-            std::hint::black_box(lib.match_gap(q, 5));
-        }
-        let tree_ms = t.elapsed().as_secs_f64() * 1e3 / queries.len() as f64;
-        let brute_n = queries.len().min(10);
-        let t = Instant::now();
-        for q in &queries[..brute_n] {
-            std::hint::black_box(lib.match_brute(q, 5));
-        }
-        let brute_ms = t.elapsed().as_secs_f64() * 1e3 / brute_n as f64;
-        // SP on the first windows, self example against the library
-        let (mut t_self, mut t_lib) = (0.0, 0.0);
-        for case in cases.iter().take(sp_windows) {
-            let b = base.iter().find(|b| b.name == case.name).unwrap();
-            let w = case.windows(&Default::default(), 30);
-            let start = w[w.len() / 2];
-            let m = case.cut(start, 10, 30, RootMode::Given).unwrap();
-            let t = Instant::now();
-            sp(&m, &case.body, &SpOptions::default()).unwrap();
-            t_self += t.elapsed().as_secs_f64();
-            let opts = SpOptions {
-                library: Some(LibrarySource {
-                    library: lib.clone(),
-                    skeleton: Arc::new(b.file.skeleton.clone()),
-                    metres_per_unit: b.metres_per_unit,
-                }),
-                prior: Prior {
-                    example: false,
-                    ..Prior::default()
-                },
-                ..Default::default()
-            };
-            let t = Instant::now();
-            sp(&m, &case.body, &opts).unwrap();
-            t_lib += t.elapsed().as_secs_f64();
-        }
-        let per = sp_windows.max(1) as f64;
+        let b = child(&format!("build:{n}"));
+        let u = child(&format!("use:{n}"));
+        let size = std::fs::metadata(lib_path(n)).map_or(0, |m| m.len());
+        let f = |m: &std::collections::HashMap<String, String>, k: &str| -> f64 {
+            m[k].parse().unwrap_or(f64::NAN)
+        };
         println!(
-            "| {n} | {} | {build:.2} | {:.0} | {tree_ms:.2} | {brute_ms:.1} | {:.3} | {:.3} |",
-            lib.frames(),
-            lib.memory_bytes() as f64 / 1e6,
-            t_self / per,
-            t_lib / per
+            "| {n} | {} | {} | {} | {} | {} | {:.0} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+            b["frames"],
+            b["build_s"],
+            b["save_s"],
+            b["peak_mb"],
+            b["memory_mb"],
+            size as f64 / 1e6,
+            u["load_s"],
+            u["tree_s"],
+            u["query_ms"],
+            u["brute_ms"],
+            u["peak_mb"],
+            u["sp_base_s"],
+            u["sp_lib_s"],
+            f(&u, "sp_lib_s") / f(&u, "sp_base_s")
         );
     }
 }

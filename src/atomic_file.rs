@@ -16,6 +16,13 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 /// (so the final rename stays on one file system), flushed to disk, then
 /// renamed over `path`. The temporary file is removed on any failure.
 pub fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_with(path, |f| f.write_all(bytes))
+}
+
+/// [`write`] for a file written piece by piece (`fill` writes it, and may
+/// fail): the temporary file is renamed over `path` only when `fill`
+/// succeeds, so a large file streams through without being held in memory.
+pub fn write_with(path: &Path, fill: impl FnOnce(&mut File) -> io::Result<()>) -> io::Result<()> {
     let file_name = path.file_name().ok_or_else(|| {
         io::Error::new(
             io::ErrorKind::InvalidInput,
@@ -34,7 +41,7 @@ pub fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
     ));
     let result = (|| -> io::Result<()> {
         let mut f: File = OpenOptions::new().write(true).create_new(true).open(&tmp)?;
-        f.write_all(bytes)?;
+        fill(&mut f)?;
         f.sync_all()?;
         drop(f);
         fs::rename(&tmp, path)

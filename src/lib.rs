@@ -25,6 +25,7 @@ pub mod motion;
 /// `mx report` (behind the `report` feature, on by default).
 #[cfg(feature = "report")]
 pub mod report;
+pub mod shard;
 pub mod spacetime;
 pub mod spline;
 

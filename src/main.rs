@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod graph_cli;
+mod library_cli;
 mod repl;
 
 #[derive(Parser)]
@@ -61,14 +62,37 @@ enum Command {
     /// Transition libraries (motion graphs): build, merge, info, walk.
     #[command(subcommand)]
     Graph(Box<graph_cli::GraphCommand>),
+    /// Clip libraries (.mxlib) from the command line: build (in shards), merge, info.
+    #[command(subcommand)]
+    Library(Box<library_cli::LibraryCommand>),
 }
 
+/// Let a closed stdout end mx as it ends other Unix tools: killed by SIGPIPE
+/// (status 141 in a shell), silently. Rust ignores SIGPIPE, which turns every
+/// write to a closed pipe into an error, and `print!` panics on that error
+/// with a backtrace (`mx eval … | head -c 20`); the REPL, `print`, `mx help`
+/// and `mx report` all write to stdout, so one setting covers them all.
+#[cfg(unix)]
+fn quiet_on_closed_stdout() {
+    // SAFETY: called first thing in `main`, before any thread is started;
+    // `signal` with `SIG_DFL` installs no handler of ours, so no code runs
+    // in signal context.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+#[cfg(not(unix))]
+fn quiet_on_closed_stdout() {}
+
 fn main() -> ExitCode {
+    quiet_on_closed_stdout();
     let cli = Cli::parse();
     let command = cli.command.unwrap_or(Command::Repl);
-    // the graph commands need no interpreter
+    // the graph and library commands need no interpreter
     let command = match command {
         Command::Graph(g) => return graph_cli::run(*g),
+        Command::Library(l) => return library_cli::run(*l),
         c => c,
     };
     let mut mx = mx::Interpreter::new();
@@ -92,7 +116,7 @@ fn main() -> ExitCode {
                     return ExitCode::from(1);
                 }
             };
-            let errors = mx.check_all_named(&file.display().to_string(), &text);
+            let errors = mx.check_script(&file, &text);
             if errors.len() > 1 {
                 eprintln!("{} errors in {}:", errors.len(), file.display());
             }
@@ -128,6 +152,7 @@ fn main() -> ExitCode {
         }
         // answered above, before the interpreter is made
         Command::Graph(g) => graph_cli::run(*g),
+        Command::Library(l) => library_cli::run(*l),
         #[cfg(feature = "report")]
         Command::Report { smoke, out } => {
             match mx::report::generate(&mx::report::Options::new(out, smoke)) {

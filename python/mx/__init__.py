@@ -93,8 +93,9 @@ def load(path, **options: Any) -> Any:
     return _mx.load(path, **options)
 
 
-def body_of(motion: Motion, mass: float = 70.0) -> Body:
-    """A body whose coordinates are exactly the clip's DOFs."""
+def body_of(motion: Motion, mass: Optional[float] = None) -> Body:
+    """A body whose coordinates are exactly the clip's DOFs (70 kg by default,
+    or the saved body of a glTF file mx wrote)."""
     return _mx.body_of(motion, mass)
 
 

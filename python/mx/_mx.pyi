@@ -134,7 +134,7 @@ class Object:
 def load(path: _Path, **options: Any) -> Any:
     """A motion, body or value from a file, by extension."""
 
-def body_of(motion: Motion, mass: float = 70.0) -> Body:
+def body_of(motion: Motion, mass: Optional[float] = None) -> Body:
     """A body whose coordinates are the clip's DOFs."""
 
 def human(motion: Motion, mass: float = 70.0) -> Body:

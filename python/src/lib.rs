@@ -51,20 +51,25 @@ fn body_from_clip(
     py: Python<'_>,
     name: &str,
     motion: &Bound<'_, PyMotion>,
-    mass: f64,
+    mass: Option<f64>,
 ) -> PyResult<Py<PyAny>> {
     let pos = vec![motion.get().value.clone()];
+    // no `mass`: the built-in's default (70 kg, or the total a glTF file states)
+    let named = mass
+        .map(|m| vec![("mass".into(), m.into())])
+        .unwrap_or_default();
     let v = Builtins::get()
-        .call(name, pos, vec![("mass".into(), mass.into())])
+        .call(name, pos, named)
         .map_err(|e| raise_diag(py, &e))?;
     to_py(py, &v)
 }
 
-/// `body_of(motion, mass=70)`: a body whose coordinates are exactly a clip's
-/// DOFs, with de Leva segments scaled by its bone lengths.
+/// `body_of(motion, mass=None)`: a body whose coordinates are exactly a clip's
+/// DOFs, with de Leva segments scaled by its bone lengths (70 kg by default),
+/// or the body a glTF file mx wrote carries.
 #[pyfunction]
-#[pyo3(signature = (motion, mass = 70.0))]
-fn body_of(py: Python<'_>, motion: &Bound<'_, PyMotion>, mass: f64) -> PyResult<Py<PyAny>> {
+#[pyo3(signature = (motion, mass = None))]
+fn body_of(py: Python<'_>, motion: &Bound<'_, PyMotion>, mass: Option<f64>) -> PyResult<Py<PyAny>> {
     body_from_clip(py, "body_of", motion, mass)
 }
 
@@ -72,7 +77,7 @@ fn body_of(py: Python<'_>, motion: &Bound<'_, PyMotion>, mass: f64) -> PyResult<
 #[pyfunction]
 #[pyo3(signature = (motion, mass = 70.0))]
 fn human(py: Python<'_>, motion: &Bound<'_, PyMotion>, mass: f64) -> PyResult<Py<PyAny>> {
-    body_from_clip(py, "human", motion, mass)
+    body_from_clip(py, "human", motion, Some(mass))
 }
 
 /// `_sp(motion, body, options, on_tick)`: SP with the options of mx's `SP`,

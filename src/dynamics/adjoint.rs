@@ -16,7 +16,8 @@
 
 use crate::dynamics::DynamicsError;
 use crate::dynamics::derivatives::sdot_v_gradient;
-use crate::dynamics::rnea::{check_inputs, check_out, rnea_core};
+use crate::dynamics::external::{PointForce, add_turning_gradient, check_points};
+use crate::dynamics::rnea::{check_inputs, check_out, rnea_points};
 use crate::dynamics::state::{JointState, StateGradient};
 use crate::dynamics::workspace::Workspace;
 use crate::lie::{Twist, ad, ad_dual};
@@ -34,6 +35,21 @@ pub fn torque_sq_gradient(
     weights: &[f64],
     grad: StateGradient,
 ) -> Result<f64, DynamicsError> {
+    torque_sq_gradient_at_points(model, ws, x, gravity, weights, &[], grad)
+}
+
+/// [`torque_sq_gradient`] with world forces at link points
+/// (`τ = ID − Σ_c J_cᵀ [m_c; f_c]`, see [`PointForce`]): the gradient is exact
+/// with the forces held fixed in the world (their points move with q).
+pub fn torque_sq_gradient_at_points(
+    model: &Model,
+    ws: &mut Workspace,
+    x: &JointState,
+    gravity: &Vector3<f64>,
+    weights: &[f64],
+    forces: &[PointForce],
+    grad: StateGradient,
+) -> Result<f64, DynamicsError> {
     let (q, v, a) = (x.q, x.v, x.a);
     let StateGradient {
         q: gq,
@@ -49,8 +65,9 @@ pub fn torque_sq_gradient(
     check_out(model, "gq", gq)?;
     check_out(model, "gv", gv)?;
     check_out(model, "ga", ga)?;
+    check_points(model, forces)?;
     let mut tau = std::mem::take(&mut ws.tau);
-    rnea_core(model, ws, x, gravity, None, &mut tau);
+    rnea_points(model, ws, x, gravity, forces, &mut tau);
     let mut cost = 0.0;
     for i in 0..tau.len() {
         cost += weights[i] * tau[i] * tau[i];
@@ -125,5 +142,8 @@ pub fn torque_sq_gradient(
         }
     }
     ws.tau = tau;
+    if !forces.is_empty() {
+        add_turning_gradient(model, ws, forces, gq);
+    }
     Ok(cost)
 }

@@ -22,6 +22,7 @@ mod crba_local;
 mod derivatives;
 mod driven;
 mod energy;
+mod external;
 mod integrate;
 mod rnea;
 mod scene;
@@ -30,14 +31,19 @@ mod variation;
 mod workspace;
 
 pub use aba::{forward_dynamics, forward_dynamics_ext};
-pub use adjoint::torque_sq_gradient;
+pub use adjoint::{torque_sq_gradient, torque_sq_gradient_at_points};
 pub use coupled::{coupled_forward_dynamics, coupled_inverse_dynamics, coupled_mass_matrix};
-pub use crba::mass_matrix;
+pub use crba::{mass_matrix, mass_matrix_in};
+pub use crba_frame::{CrbaFrame, crba_frame_for};
 pub use derivatives::rnea_derivatives;
 pub use driven::{Driven, driven_accelerations};
 pub use energy::{kinetic_energy, potential_energy};
+pub use external::PointForce;
 pub use integrate::{Integrator, State, Trajectory, simulate};
-pub use rnea::{inverse_dynamics, inverse_dynamics_ext, nonlinear_effects, root_wrench};
+pub use rnea::{
+    inverse_dynamics, inverse_dynamics_at_points, inverse_dynamics_ext, nonlinear_effects,
+    root_wrench,
+};
 pub use scene::{ExternalForce, LimitPenalty, Scene, SceneWorkspace, Spring};
 pub use state::{Forces, JointState, StateGradient};
 pub use workspace::Workspace;

@@ -10,6 +10,7 @@
 //! with `X_i = offset_i · G_i(q_i)` and the base accelerating at `−g`.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::external::{PointForce, check_points, point_wrenches};
 use crate::dynamics::state::JointState;
 use crate::dynamics::workspace::{Workspace, base_acceleration, s_mul, velocity_pass};
 use crate::lie::{Wrench, ad_dual};
@@ -55,8 +56,41 @@ pub(crate) fn rnea_core(
     fext: Option<&[Wrench]>,
     tau: &mut [f64],
 ) {
-    let a = x.a;
     velocity_pass(model, ws, x.q, x.v, true);
+    rnea_sweeps(model, ws, x.a, gravity, fext, tau);
+}
+
+/// The RNEA with world forces at link points (checked): their link-frame
+/// wrenches (`ws.pf`) from the poses of the velocity pass, then the sweeps.
+/// Leaves the links' world poses in `ws.world` (unless there are no forces:
+/// then it is [`rnea_core`], the same operations).
+pub(crate) fn rnea_points(
+    model: &Model,
+    ws: &mut Workspace,
+    x: &JointState,
+    gravity: &Vector3<f64>,
+    forces: &[PointForce],
+    tau: &mut [f64],
+) {
+    if forces.is_empty() {
+        return rnea_core(model, ws, x, gravity, None, tau);
+    }
+    velocity_pass(model, ws, x.q, x.v, true);
+    point_wrenches(model, ws, forces);
+    let pf = std::mem::take(&mut ws.pf);
+    rnea_sweeps(model, ws, x.a, gravity, Some(&pf), tau);
+    ws.pf = pf;
+}
+
+/// The RNEA's acceleration and force sweeps, after a velocity pass.
+fn rnea_sweeps(
+    model: &Model,
+    ws: &mut Workspace,
+    a: &[f64],
+    gravity: &Vector3<f64>,
+    fext: Option<&[Wrench]>,
+    tau: &mut [f64],
+) {
     let a0 = base_acceleration(gravity);
     for (i, l) in model.links().iter().enumerate() {
         let wa = match l.parent {
@@ -117,11 +151,39 @@ pub fn inverse_dynamics_ext(
     fext: &[Wrench],
     tau: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
-    check_out(model, "tau", tau)?;
+    check_state(model, ws, x, gravity, tau)?;
     check_fext(model, fext)?;
     rnea_core(model, ws, x, gravity, Some(fext), tau);
     Ok(())
+}
+
+/// Inverse dynamics with world forces at link points:
+/// `τ = ID(q, q̇, q̈) − Σ_c J_cᵀ [m_c; f_c]`, the joint forces that, with the
+/// given forces, produce the motion (see [`PointForce`]).
+pub fn inverse_dynamics_at_points(
+    model: &Model,
+    ws: &mut Workspace,
+    x: &JointState,
+    gravity: &Vector3<f64>,
+    forces: &[PointForce],
+    tau: &mut [f64],
+) -> Result<(), DynamicsError> {
+    check_state(model, ws, x, gravity, tau)?;
+    check_points(model, forces)?;
+    rnea_points(model, ws, x, gravity, forces, tau);
+    Ok(())
+}
+
+/// The state, gravity and output of an inverse dynamics call.
+fn check_state(
+    model: &Model,
+    ws: &Workspace,
+    x: &JointState,
+    gravity: &Vector3<f64>,
+    tau: &[f64],
+) -> Result<(), DynamicsError> {
+    check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
+    check_out(model, "tau", tau)
 }
 
 pub(crate) fn check_fext(model: &Model, fext: &[Wrench]) -> Result<(), DynamicsError> {

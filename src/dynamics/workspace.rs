@@ -59,8 +59,12 @@ pub struct Workspace {
     pub(crate) dadv: Vec<Twist>,
     pub(crate) tau: Vec<f64>,
     pub(crate) scratch: JointKinematics,
-    /// World poses (energies).
+    /// World poses (energies, point forces).
     pub(crate) world: Vec<Se3>,
+    /// Point forces (`external.rs`): their wrenches per link (link frame)
+    /// and, in the adjoint, the sums U_i of their turning terms.
+    pub(crate) pf: Vec<Wrench>,
+    pub(crate) pu: Vec<Vector3<f64>>,
     /// The mass matrix is computed in link frames rather than the world frame
     /// (decided once per model: `crba_frame::prefers_link_frames`).
     pub(crate) crba_in_link_frames: bool,
@@ -103,6 +107,8 @@ impl Workspace {
             tau: vec![0.0; model.nq()],
             scratch: JointKinematics::default(),
             world: vec![Se3::identity(); n],
+            pf: vec![Wrench::zeros(); n],
+            pu: vec![Vector3::zeros(); n],
             crba_in_link_frames: crate::dynamics::crba_frame::prefers_link_frames(model),
         }
     }

@@ -5,6 +5,7 @@
 use crate::mocap::MocapError;
 use crate::mocap::bvh::BvhError;
 use crate::motion::MotionError;
+use crate::shard::ShardError;
 use crate::spacetime::SpError;
 
 /// An error of a library build, merge or walk.
@@ -19,14 +20,10 @@ pub enum GraphError {
         option: &'static str,
         message: String,
     },
-    /// `--shard i/n` that is not a shard.
-    #[error(
-        "bad shard `{given}`: {why}; write i/n with 0 <= i < n, e.g. --shard 0/3 for the first of three"
-    )]
-    BadShard { given: String, why: String },
-    /// Slurm's array variables that do not name a shard.
-    #[error("{0}")]
-    Slurm(String),
+    /// `--shard i/n` that is not a shard, or Slurm's array variables that
+    /// do not name one.
+    #[error(transparent)]
+    Shard(#[from] ShardError),
     /// The library's root joint cannot be moved on the floor.
     #[error(transparent)]
     Root(#[from] RootError),
@@ -41,7 +38,7 @@ impl GraphError {
     pub fn option(&self) -> Option<&'static str> {
         match self {
             GraphError::InvalidOption { option, .. } => Some(option),
-            GraphError::BadShard { .. } | GraphError::Slurm(_) => Some("shard"),
+            GraphError::Shard(_) => Some("shard"),
             _ => None,
         }
     }

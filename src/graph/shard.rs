@@ -1,91 +1,8 @@
 //! Which pairs a shard does: pair p of the sorted list of ordered pairs
-//! belongs to shard p mod n, so shares are fixed by the clip names alone and
-//! balanced to within one pair. The share is `--shard i/n`, else Slurm's
-//! job-array variables, else the whole list.
+//! belongs to shard p mod n ([`crate::shard::Shard`]), so shares are fixed by
+//! the clip names alone and balanced to within one pair.
 
-use std::fmt;
-
-use super::GraphError;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    pub index: usize,
-    pub count: usize,
-}
-
-impl fmt::Display for Shard {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}/{}", self.index, self.count)
-    }
-}
-
-impl Shard {
-    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
-
-    /// `i/n` with 0 <= i < n.
-    pub fn parse(s: &str) -> Result<Shard, GraphError> {
-        let bad = |why: &str| GraphError::BadShard {
-            given: s.to_string(),
-            why: why.to_string(),
-        };
-        let (i, n) = s.split_once('/').ok_or_else(|| bad("no `/`"))?;
-        let i: usize = i
-            .trim()
-            .parse()
-            .map_err(|_| bad("i is not a whole number"))?;
-        let n: usize = n
-            .trim()
-            .parse()
-            .map_err(|_| bad("n is not a whole number"))?;
-        if n == 0 {
-            return Err(bad("n must be at least 1"));
-        }
-        if i >= n {
-            return Err(bad(&format!(
-                "shard {i} does not exist among {n} (they count from 0)"
-            )));
-        }
-        Ok(Shard { index: i, count: n })
-    }
-
-    /// The share from `--shard`, else `SLURM_ARRAY_TASK_ID` of
-    /// `SLURM_ARRAY_TASK_COUNT` (an array `--array=0-(n-1)`), else everything.
-    pub fn from_flag_or_env(
-        flag: Option<&str>,
-        env: impl Fn(&str) -> Option<String>,
-    ) -> Result<Shard, GraphError> {
-        if let Some(f) = flag {
-            return Shard::parse(f);
-        }
-        match (env("SLURM_ARRAY_TASK_ID"), env("SLURM_ARRAY_TASK_COUNT")) {
-            (Some(i), Some(n)) => {
-                // Slurm counts tasks from the array's first index: --array=0-2 gives 0, 1, 2
-                let min = env("SLURM_ARRAY_TASK_MIN")
-                    .and_then(|m| m.trim().parse::<usize>().ok())
-                    .unwrap_or(0);
-                let i: usize = i.trim().parse().map_err(|_| {
-                    GraphError::Slurm(format!("SLURM_ARRAY_TASK_ID=`{i}` is not a whole number"))
-                })?;
-                Shard::parse(&format!("{}/{}", i.saturating_sub(min), n.trim())).map_err(|e| {
-                    GraphError::Slurm(format!("from SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT: {e} (submit with --array=0-(n-1))"))
-                })
-            }
-            (Some(_), None) => Err(GraphError::Slurm(
-                "SLURM_ARRAY_TASK_ID is set but SLURM_ARRAY_TASK_COUNT is not".into(),
-            )),
-            _ => Ok(Shard::WHOLE),
-        }
-    }
-
-    pub fn owns(&self, pair: usize) -> bool {
-        pair % self.count == self.index
-    }
-
-    /// The shard's folder name under `shards/`.
-    pub fn dir_name(&self) -> String {
-        format!("{}-of-{}", self.index, self.count)
-    }
-}
+pub use crate::shard::Shard;
 
 /// Every ordered pair (a, b), a ≠ b, of `n` clips in sorted order.
 pub fn pairs(n: usize) -> Vec<(usize, usize)> {
@@ -115,29 +32,9 @@ mod tests {
     }
 
     #[test]
-    fn shard_specs_are_checked() {
-        assert_eq!(Shard::parse("2/3").unwrap(), Shard { index: 2, count: 3 });
-        for bad in ["4/3", "3/3", "1/0", "x/3", "3", "-1/3"] {
-            let e = Shard::parse(bad).unwrap_err();
-            assert!(e.to_string().contains("bad shard"), "{bad}: {e}");
-            assert_eq!(e.option(), Some("shard"));
-        }
-        let env = |k: &str| match k {
-            "SLURM_ARRAY_TASK_ID" => Some("2".to_string()),
-            "SLURM_ARRAY_TASK_COUNT" => Some("3".to_string()),
-            _ => None,
-        };
-        assert_eq!(
-            Shard::from_flag_or_env(None, env).unwrap(),
-            Shard { index: 2, count: 3 }
-        );
-        assert_eq!(
-            Shard::from_flag_or_env(Some("0/1"), env).unwrap(),
-            Shard::WHOLE
-        );
-        assert_eq!(
-            Shard::from_flag_or_env(None, |_| None).unwrap(),
-            Shard::WHOLE
-        );
+    fn a_bad_shard_names_the_flag() {
+        let e: crate::graph::GraphError = Shard::parse("4/3").unwrap_err().into();
+        assert!(e.to_string().contains("bad shard"), "{e}");
+        assert_eq!(e.option(), Some("shard"));
     }
 }

@@ -11,6 +11,7 @@ use indexmap::IndexMap;
 
 use super::ast::Span;
 use super::diagnostics::{ErrorKind, MxError, MxResult};
+use super::signature::Signature;
 use super::value::{HostObject, Value};
 
 /// One argument as the caller wrote it.
@@ -25,7 +26,7 @@ pub struct ArgValue {
 
 /// The arguments of one call, taken by the built-in in order.
 pub struct Args {
-    signature: Arc<str>,
+    signature: Arc<Signature>,
     call_span: Span,
     positional: Vec<ArgValue>,
     named: Vec<(String, Span, ArgValue, bool)>,
@@ -33,6 +34,9 @@ pub struct Args {
     /// Positional arguments taken so far, by the parameter name they were
     /// taken as: an engine error naming a parameter points at its argument.
     taken: Vec<(String, Span)>,
+    /// Parameters the built-in asked for that its signature does not list:
+    /// a defect of the built-in, reported by [`Args::finish`].
+    undeclared: Vec<String>,
 }
 
 /// A typed handle to a host object argument (derefs to `T`).
@@ -59,13 +63,13 @@ impl<T: HostObject> std::ops::Deref for ObjRef<T> {
 
 impl Args {
     pub fn new(
-        signature: impl Into<Arc<str>>,
+        signature: Arc<Signature>,
         call_span: Span,
         positional: Vec<ArgValue>,
         named: Vec<(String, Span, ArgValue)>,
     ) -> Self {
         Args {
-            signature: signature.into(),
+            signature,
             call_span,
             positional,
             named: named
@@ -74,18 +78,26 @@ impl Args {
                 .collect(),
             cursor: 0,
             taken: vec![],
+            undeclared: vec![],
         }
     }
 
     /// The function's name (from its signature).
     pub fn name(&self) -> &str {
-        self.signature.split('(').next().unwrap_or(&self.signature)
+        self.signature.name()
     }
     pub fn call_span(&self) -> Span {
         self.call_span
     }
-    pub fn signature(&self) -> &str {
+    pub fn signature(&self) -> &Signature {
         &self.signature
+    }
+
+    /// Note a parameter the signature does not list (see [`Args::finish`]).
+    fn declare(&mut self, name: &str) {
+        if !self.signature.accepts(name) && !self.undeclared.iter().any(|n| n == name) {
+            self.undeclared.push(name.to_string());
+        }
     }
     /// Positional arguments not taken yet.
     pub fn remaining(&self) -> usize {
@@ -101,6 +113,7 @@ impl Args {
 
     /// The argument `name` if given (named, else next positional), else `None`.
     pub fn opt(&mut self, name: &str) -> Option<ArgValue> {
+        self.declare(name);
         if let Some(entry) = self
             .named
             .iter_mut()
@@ -135,6 +148,7 @@ impl Args {
 
     /// The named argument `name` only (never positional), e.g. `rate: 30`.
     pub fn opt_named(&mut self, name: &str) -> Option<ArgValue> {
+        self.declare(name);
         let entry = self
             .named
             .iter_mut()
@@ -348,6 +362,15 @@ impl Args {
     /// Error on arguments the function did not take (called by the evaluator
     /// after the built-in returns).
     pub fn finish(&self) -> MxResult<()> {
+        if let Some(n) = self.undeclared.first() {
+            return Err(MxError::host(format!(
+                "built-in `{}` reads the parameter `{n}`, which its signature `{}` does not list",
+                self.name(),
+                self.signature
+            ))
+            .at(self.call_span)
+            .help("a defect of mx: add the parameter to the signature, which `mx check`, the usage line and `:help` read"));
+        }
         if let Some(extra) = self.positional.get(self.cursor) {
             let n = self.positional.len();
             return Err(MxError::new(
@@ -364,14 +387,14 @@ impl Args {
             .help(format!("usage: {}", self.signature)));
         }
         if let Some((n, s, _, _)) = self.named.iter().find(|(_, _, _, used)| !used) {
-            let known = param_names(&self.signature);
+            let known = self.signature.params();
             let mut e = MxError::new(
                 ErrorKind::Arity,
                 format!("`{}` has no parameter named `{n}`", self.name()),
             )
             .at(*s)
             .label("unknown parameter");
-            e = match super::diagnostics::did_you_mean(n, known.iter().map(String::as_str)) {
+            e = match super::diagnostics::did_you_mean(n, known.iter().copied()) {
                 Some(s) => e.help(format!("did you mean `{s}`? usage: {}", self.signature)),
                 None => e.help(format!("usage: {}", self.signature)),
             };
@@ -379,27 +402,6 @@ impl Args {
         }
         Ok(())
     }
-}
-
-/// Parameter names mentioned in a signature `f(a, b, rate: 30)`.
-fn param_names(sig: &str) -> Vec<String> {
-    let inner = sig
-        .split_once('(')
-        .map(|(_, r)| r.trim_end_matches(')'))
-        .unwrap_or("");
-    inner
-        .split(',')
-        .map(|p| {
-            p.trim()
-                .trim_start_matches("...")
-                .split([':', '=', ' '])
-                .next()
-                .unwrap_or("")
-                .trim()
-                .to_string()
-        })
-        .filter(|p| !p.is_empty())
-        .collect()
 }
 
 /// "a number (3)", "a string", "a Mu" — for type errors.

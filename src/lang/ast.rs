@@ -205,7 +205,21 @@ pub enum ExprKind {
 pub enum Stmt {
     Let(String, Span, Expr),
     Fn(Arc<FnDef>),
+    Import(Import),
     Expr(Expr),
+}
+
+/// `import "walks.mx" as walks`: binds `name` to the record of the script's
+/// top-level names (those not starting with `_`).
+#[derive(Clone, Debug)]
+pub struct Import {
+    /// The file as written, relative to the importing script's folder.
+    pub path: Arc<str>,
+    pub path_span: Span,
+    /// `as name`, else the file's stem (`walks` for "lib/walks.mx").
+    pub name: String,
+    pub name_span: Span,
+    pub span: Span,
 }
 
 impl Stmt {
@@ -213,6 +227,7 @@ impl Stmt {
         match self {
             Stmt::Let(_, s, e) => s.to(e.span),
             Stmt::Fn(f) => f.span,
+            Stmt::Import(i) => i.span,
             Stmt::Expr(e) => e.span,
         }
     }

@@ -310,27 +310,13 @@ pub fn params_of(signature: &str) -> Vec<String> {
     };
     let inner = signature[open + 1..].trim_end();
     let inner = inner.strip_suffix(')').unwrap_or(inner);
-    let mut out = Vec::new();
-    let (mut depth, mut from) = (0i32, 0);
-    let mut push = |part: &str| {
-        let name = part.split([':', '=']).next().unwrap_or("").trim();
-        if !name.is_empty() {
-            out.push(name.to_string());
-        }
-    };
-    for (i, c) in inner.char_indices() {
-        match c {
-            '(' | '[' | '{' => depth += 1,
-            ')' | ']' | '}' => depth -= 1,
-            ',' if depth == 0 => {
-                push(&inner[from..i]);
-                from = i + 1;
-            }
-            _ => {}
-        }
-    }
-    push(&inner[from..]);
-    out
+    super::signature::split_top(inner, ',')
+        .into_iter()
+        .filter_map(|part| {
+            let name = part.split([':', '=']).next().unwrap_or("").trim();
+            (!name.is_empty()).then(|| name.to_string())
+        })
+        .collect()
 }
 
 /// The parameter positional argument `i` binds: past a trailing `...` the one
@@ -674,7 +660,8 @@ mod tests {
             .find(|(n, _)| n == "walk")
             .expect("walk is a motion");
         assert!(dofs.iter().any(|d| d == "Hips.Xposition"), "{dofs:?}");
-        assert_eq!(s.params["load"], ["path"]);
+        // a format's options are named only (`animation:`), after the path
+        assert_eq!(s.params["load"], ["path", "...options"]);
         assert_eq!(
             replacements("walk.only(\"LeftFoot.Z", &s).1,
             ["LeftFoot.Zrotation"]

@@ -14,7 +14,7 @@ use indexmap::IndexMap;
 
 use super::args::{ArgValue, Args, describe};
 use super::ast::*;
-use super::diagnostics::{ErrorKind, MxError, MxResult, did_you_mean};
+use super::diagnostics::{ErrorKind, MxError, MxResult, Source, did_you_mean};
 use super::registry::{Format, Registry};
 use super::session::Session;
 use super::value::{Builtin, Closure, Env, Value};
@@ -59,6 +59,10 @@ pub type NamedArgs = Vec<(String, Span, ArgValue)>;
 /// Where `print` writes (stdout for the CLI; a buffer in tests and embedders).
 pub type Output = Arc<Mutex<dyn Write + Send>>;
 
+/// The source texts of one interpreter, by [`SourceId`]: its inputs and the
+/// scripts they import, so an error inside an imported script shows its line.
+pub type Sources = Arc<Mutex<Vec<Source>>>;
+
 /// Resource limits of an evaluation.
 #[derive(Clone, Copy, Debug)]
 pub struct Limits {
@@ -95,6 +99,14 @@ pub struct Context {
     /// What built-ins remember for this interpreter (shared by its
     /// evaluators, never by two interpreters).
     pub session: Arc<Session>,
+    /// Every source text read so far (see [`Sources`]).
+    pub sources: Sources,
+    /// The environment an imported script starts from: the built-ins and
+    /// the prelude, none of the importer's names.
+    pub base: Env,
+    /// The scripts being run, outermost first (canonical paths): an import
+    /// of one of them is a cycle.
+    pub chain: Arc<Vec<PathBuf>>,
 }
 
 impl Context {
@@ -107,6 +119,9 @@ impl Context {
             script_dir: None,
             out: Arc::new(Mutex::new(std::io::stdout())),
             session: Arc::new(Session::new()),
+            sources: Arc::new(Mutex::new(Vec::new())),
+            base: Env::empty(),
+            chain: Arc::new(Vec::new()),
         }
     }
 }
@@ -182,10 +197,86 @@ impl Evaluator {
                     env = env.bind(name, f);
                     last = Value::Nil;
                 }
+                Stmt::Import(imp) => {
+                    let v = self.import(imp)?;
+                    env = env.bind(imp.name.clone(), v);
+                    last = Value::Nil;
+                }
                 Stmt::Expr(e) => last = self.eval(e, &env)?,
             }
         }
         Ok((last, env))
+    }
+
+    /// `import "walks.mx" as walks`: run the script, relative to this one's
+    /// folder, in an environment of its own (the built-ins and the prelude),
+    /// and return its top-level names as a record. Names starting with `_`
+    /// stay private; the script sees none of the importer's names.
+    fn import(&mut self, imp: &Import) -> MxResult<Value> {
+        let path = self.resolve_path(&imp.path, imp.path_span)?;
+        let canon = path.canonicalize().map_err(|e| {
+            MxError::new(
+                ErrorKind::Io,
+                format!("cannot import `{}`: {e}", path.display()),
+            )
+            .at(imp.path_span)
+            .label("no such script")
+            .help("an import is read from the importing script's folder (the current folder in the REPL and `mx eval`)")
+        })?;
+        if let Some(k) = self.ctx.chain.iter().position(|p| *p == canon) {
+            let names: Vec<String> = self.ctx.chain[k..]
+                .iter()
+                .chain([&canon])
+                .map(|p| script_name(p))
+                .collect();
+            return Err(MxError::new(
+                ErrorKind::Value,
+                format!("import cycle: {}", names.join(" → ")),
+            )
+            .at(imp.path_span)
+            .label("imports a script that is still running")
+            .help("move what both scripts need into a third one that imports neither"));
+        }
+        let text = std::fs::read_to_string(&canon).map_err(|e| {
+            MxError::new(
+                ErrorKind::Io,
+                format!("cannot read `{}`: {e}", path.display()),
+            )
+            .at(imp.path_span)
+            .help("an mx script is UTF-8 text")
+        })?;
+        let id = {
+            let mut sources = self.ctx.sources.lock().unwrap_or_else(|p| p.into_inner());
+            sources.push(Source {
+                name: path.display().to_string(),
+                text: Arc::from(text.as_str()),
+            });
+            (sources.len() - 1) as SourceId
+        };
+        let program = super::parser::parse_program(&text, id)?;
+        let mut ctx = self.ctx.clone();
+        ctx.script_dir = canon.parent().map(|d| Arc::new(d.to_path_buf()));
+        let mut chain = (*self.ctx.chain).clone();
+        chain.push(canon);
+        ctx.chain = Arc::new(chain);
+        // the imported script counts against the importer's step budget
+        let mut ev = Evaluator {
+            ctx,
+            steps: self.steps,
+            depth: self.depth,
+        };
+        let result = ev.exec(&program.stmts, self.ctx.base.clone());
+        self.steps = ev.steps;
+        let (_, env) = result?;
+        let mut exports = IndexMap::new();
+        for name in program.stmts.iter().filter_map(defined_name) {
+            if !name.starts_with('_')
+                && let Some(v) = env.get(name)
+            {
+                exports.insert(name.to_string(), v.clone());
+            }
+        }
+        Ok(Value::record(exports))
     }
 
     pub fn eval(&mut self, e: &Expr, env: &Env) -> MxResult<Value> {
@@ -605,6 +696,23 @@ impl Evaluator {
     }
 }
 
+/// The name a top-level statement defines (`let`, `fn`, `import`).
+pub fn defined_name(s: &Stmt) -> Option<&str> {
+    match s {
+        Stmt::Let(n, ..) => Some(n),
+        Stmt::Fn(def) => def.name.as_deref(),
+        Stmt::Import(i) => Some(&i.name),
+        Stmt::Expr(_) => None,
+    }
+}
+
+/// A script's file name for messages (`walks.mx`).
+fn script_name(p: &Path) -> String {
+    p.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| p.display().to_string())
+}
+
 fn ident_name(e: &Expr) -> Option<Arc<str>> {
     match &e.kind {
         ExprKind::Ident(n) => Some(Arc::from(n.as_str())),
@@ -626,9 +734,7 @@ fn logic_error(op: BinOp, v: &Value, span: Span) -> MxError {
 fn index(rv: &Value, iv: &Value, rspan: Span, ispan: Span) -> MxResult<Value> {
     match (rv, iv) {
         (Value::List(l), Value::Number(i)) => {
-            let n = l.len() as f64;
-            let j = if *i < 0.0 { n + i } else { *i };
-            if j.fract() != 0.0 || j < 0.0 || j >= n {
+            let Some(j) = whole_index(*i, l.len()) else {
                 return Err(MxError::value(format!(
                     "index {} is out of range for a list of {} item{}",
                     super::value::format_number(*i),
@@ -638,8 +744,25 @@ fn index(rv: &Value, iv: &Value, rspan: Span, ispan: Span) -> MxResult<Value> {
                 .at(ispan)
                 .label("out of range")
                 .help("indices are whole numbers from 0 to len - 1 (or -1 for the last)"));
+            };
+            Ok(l[j].clone())
+        }
+        (Value::Str(text), Value::Number(i)) => {
+            // by character, as `len` counts: "Hips"[0] is "H", "Hips"[-1] is "s"
+            let n = text.chars().count();
+            match whole_index(*i, n) {
+                Some(j) => Ok(Value::str(
+                    text.chars().nth(j).map(String::from).unwrap_or_default(),
+                )),
+                None => Err(MxError::value(format!(
+                    "index {} is out of range for a string of {n} character{}",
+                    super::value::format_number(*i),
+                    if n == 1 { "" } else { "s" }
+                ))
+                .at(ispan)
+                .label("out of range")
+                .help("indices are whole numbers from 0 to len(s) - 1, or from -1 (the last) back to -len(s)")),
             }
-            Ok(l[j as usize].clone())
         }
         (Value::Record(r), Value::Str(k)) => r.get(k.as_ref()).cloned().ok_or_else(|| {
             let e = MxError::value(format!(
@@ -653,6 +776,12 @@ fn index(rv: &Value, iv: &Value, rspan: Span, ispan: Span) -> MxResult<Value> {
                 None => e.help("`keys(r)` lists a record's fields"),
             }
         }),
+        (Value::Str(_), other) => Err(MxError::type_error(format!(
+            "a string index must be a number, found {}",
+            describe(other)
+        ))
+        .at(ispan)
+        .help("write `s[0]` for the first character; `s.split(\".\")` cuts a string into parts")),
         (Value::List(_), other) => Err(MxError::type_error(format!(
             "a list index must be a number, found {}",
             describe(other)
@@ -668,9 +797,17 @@ fn index(rv: &Value, iv: &Value, rspan: Span, ispan: Span) -> MxResult<Value> {
         (other, _) => Err(
             MxError::type_error(format!("cannot index {}", describe(other)))
                 .at(rspan)
-                .help("only lists `xs[i]` and records `r[\"key\"]` can be indexed"),
+                .help("only lists `xs[i]`, strings `s[i]` and records `r[\"key\"]` can be indexed"),
         ),
     }
+}
+
+/// Position `i` of `n` items as a whole number from the front (negative
+/// counts from the back: -1 is the last); `None` when out of range or not whole.
+fn whole_index(i: f64, n: usize) -> Option<usize> {
+    let n = n as f64;
+    let j = if i < 0.0 { n + i } else { i };
+    (j.fract() == 0.0 && j >= 0.0 && j < n).then_some(j as usize)
 }
 
 /// Apply an infix operator to two values (also used by built-ins).

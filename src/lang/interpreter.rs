@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use super::args::Args;
-use super::ast::{Program, SourceId, Span};
+use super::ast::{Import, Program, SourceId, Span};
 use super::diagnostics::{Diagnostic, ErrorKind, MxError, MxResult, Source};
 use super::eval::{Context, Evaluator, Limits, Output};
 use super::help::{self, Entry};
@@ -20,7 +20,7 @@ use super::host::Motion;
 use super::host::sp_report::report_of;
 use super::parser;
 use super::registry::Registry;
-use super::resolve::Resolver;
+use super::resolve::{Callee, Outside, Resolver};
 use super::session::Session;
 use super::value::{Env, Value};
 use crate::cancel::CancelToken;
@@ -29,7 +29,6 @@ use crate::cancel::CancelToken;
 pub const PRELUDE: &str = include_str!("../../stdlib/prelude.mx");
 
 pub struct Interpreter {
-    sources: Vec<Source>,
     globals: Env,
     ctx: Context,
 }
@@ -40,8 +39,8 @@ impl Clone for Interpreter {
     fn clone(&self) -> Self {
         let mut ctx = self.ctx.clone();
         ctx.session = Arc::new(Session::new());
+        ctx.sources = Arc::new(Mutex::new(self.sources().clone()));
         Interpreter {
-            sources: self.sources.clone(),
             globals: self.globals.clone(),
             ctx,
         }
@@ -63,13 +62,14 @@ impl Interpreter {
             // a build defect, reported rather than panicking.
             eprintln!("warning: the prelude failed to load:\n{}", d.render_plain());
         }
+        // what an imported script starts from: the built-ins and the prelude
+        i.ctx.base = i.globals.clone();
         i
     }
 
     /// An interpreter with the built-ins but without the prelude.
     pub fn bare() -> Self {
         Interpreter {
-            sources: Vec::new(),
             globals: Env::empty(),
             ctx: Context::new(Arc::new(Registry::standard())),
         }
@@ -152,17 +152,24 @@ impl Interpreter {
 
     // ---- evaluation ----
 
+    fn sources(&self) -> std::sync::MutexGuard<'_, Vec<Source>> {
+        self.ctx.sources.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
     fn add_source(&mut self, name: &str, text: &str) -> SourceId {
-        self.sources.push(Source {
+        let mut sources = self.sources();
+        sources.push(Source {
             name: name.to_string(),
             text: Arc::from(text),
         });
-        (self.sources.len() - 1) as SourceId
+        (sources.len() - 1) as SourceId
     }
 
-    /// Attach the source text to an error for display.
+    /// Attach the source text to an error for display (an input's, or an
+    /// imported script's).
     pub fn diagnostic(&self, e: MxError) -> Diagnostic {
-        let src = e.span.and_then(|s| self.sources.get(s.file as usize));
+        let sources = self.sources();
+        let src = e.span.and_then(|s| sources.get(s.file as usize));
         Diagnostic::new(e, src)
     }
 
@@ -189,8 +196,15 @@ impl Interpreter {
             .filter(|d| !d.as_os_str().is_empty())
             .map(|d| Arc::new(d.to_path_buf()));
         let outer = std::mem::replace(&mut self.ctx.script_dir, dir);
+        // the script itself heads the import chain: importing it again is a cycle
+        let chain = path
+            .canonicalize()
+            .map(|c| Arc::new(vec![c]))
+            .unwrap_or_default();
+        let outer_chain = std::mem::replace(&mut self.ctx.chain, chain);
         let result = self.eval_named(&path.display().to_string(), &text);
         self.ctx.script_dir = outer;
+        self.ctx.chain = outer_chain;
         result
     }
 
@@ -213,30 +227,46 @@ impl Interpreter {
         parser::parse_program(src, id).map_err(|e| self.diagnostic(e))
     }
 
-    /// Parse and resolve names without running (`mx check`).
+    /// Parse and check without running (`mx check`): names, named
+    /// arguments, imports (see [`super::resolve`]).
     pub fn check_named(&mut self, name: &str, src: &str) -> Result<(), Diagnostic> {
         let program = self.parse_named(name, src)?;
-        let globals = self.globals.clone();
-        let registry = self.ctx.registry.clone();
-        let known = move |n: &str| globals.get(n).is_some() || registry.lookup(n).is_some();
-        let mut r = Resolver::new(&known, self.names());
-        r.program(&program).map_err(|e| self.diagnostic(e))
+        let mut outside = Checking::new(self, self.ctx.script_dir.as_deref().cloned(), vec![]);
+        let first = Resolver::new(&mut outside).program(&program);
+        first.map_err(|e| self.diagnostic(e))
     }
 
     /// Like [`Self::check_named`], but every independent error (`mx check`):
     /// each statement that does not parse (the parser reads on at the next
-    /// statement) and each use of an unknown name in the statements that
-    /// do, in source order; empty when the script resolves.
+    /// statement) and each error of the statements that do, in source order,
+    /// then those of the scripts it imports; empty when the script checks.
     pub fn check_all_named(&mut self, name: &str, src: &str) -> Vec<Diagnostic> {
+        let dir = self.ctx.script_dir.as_deref().cloned();
+        self.check_all_in(name, src, dir, vec![])
+    }
+
+    /// [`Self::check_all_named`] of the script `path` whose text is `src`:
+    /// its imports are read from its folder.
+    pub fn check_script(&mut self, path: &Path, src: &str) -> Vec<Diagnostic> {
+        let dir = path.parent().map(Path::to_path_buf);
+        let chain = path.canonicalize().into_iter().collect();
+        self.check_all_in(&path.display().to_string(), src, dir, chain)
+    }
+
+    fn check_all_in(
+        &mut self,
+        name: &str,
+        src: &str,
+        dir: Option<PathBuf>,
+        chain: Vec<PathBuf>,
+    ) -> Vec<Diagnostic> {
         let id = self.add_source(name, src);
         let (program, mut errors) = parser::parse_program_recovering(src, id);
-        let globals = self.globals.clone();
-        let registry = self.ctx.registry.clone();
-        let known = move |n: &str| globals.get(n).is_some() || registry.lookup(n).is_some();
-        let mut r = Resolver::new(&known, self.names());
-        errors.extend(r.program_all(&program));
-        // stable: a syntax error and a name at one place keep that order
-        errors.sort_by_key(|e| e.span.map_or(u32::MAX, |s| s.start));
+        let mut outside = Checking::new(self, dir, chain);
+        errors.extend(Resolver::new(&mut outside).program_all(&program));
+        // the script's errors in source order, then each imported script's
+        // (stable: a syntax error and a name at one place keep that order)
+        errors.sort_by_key(|e| e.span.map_or((u32::MAX, 0), |s| (s.file, s.start)));
         errors.into_iter().map(|e| self.diagnostic(e)).collect()
     }
 
@@ -353,6 +383,132 @@ impl Interpreter {
     /// the REPL then reads another line.
     pub fn is_incomplete(src: &str) -> bool {
         parser::is_incomplete(src)
+    }
+}
+
+/// What `mx check` knows outside the script: the globals, the built-ins'
+/// signatures, and the scripts it imports, each read and checked in turn.
+struct Checking {
+    globals: Env,
+    base: Env,
+    registry: Arc<Registry>,
+    sources: super::eval::Sources,
+    /// The folder imports are read from (the checked script's).
+    dir: Option<PathBuf>,
+    /// The scripts being checked, outermost first (for cycles).
+    chain: Vec<PathBuf>,
+}
+
+impl Checking {
+    fn new(i: &Interpreter, dir: Option<PathBuf>, chain: Vec<PathBuf>) -> Self {
+        Checking {
+            globals: i.globals.clone(),
+            base: i.ctx.base.clone(),
+            registry: i.ctx.registry.clone(),
+            sources: i.ctx.sources.clone(),
+            dir,
+            chain,
+        }
+    }
+}
+
+impl Outside for Checking {
+    fn known(&self, n: &str) -> bool {
+        self.globals.get(n).is_some() || self.registry.lookup(n).is_some()
+    }
+
+    fn names(&self) -> Vec<String> {
+        let mut v = self.globals.names();
+        v.extend(self.registry.names().map(String::from));
+        v
+    }
+
+    fn callee(&self, n: &str) -> Option<Callee> {
+        match self.globals.get(n) {
+            Some(Value::Function(c)) => Some(Callee::of_fn(&c.def)),
+            Some(Value::Builtin(b)) => Some(Callee::of_signature(&b.signature)),
+            Some(_) => None,
+            None => self
+                .registry
+                .function(n)
+                .map(|b| Callee::of_signature(&b.signature)),
+        }
+    }
+
+    fn import(&mut self, imp: &Import, errors: &mut Vec<MxError>) -> Option<Vec<String>> {
+        let path = match &self.dir {
+            Some(d) if Path::new(imp.path.as_ref()).is_relative() => d.join(imp.path.as_ref()),
+            _ => PathBuf::from(imp.path.as_ref()),
+        };
+        let read = path.canonicalize().and_then(|c| {
+            let text = std::fs::read_to_string(&c)?;
+            Ok((c, text))
+        });
+        let (canon, text) = match read {
+            Ok(r) => r,
+            Err(e) => {
+                errors.push(
+                    MxError::new(
+                        ErrorKind::Io,
+                        format!("cannot import `{}`: {e}", path.display()),
+                    )
+                    .at(imp.path_span)
+                    .label("cannot be read")
+                    .help("an import is read from the importing script's folder"),
+                );
+                return None;
+            }
+        };
+        if let Some(k) = self.chain.iter().position(|p| *p == canon) {
+            let names: Vec<String> = self.chain[k..]
+                .iter()
+                .chain([&canon])
+                .map(|p| {
+                    p.file_name().map_or_else(
+                        || p.display().to_string(),
+                        |n| n.to_string_lossy().into_owned(),
+                    )
+                })
+                .collect();
+            errors.push(
+                MxError::new(
+                    ErrorKind::Value,
+                    format!("import cycle: {}", names.join(" → ")),
+                )
+                .at(imp.path_span)
+                .label("imports a script that imports this one")
+                .help("move what both scripts need into a third one that imports neither"),
+            );
+            return None;
+        }
+        let id = {
+            let mut s = self.sources.lock().unwrap_or_else(|p| p.into_inner());
+            s.push(Source {
+                name: path.display().to_string(),
+                text: Arc::from(text.as_str()),
+            });
+            (s.len() - 1) as SourceId
+        };
+        let (program, parse_errors) = parser::parse_program_recovering(&text, id);
+        errors.extend(parse_errors);
+        // the imported script is checked as it runs: from the built-ins and
+        // the prelude, in its own folder
+        let globals = std::mem::replace(&mut self.globals, self.base.clone());
+        let dir = std::mem::replace(&mut self.dir, canon.parent().map(Path::to_path_buf));
+        self.chain.push(canon);
+        errors.extend(Resolver::new(self).program_all(&program));
+        self.chain.pop();
+        self.dir = dir;
+        self.globals = globals;
+        Some(
+            program
+                .stmts
+                .iter()
+                .filter_map(super::eval::defined_name)
+                .filter(|n| !n.starts_with('_'))
+                .map(str::to_string)
+                .collect(),
+        )
     }
 }
 

@@ -20,6 +20,7 @@ use std::sync::Arc;
 
 use indexmap::IndexMap;
 
+use super::signature::Signature;
 use super::topic::Topic;
 pub use super::value::Builtin;
 use super::value::{NativeBody, Value};
@@ -66,7 +67,7 @@ impl Registry {
     ) {
         let b = Builtin {
             name: name.clone(),
-            signature: Arc::from(signature),
+            signature: Arc::new(Signature::parse(signature)),
             doc: doc.to_string(),
             topic: self.current,
             func,

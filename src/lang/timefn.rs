@@ -200,6 +200,11 @@ fn free_in_node(e: &Expr, bound: &mut Vec<HashSet<String>>, free: &mut Vec<Strin
                         }
                         free_in_fn(def, bound, free);
                     }
+                    Stmt::Import(i) => {
+                        if let Some(b) = bound.last_mut() {
+                            b.insert(i.name.clone());
+                        }
+                    }
                     Stmt::Expr(x) => free_in(x, bound, free),
                 }
             }

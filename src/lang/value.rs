@@ -12,6 +12,7 @@ use indexmap::IndexMap;
 
 use super::ast::{BinOp, FnDef};
 use super::env::Scope;
+use super::signature::Signature;
 use super::topic::Topic;
 
 /// The environments mx closures keep and the evaluator extends.
@@ -69,8 +70,9 @@ pub type NativeBody = Arc<dyn Any + Send + Sync>;
 /// `Registry::add`.
 pub struct Builtin {
     pub name: String,
-    /// `name(a, b, rate: 30)`: shown in `:help` and in arity/type errors.
-    pub signature: Arc<str>,
+    /// `name(a, b, rate: 30)`: what it takes, shown in `:help` and in
+    /// arity/type errors, checked by `mx check` and by [`super::args::Args`].
+    pub signature: Arc<Signature>,
     pub doc: String,
     /// The `:help` group it is listed in.
     pub topic: Topic,

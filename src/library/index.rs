@@ -1,5 +1,6 @@
 //! The library: its clips, every grid frame's features (normalised), and a
-//! k-d tree over the *before* vectors that answers a gap's query exactly.
+//! k-d tree over the *before* vectors that answers a gap's query exactly
+//! (building it is `build.rs`).
 //!
 //! A stretch of clip c from grid frame s, L frames long, fills a gap
 //! [t0, t1] with mismatch (|b(s) − q_b|² + |a(s+L) − q_a|²) / (2·DIM): b
@@ -10,15 +11,13 @@
 //! arrival looks like the gap's (branch and bound over the tree's answer).
 
 use super::LibraryError;
-use super::features::{self, DIM, GROUPS, KeyJoints};
-use crate::mocap::bvh::{BvhFile, Units};
-use crate::mocap::{self, Clip};
+use super::clip::{ClipData, LibClip};
+use super::features::{self, DIM, KeyJoints};
 use kiddo::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::num::NonZero;
-use std::path::PathBuf;
+use std::sync::OnceLock;
 
 /// What an index is built with; a saved index is refused by a `load` that
 /// asks for other settings.
@@ -69,44 +68,6 @@ impl Settings {
     }
 }
 
-/// A clip handed to [`Library::build`].
-#[derive(Clone, Debug)]
-pub struct ClipInput {
-    pub name: String,
-    pub file: BvhFile,
-    pub metres_per_unit: f64,
-    /// The file it was read from, and a fingerprint of its bytes: a saved
-    /// index whose sources changed since is refused as stale.
-    pub source: Option<(PathBuf, u64)>,
-}
-
-/// One indexed clip.
-#[derive(Clone, Debug)]
-pub struct LibClip {
-    pub input: ClipInput,
-    pub keys: KeyJoints,
-    /// Time (s) of grid frame 0 (the clip's first frame).
-    pub start: f64,
-    /// Grid frames.
-    pub frames: usize,
-    /// Index of its frame 0 in the library's feature arrays.
-    pub offset: usize,
-}
-
-impl LibClip {
-    pub fn name(&self) -> &str {
-        &self.input.name
-    }
-    /// The clip as a motion (radians, metres), for SP's example.
-    pub fn motion(&self) -> Result<Clip, LibraryError> {
-        mocap::from_bvh(
-            &self.input.file,
-            Units::MetresPerUnit(self.input.metres_per_unit),
-        )
-        .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", self.input.name)))
-    }
-}
-
 /// A clip that was not indexed, and why.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Skipped {
@@ -135,9 +96,6 @@ pub struct Match {
 
 type Tree = ImmutableKdTree<f32, u32, DIM, 32>;
 
-/// A clip with its raw before and after vectors, before normalisation.
-type Indexed = (LibClip, Vec<[f32; DIM]>, Vec<[f32; DIM]>);
-
 /// The built index.
 pub struct Library {
     pub settings: Settings,
@@ -150,9 +108,10 @@ pub struct Library {
     /// too near the clip's start or end).
     pub before: Vec<[f32; DIM]>,
     pub after: Vec<[f32; DIM]>,
-    tree: Tree,
-    /// Global frame of each tree item.
-    tree_frames: Vec<u32>,
+    /// The tree over the valid before vectors and the global frame of each
+    /// of its items: built at the first match (a build that only saves, and a
+    /// load that is not searched, need none).
+    tree: OnceLock<(Tree, Vec<u32>)>,
 }
 
 /// The gap's side of a match: its normalised before vector at t0 and after
@@ -165,7 +124,8 @@ pub struct Query {
     pub duration: f64,
 }
 
-fn valid(v: &[f32; DIM]) -> bool {
+/// Whether a feature vector is defined (NaN: too near a clip's ends).
+pub(super) fn valid(v: &[f32; DIM]) -> bool {
     v[0].is_finite()
 }
 
@@ -179,123 +139,8 @@ fn dist2(a: &[f32; DIM], b: &[f32; DIM]) -> f64 {
         .sum()
 }
 
-/// Raw (unnormalised) features of a clip's grid, NaN where undefined.
-fn clip_features(
-    clip: &Clip,
-    keys: &KeyJoints,
-    settings: &Settings,
-) -> (f64, Vec<[f32; DIM]>, Vec<[f32; DIM]>) {
-    let (t0, t1) = clip.mu.span().unwrap_or((0.0, 0.0));
-    let n = ((t1 - t0) * settings.rate + 1e-6).floor() as usize + 1;
-    let times: Vec<f64> = (0..n)
-        .map(|k| (t0 + k as f64 / settings.rate).min(t1))
-        .collect();
-    let pos = features::key_positions(
-        &clip.mu,
-        &clip.skeleton,
-        clip.units.metres_per_unit,
-        keys,
-        &times,
-    );
-    let h = settings.horizon();
-    let nan = [f32::NAN; DIM];
-    let side = |dir: i64| -> Vec<[f32; DIM]> {
-        (0..n)
-            .map(|f| features::frame_features(&pos, f, dir, h, settings.rate).unwrap_or(nan))
-            .collect()
-    };
-    (t0, side(-1), side(1))
-}
-
 impl Library {
-    /// Indexes `clips`. Clips that cannot be matched (no key joints, too
-    /// short, unreadable) go to [`Library::skipped`] with the reason, beside
-    /// those the caller already skipped; an index with no clip is an error.
-    pub fn build(
-        clips: Vec<ClipInput>,
-        mut skipped: Vec<Skipped>,
-        settings: Settings,
-    ) -> Result<Library, LibraryError> {
-        settings.check()?;
-        if clips.is_empty() && skipped.is_empty() {
-            return Err(LibraryError::new(
-                "no clips: a library needs at least one clip (a folder of .bvh files or a list of motions)",
-            ));
-        }
-        let min_frames = 2 * settings.horizon() + 2;
-        let done: Vec<Result<Indexed, Skipped>> = clips
-            .into_par_iter()
-            .map(|input| {
-                let skip = |reason: String| Skipped {
-                    clip: input.name.clone(),
-                    reason,
-                };
-                let keys = KeyJoints::find(&input.file.skeleton).map_err(skip)?;
-                let clip = mocap::from_bvh(&input.file, Units::MetresPerUnit(input.metres_per_unit))
-                    .map_err(|e| skip(e.to_string()))?;
-                let (start, b, a) = clip_features(&clip, &keys, &settings);
-                if b.len() < min_frames {
-                    return Err(skip(format!(
-                        "too short: {} frames at {} Hz, a clip needs {min_frames} (the features look {} s back and ahead)",
-                        b.len(),
-                        settings.rate,
-                        features::HORIZON
-                    )));
-                }
-                let frames = b.len();
-                Ok((
-                    LibClip {
-                        input,
-                        keys,
-                        start,
-                        frames,
-                        offset: 0,
-                    },
-                    b,
-                    a,
-                ))
-            })
-            .collect();
-        let mut kept = vec![];
-        let (mut before, mut after) = (vec![], vec![]);
-        for r in done {
-            match r {
-                Ok((mut c, b, a)) => {
-                    c.offset = before.len();
-                    before.extend(b);
-                    after.extend(a);
-                    kept.push(c);
-                }
-                Err(s) => skipped.push(s),
-            }
-        }
-        if kept.is_empty() {
-            let why: Vec<String> = skipped
-                .iter()
-                .take(5)
-                .map(|s| format!("`{}`: {}", s.clip, s.reason))
-                .collect();
-            return Err(LibraryError::new(format!(
-                "no clip could be indexed ({} skipped): {}",
-                skipped.len(),
-                why.join("; ")
-            )));
-        }
-        let (mean, scale) = normalisation(&before, &after);
-        let norm = |v: &mut [f32; DIM]| {
-            for d in 0..DIM {
-                v[d] = (v[d] - mean[d]) / scale[d];
-            }
-        };
-        before.par_iter_mut().for_each(norm);
-        after.par_iter_mut().for_each(norm);
-        Ok(Library::assemble(
-            settings, kept, skipped, mean, scale, before, after,
-        ))
-    }
-
-    /// The library from its parts, the tree built over the valid before
-    /// vectors (what `load` does after reading them).
+    /// The library from its parts (what a build and `load` end with).
     pub(super) fn assemble(
         settings: Settings,
         clips: Vec<LibClip>,
@@ -305,11 +150,6 @@ impl Library {
         before: Vec<[f32; DIM]>,
         after: Vec<[f32; DIM]>,
     ) -> Library {
-        let tree_frames: Vec<u32> = (0..before.len() as u32)
-            .filter(|&f| valid(&before[f as usize]))
-            .collect();
-        let points: Vec<[f32; DIM]> = tree_frames.iter().map(|&f| before[f as usize]).collect();
-        let tree = Tree::new_from_slice(&points);
         Library {
             settings,
             clips,
@@ -318,9 +158,20 @@ impl Library {
             scale,
             before,
             after,
-            tree,
-            tree_frames,
+            tree: OnceLock::new(),
         }
+    }
+
+    /// The tree and its items' frames, built over the valid before vectors
+    /// the first time they are asked for.
+    fn tree(&self) -> &(Tree, Vec<u32>) {
+        self.tree.get_or_init(|| {
+            let frames: Vec<u32> = (0..self.before.len() as u32)
+                .filter(|&f| valid(&self.before[f as usize]))
+                .collect();
+            let points: Vec<[f32; DIM]> = frames.iter().map(|&f| self.before[f as usize]).collect();
+            (Tree::new_from_slice(&points), frames)
+        })
     }
 
     /// Grid frames indexed (all clips).
@@ -328,14 +179,22 @@ impl Library {
         self.before.len()
     }
 
-    /// Bytes the index holds in memory (features, tree, clip data), roughly.
+    /// Bytes the index holds in memory (features, tree, clips kept in
+    /// memory, the clips' descriptions), roughly.
     pub fn memory_bytes(&self) -> usize {
         let features = 2 * self.before.len() * DIM * 4;
-        let tree = self.tree_frames.len() * (DIM * 4 + 4 + 4);
+        let valid_frames = self.before.iter().filter(|v| valid(v)).count();
+        let tree = valid_frames * (DIM * 4 + 4 + 4);
         let clips: usize = self
             .clips
             .iter()
-            .map(|c| c.input.file.values.len() * 8 + c.input.file.skeleton.joints.len() * 96)
+            .map(|c| {
+                let kept = match &c.data {
+                    ClipData::Memory(f) => f.values.len() * 8 + f.skeleton.joints.len() * 96,
+                    _ => 0,
+                };
+                kept + std::mem::size_of::<LibClip>() + c.name.len() + 64
+            })
             .sum();
         features + tree + clips
     }
@@ -451,26 +310,25 @@ impl Library {
     /// feature horizon to a better one are left out (the same stretch a
     /// frame later).
     pub fn match_gap(&self, q: &Query, k: usize) -> Vec<Match> {
-        if k == 0 || self.tree_frames.is_empty() {
+        let (tree, tree_frames) = self.tree();
+        if k == 0 || tree_frames.is_empty() {
             return vec![];
         }
         let lengths = self.lengths(q);
         let mut n = (16 * k).max(64);
         loop {
-            let n_ask = n.min(self.tree_frames.len());
-            let nn = self
-                .tree
-                .nearest_n::<SquaredEuclidean>(&q.before, NonZero::new(n_ask).unwrap());
+            let n_ask = n.min(tree_frames.len());
+            let nn = tree.nearest_n::<SquaredEuclidean>(&q.before, NonZero::new(n_ask).unwrap());
             let mut cands = vec![];
             let mut bound = 0.0f64;
             for x in &nn {
-                let g = self.tree_frames[x.item as usize] as usize;
+                let g = tree_frames[x.item as usize] as usize;
                 let db = dist2(&self.before[g], &q.before);
                 bound = bound.max(db);
                 self.candidates_at(q, &lengths, g, db, &mut cands);
             }
             let chosen = self.select(cands, &lengths, k);
-            let exhausted = n_ask >= self.tree_frames.len();
+            let exhausted = n_ask >= tree_frames.len();
             // every frame not yet read has a before distance at least the
             // tree's last one (up to f32 rounding), hence a total above it
             let last = nn.last().map_or(0.0, |x| x.distance as f64);
@@ -523,7 +381,7 @@ impl Library {
             let (warp, len) = lengths[wi];
             out.push(Match {
                 clip: c,
-                name: self.clips[c].input.name.clone(),
+                name: self.clips[c].name.clone(),
                 time: self.clips[c].start + frame as f64 / self.settings.rate,
                 duration: len as f64 / self.settings.rate,
                 warp,
@@ -533,29 +391,4 @@ impl Library {
         }
         out
     }
-}
-
-/// Per dimension, the mean over every valid vector, and per group the root
-/// mean variance of its dimensions (1 where a group never varies).
-fn normalisation(before: &[[f32; DIM]], after: &[[f32; DIM]]) -> ([f32; DIM], [f32; DIM]) {
-    let all = || before.iter().chain(after).filter(|v| valid(v));
-    let n = all().count().max(1) as f64;
-    let mut mean = [0f64; DIM];
-    for v in all() {
-        for d in 0..DIM {
-            mean[d] += v[d] as f64 / n;
-        }
-    }
-    let mut var = [0f64; DIM];
-    for v in all() {
-        for d in 0..DIM {
-            var[d] += (v[d] as f64 - mean[d]).powi(2) / n;
-        }
-    }
-    let mut scale = [1f32; DIM];
-    for (first, len) in GROUPS {
-        let s = (var[first..first + len].iter().sum::<f64>() / len as f64).sqrt();
-        scale[first..first + len].fill(if s > 1e-9 { s as f32 } else { 1.0 });
-    }
-    (mean.map(|m| m as f32), scale)
 }

@@ -4,21 +4,31 @@
 //! follows the best one ([`crate::spacetime::reference`]); `match` shows them.
 //!
 //! - `features`: the 24 numbers of a frame, before and after, and the key joints by name;
-//! - `index`: building, normalising, the k-d tree (kiddo) and the exact search;
-//! - `file`: `.mxlib` files, versioned, fingerprinted, written atomically.
+//! - `clip`: where an indexed clip's frames are (memory, its file, a section
+//!   of an `.mxlib`), read only when a match needs them;
+//! - `build`: a clip's raw features, and the library from them (normalised, the tree built);
+//! - `index`: the library, the k-d tree (kiddo) and the exact search;
+//! - `file`: `.mxlib` files, versioned, checksummed, written atomically, clips read lazily;
+//! - `shards`: a large build split into shards (`mx library build --shard i/n`) and merged.
 //!
 //! Clips of different skeletons live in one library: each clip's features
 //! come from its own skeleton, found by joint name; a clip whose key joints
-//! cannot be found is listed in [`Library::skipped`] with the reason.
+//! cannot be found is listed in [`Library::skipped`] with the reason. The
+//! index keeps features in memory, not clips: a library of 10⁴ clips takes
+//! the memory of its features (about 200 bytes a grid frame).
 
+pub mod build;
+pub mod clip;
 pub mod features;
 pub mod file;
 pub mod index;
+pub mod shards;
 
-pub use index::{ClipInput, LibClip, Library, Match, Query, Settings, Skipped};
+pub use build::{IndexedClip, clips_in_folder, index_clip, index_files, read_clip};
+pub use clip::{ClipData, ClipInput, LibClip, Source};
+pub use index::{Library, Match, Query, Settings, Skipped};
 
-use crate::mocap::bvh::{self, Units};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A library error: a sentence for the user.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -31,15 +41,71 @@ impl LibraryError {
     }
 }
 
-/// FNV-1a, 64 bits: the fingerprint of a clip's bytes and a file's checksum
-/// (stable across builds and platforms, unlike std's hasher).
-pub fn fingerprint(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
+const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+const FNV_PRIME: u64 = 0x0100_0000_01b3;
+
+/// A 64-bit fingerprint of a byte stream, fed in pieces: FNV-1a over
+/// little-endian 8-byte words (a byte at a time for the last few), so
+/// gigabytes of clips hash at memory speed. Stable across builds and
+/// platforms, unlike std's hasher; every change within one word changes
+/// the result (each step is a bijection of the state).
+#[derive(Clone, Debug)]
+pub struct Fingerprint {
+    h: u64,
+    pending: [u8; 8],
+    n: usize,
+}
+
+impl Default for Fingerprint {
+    fn default() -> Self {
+        Fingerprint {
+            h: FNV_OFFSET,
+            pending: [0; 8],
+            n: 0,
+        }
     }
-    h
+}
+
+impl Fingerprint {
+    pub fn update(&mut self, mut bytes: &[u8]) {
+        if self.n > 0 {
+            let take = (8 - self.n).min(bytes.len());
+            self.pending[self.n..self.n + take].copy_from_slice(&bytes[..take]);
+            self.n += take;
+            bytes = &bytes[take..];
+            if self.n < 8 {
+                return;
+            }
+            self.word(u64::from_le_bytes(self.pending));
+            self.n = 0;
+        }
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.word(u64::from_le_bytes(w.try_into().expect("8 bytes")));
+        }
+        let rest = words.remainder();
+        self.pending[..rest.len()].copy_from_slice(rest);
+        self.n = rest.len();
+    }
+
+    fn word(&mut self, w: u64) {
+        self.h = (self.h ^ w).wrapping_mul(FNV_PRIME);
+    }
+
+    pub fn finish(&self) -> u64 {
+        let mut h = self.h;
+        for &b in &self.pending[..self.n] {
+            h = (h ^ b as u64).wrapping_mul(FNV_PRIME);
+        }
+        h
+    }
+}
+
+/// The fingerprint of a clip's bytes and a file's checksum ([`Fingerprint`]).
+pub fn fingerprint(bytes: &[u8]) -> u64 {
+    let mut f = Fingerprint::default();
+    f.update(bytes);
+    f.finish()
 }
 
 /// The clip name of a file: its name without the extension.
@@ -49,9 +115,9 @@ pub fn clip_name(path: &Path) -> String {
         .unwrap_or_else(|| path.display().to_string())
 }
 
-/// Every `.bvh` file directly in `dir`, sorted by name, as clips; a file
-/// that does not read is skipped with the reason.
-pub fn clips_in_folder(dir: &Path) -> Result<(Vec<ClipInput>, Vec<Skipped>), LibraryError> {
+/// Every `.bvh` file directly in `dir`, sorted by name; an error when
+/// there is none.
+pub fn bvh_files(dir: &Path) -> Result<Vec<PathBuf>, LibraryError> {
     let entries = std::fs::read_dir(dir).map_err(|e| {
         LibraryError::new(format!(
             "cannot read the clip folder {}: {e}",
@@ -69,27 +135,31 @@ pub fn clips_in_folder(dir: &Path) -> Result<(Vec<ClipInput>, Vec<Skipped>), Lib
             dir.display()
         )));
     }
-    let mut clips = vec![];
-    let mut skipped = vec![];
-    for p in paths {
-        let name = clip_name(&p);
-        let read = std::fs::read(&p)
-            .map_err(|e| e.to_string())
-            .and_then(|bytes| {
-                let text = String::from_utf8_lossy(&bytes);
-                let file = bvh::parse(&text).map_err(|e| e.to_string())?;
-                let units = bvh::resolve_units(Units::Auto, &file.skeleton)?;
-                Ok(ClipInput {
-                    name: name.clone(),
-                    file,
-                    metres_per_unit: units.metres_per_unit,
-                    source: Some((p.clone(), fingerprint(&bytes))),
-                })
-            });
-        match read {
-            Ok(c) => clips.push(c),
-            Err(reason) => skipped.push(Skipped { clip: name, reason }),
+    Ok(paths)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_fingerprint_fed_in_pieces_is_the_whole_ones_and_sees_every_change() {
+        let bytes: Vec<u8> = (0..1000u32).map(|i| (i * 7 + i / 13) as u8).collect();
+        let whole = fingerprint(&bytes);
+        for cuts in [[1, 2], [7, 9], [8, 16], [13, 500], [999, 1000]] {
+            let mut f = Fingerprint::default();
+            f.update(&bytes[..cuts[0]]);
+            f.update(&bytes[cuts[0]..cuts[1]]);
+            f.update(&bytes[cuts[1]..]);
+            assert_eq!(f.finish(), whole, "{cuts:?}");
         }
+        for at in [0, 5, 8, 501, 996, 999] {
+            for bit in [0, 3, 7] {
+                let mut b = bytes.clone();
+                b[at] ^= 1 << bit;
+                assert_ne!(fingerprint(&b), whole, "byte {at} bit {bit}");
+            }
+        }
+        assert_ne!(fingerprint(&bytes[..999]), whole);
     }
-    Ok((clips, skipped))
 }

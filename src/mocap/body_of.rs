@@ -105,7 +105,10 @@ pub fn body_of(
             "unit scale must be positive, got {metres_per_unit}"
         )));
     }
-    let (inertias, report) = distribute_mass(sk, mass, metres_per_unit)?;
+    let (inertias, report) = match stated(sk, mass) {
+        Some(stated) => stated,
+        None => distribute_mass(sk, mass, metres_per_unit)?,
+    };
     let mut model = Model::new("body_of");
     model.default_gravity = Vector3::from(GRAVITY_Y_UP);
     let mut last_link: Vec<usize> = Vec::with_capacity(sk.joints.len());
@@ -138,6 +141,35 @@ pub fn body_of(
         }
     }
     Ok((model, report))
+}
+
+/// The mass properties the skeleton's file states (see
+/// [`Skeleton::inertias`]), scaled to `mass` kg: the saved body itself when
+/// `mass` is the stated total ([`Skeleton::stated_mass`]).
+fn stated(sk: &Skeleton, mass: f64) -> Option<(Vec<Inertia>, MassReport)> {
+    let v = sk
+        .inertias
+        .as_ref()
+        .filter(|v| v.len() == sk.joints.len())?;
+    let scale = mass / sk.stated_mass()?;
+    let inertias: Vec<Inertia> = v
+        .iter()
+        .map(|i| Inertia {
+            mass: i.mass * scale,
+            h: i.h * scale,
+            i_o: i.i_o * scale,
+        })
+        .collect();
+    let report = MassReport {
+        joints: sk
+            .joints
+            .iter()
+            .zip(&inertias)
+            .map(|(j, i)| (j.name.clone(), "stated".to_string(), i.mass))
+            .collect(),
+        used_fallback: false,
+    };
+    Some((inertias, report))
 }
 
 /// The inertia of every joint's bone: de Leva shares of `mass` per segment,

@@ -93,7 +93,10 @@ pub fn skeleton() -> Skeleton {
             end_sites: end.map(Vector3::from).into_iter().collect(),
         });
     }
-    Skeleton { joints }
+    Skeleton {
+        joints,
+        inertias: None,
+    }
 }
 
 /// Builds a clip: `pose(t)` returns (joint, channel, value) settings over a

@@ -34,8 +34,9 @@ pub fn from_euler(axes: [usize; 3], angles: [f64; 3]) -> UnitQuaternion<f64> {
         .fold(UnitQuaternion::identity(), |acc, r| acc * r)
 }
 
-/// One Euler triple of `r` in the order `axes` (β in [−π/2, π/2]).
-fn euler_of(axes: [usize; 3], r: &Matrix3<f64>) -> [f64; 3] {
+/// One Euler triple of `r` in the order `axes` (β in [−π/2, π/2]): the
+/// principal angles a BVH exporter writes.
+pub fn euler_of(axes: [usize; 3], r: &Matrix3<f64>) -> [f64; 3] {
     let [i, j, k] = axes;
     // +1 when (i, j, k) is a cyclic permutation of (x, y, z)
     let s = if (j + 3 - i) % 3 == 1 { 1.0 } else { -1.0 };

@@ -583,7 +583,8 @@ pub fn fill_window(
     // the leave-one-out library is built (once per file) before the clock starts
     let library = match method {
         Method::SpLibrary(_, _, l) => {
-            Some(l.source(case).map_err(|e| format!("{}: {e}", case.name))?)
+            let source = l.source(&case.source, case.skeleton.clone(), case.metres_per_unit);
+            Some(source.map_err(|e| format!("{}: {e}", case.name))?)
         }
         _ => None,
     };

@@ -3,22 +3,24 @@
 //! from its own file, so the library cannot hand back the frames that were
 //! cut (the held-out protocol the literature reports).
 //!
-//! The folders are read once; each file's library is built the first time
-//! one of its windows asks for it and kept for the rest (every gap length,
-//! root setting and method of that file, and every clip made from it by a
-//! time warp or mirror, share it; windows asking at once wait for one build).
+//! The folders' clips are indexed once (their raw features); each file's
+//! library is assembled from the others' the first time one of its windows
+//! asks for it (normalised over them alone, its own tree) and kept for the
+//! rest: every gap length, root setting and method of that file, and every
+//! clip made from it by a time warp or mirror, share it; windows asking at
+//! once wait for one build.
 
-use super::inbetween::Case;
-use crate::library::{self, ClipInput, Library, LibraryError, Settings, Skipped};
+use crate::library::{self, IndexedClip, Library, LibraryError, Settings, Skipped};
+use crate::mocap::bvh::Skeleton;
 use crate::spacetime::reference::LibrarySource;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
-/// The folder's clips and the libraries built so far, by held-out clip.
+/// The folder's clips, indexed, and the libraries assembled so far, by
+/// held-out clip.
 pub struct LeaveOneOut {
-    clips: Vec<ClipInput>,
-    skipped: Vec<Skipped>,
+    indexed: Vec<Result<IndexedClip, Skipped>>,
     settings: Settings,
     /// Per held-out clip, its library once built (its own lock: one build
     /// per clip, other clips' windows go on meanwhile).
@@ -27,12 +29,19 @@ pub struct LeaveOneOut {
 
 impl std::fmt::Debug for LeaveOneOut {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "LeaveOneOut({} clips)", self.clips.len())
+        write!(f, "LeaveOneOut({} clips)", self.indexed.len())
+    }
+}
+
+fn name(r: &Result<IndexedClip, Skipped>) -> &str {
+    match r {
+        Ok(c) => &c.clip.name,
+        Err(s) => &s.clip,
     }
 }
 
 impl LeaveOneOut {
-    /// Every `.bvh` clip of `dir` (as `library(dir)` reads them).
+    /// Every `.bvh` clip of `dir` (as `library(dir)` reads them), indexed.
     pub fn new(dir: &Path, settings: Settings) -> Result<LeaveOneOut, LibraryError> {
         LeaveOneOut::of_folders(&[dir], settings)
     }
@@ -41,15 +50,12 @@ impl LeaveOneOut {
     /// library can be the shared clips while the windows come from elsewhere).
     pub fn of_folders(dirs: &[&Path], settings: Settings) -> Result<LeaveOneOut, LibraryError> {
         settings.check()?;
-        let (mut clips, mut skipped) = (vec![], vec![]);
+        let mut paths = vec![];
         for dir in dirs {
-            let (c, s) = library::clips_in_folder(dir)?;
-            clips.extend(c);
-            skipped.extend(s);
+            paths.extend(library::bvh_files(dir)?);
         }
         Ok(LeaveOneOut {
-            clips,
-            skipped,
+            indexed: library::index_files(&paths, &settings, &|| {}),
             settings,
             built: Mutex::new(HashMap::new()),
         })
@@ -57,15 +63,15 @@ impl LeaveOneOut {
 
     /// Clips in the folder (the held-out one included).
     pub fn len(&self) -> usize {
-        self.clips.len()
+        self.indexed.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.clips.is_empty()
+        self.indexed.is_empty()
     }
 
     /// The library of every clip but `clip` (a file's name without its
-    /// extension), built once.
+    /// extension), assembled once.
     pub fn without(&self, clip: &str) -> Result<Arc<Library>, LibraryError> {
         let cell = self
             .built
@@ -78,30 +84,33 @@ impl LeaveOneOut {
         if let Some(l) = slot.as_ref() {
             return Ok(l.clone());
         }
-        let others: Vec<ClipInput> = self
-            .clips
+        let others = self
+            .indexed
             .iter()
-            .filter(|c| c.name != clip)
+            .filter(|r| name(r) != clip)
             .cloned()
             .collect();
-        let skipped = self
-            .skipped
-            .iter()
-            .filter(|s| s.clip != clip)
-            .cloned()
-            .collect();
-        let lib = Arc::new(Library::build(others, skipped, self.settings.clone())?);
+        let lib = Arc::new(Library::from_results(
+            others,
+            vec![],
+            self.settings.clone(),
+        )?);
         *slot = Some(lib.clone());
         Ok(lib)
     }
 
-    /// SP's `example:` source for a window of `case`: the library without
-    /// the file the case was read or made from, read through its skeleton.
-    pub fn source(&self, case: &Case) -> Result<LibrarySource, LibraryError> {
+    /// SP's `example:` source for a window of `clip`: the library without
+    /// the clip's own file, read through its skeleton.
+    pub fn source(
+        &self,
+        clip: &str,
+        skeleton: Arc<Skeleton>,
+        metres_per_unit: f64,
+    ) -> Result<LibrarySource, LibraryError> {
         Ok(LibrarySource {
-            library: self.without(&case.source)?,
-            skeleton: case.skeleton.clone(),
-            metres_per_unit: case.metres_per_unit,
+            library: self.without(clip)?,
+            skeleton,
+            metres_per_unit,
         })
     }
 }

@@ -162,7 +162,14 @@ mod tests {
         let arm = TwoLinkArm::default();
         let mut tau = vec![0.0; 2];
         let e = arm
-            .torques(&mut arm.workspace(), &[0.0], &[0.0; 2], &[0.0; 2], &mut tau)
+            .torques(
+                &mut arm.workspace(),
+                &[0.0],
+                &[0.0; 2],
+                &[0.0; 2],
+                &[],
+                &mut tau,
+            )
             .unwrap_err();
         assert!(
             matches!(e, SpError::Dynamics(DynamicsError::Input(_))),

@@ -5,7 +5,7 @@
 
 use super::error::SpError;
 use super::torque::TorqueModel;
-use crate::dynamics::{JointState, StateGradient};
+use crate::dynamics::{JointState, PointForce, StateGradient};
 
 /// Joint 1 at the origin rotating in the vertical plane (angle from the
 /// horizontal), joint 2 at the end of link 1; gravity `g` pulls along −y.
@@ -78,6 +78,17 @@ fn check_len(n: usize, q: &[f64], v: &[f64], a: &[f64]) -> Result<(), SpError> {
     Ok(())
 }
 
+/// The arm has no links to push on: it is a closed-form test model.
+fn no_forces(ext: &[PointForce]) -> Result<(), SpError> {
+    if ext.is_empty() {
+        Ok(())
+    } else {
+        Err(SpError::Invalid(
+            "the two-link arm takes no external forces (use a body model)".into(),
+        ))
+    }
+}
+
 impl TorqueModel for TwoLinkArm {
     type Workspace = ();
 
@@ -93,9 +104,11 @@ impl TorqueModel for TwoLinkArm {
         q: &[f64],
         v: &[f64],
         a: &[f64],
+        ext: &[PointForce],
         tau: &mut [f64],
     ) -> Result<(), SpError> {
         check_len(2, q, v, a)?;
+        no_forces(ext)?;
         tau[..2].copy_from_slice(&self.tau(q, v, a));
         Ok(())
     }
@@ -104,9 +117,11 @@ impl TorqueModel for TwoLinkArm {
         &self,
         _: &mut (),
         x: &JointState,
+        ext: &[PointForce],
         w: &[f64],
         grad: StateGradient,
     ) -> Result<f64, SpError> {
+        no_forces(ext)?;
         let (q, v, a) = (x.q, x.v, x.a);
         let StateGradient {
             q: gq,
@@ -167,7 +182,7 @@ mod tests {
             let t = 0.17 * i as f64;
             let (q, v, a) = path(t);
             let mut tau = [0.0; 2];
-            arm.torques(&mut (), &q, &v, &a, &mut tau).unwrap();
+            arm.torques(&mut (), &q, &v, &a, &[], &mut tau).unwrap();
             let h = 1e-5;
             let (qp, vp, _) = path(t + h);
             let (qm, vm, _) = path(t - h);
@@ -193,6 +208,7 @@ mod tests {
                 .torque_sq_grad(
                     &mut (),
                     &JointState::new(&x[0..2], &x[2..4], &x[4..6]),
+                    &[],
                     &w,
                     StateGradient {
                         q: gq,
@@ -224,7 +240,7 @@ mod tests {
         let arm = TwoLinkArm::default();
         let mut tau = [0.0; 2];
         assert!(
-            arm.torques(&mut (), &[0.0], &[0.0, 0.0], &[0.0, 0.0], &mut tau)
+            arm.torques(&mut (), &[0.0], &[0.0, 0.0], &[0.0, 0.0], &[], &mut tau)
                 .is_err()
         );
     }

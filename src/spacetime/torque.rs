@@ -1,9 +1,14 @@
 //! What a transition needs from the dynamics: torques and the gradient of a
 //! weighted sum of their squares. A small trait so the solver can be tested on
 //! a hand-checked model and run on the real multibody engine alike.
+//!
+//! Every method takes the world forces at link points acting besides the
+//! joints (`ext`, contact forces; empty for none): τ = ID(q, q̇, q̈) − Σ J_cᵀ f_c,
+//! the forces held fixed in the world when differentiating. With a free root
+//! the root's rows of τ are then the wrench the contacts leave unbalanced.
 
 use super::error::SpError;
-use crate::dynamics::{JointState, StateGradient};
+use crate::dynamics::{JointState, PointForce, StateGradient};
 
 /// A body whose joint torques τ(q, q̇, q̈) the objective ∫Σwᵢτᵢ² dt penalises.
 pub trait TorqueModel: Sync {
@@ -20,22 +25,24 @@ pub trait TorqueModel: Sync {
         format!("coordinate {i}")
     }
 
-    /// τ into `tau`.
+    /// τ into `tau`, with the forces `ext` acting.
     fn torques(
         &self,
         ws: &mut Self::Workspace,
         q: &[f64],
         v: &[f64],
         a: &[f64],
+        ext: &[PointForce],
         tau: &mut [f64],
     ) -> Result<(), SpError>;
 
-    /// Σ wᵢτᵢ² at `x`, with its gradient with respect to q, q̇, q̈ written (not
-    /// added) into `grad`.
+    /// Σ wᵢτᵢ² at `x` with the forces `ext` acting, with its gradient with
+    /// respect to q, q̇, q̈ (the forces held fixed) written (not added) into `grad`.
     fn torque_sq_grad(
         &self,
         ws: &mut Self::Workspace,
         x: &JointState,
+        ext: &[PointForce],
         w: &[f64],
         grad: StateGradient,
     ) -> Result<f64, SpError>;
@@ -48,11 +55,11 @@ pub trait TorqueModel: Sync {
     fn torque_jacobians(
         &self,
         ws: &mut Self::Workspace,
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
+        x: &JointState,
+        ext: &[PointForce],
         coords: &[usize],
     ) -> Result<[nalgebra::DMatrix<f64>; 3], SpError> {
+        let (q, v, a) = (x.q, x.v, x.a);
         let n = self.nq();
         let mut out = [
             nalgebra::DMatrix::zeros(n, coords.len()),
@@ -66,9 +73,9 @@ pub trait TorqueModel: Sync {
                 let x0 = x[k][c];
                 let h = 1e-6 * (1.0 + x0.abs());
                 x[k][c] = x0 + h;
-                self.torques(ws, &x[0], &x[1], &x[2], &mut tp)?;
+                self.torques(ws, &x[0], &x[1], &x[2], ext, &mut tp)?;
                 x[k][c] = x0 - h;
-                self.torques(ws, &x[0], &x[1], &x[2], &mut tm)?;
+                self.torques(ws, &x[0], &x[1], &x[2], ext, &mut tm)?;
                 x[k][c] = x0;
                 for i in 0..n {
                     m[(i, j)] = (tp[i] - tm[i]) / (2.0 * h);
@@ -94,6 +101,38 @@ impl<'m> BodyDynamics<'m> {
             model,
             gravity: model.default_gravity,
         }
+    }
+}
+
+impl BodyDynamics<'_> {
+    /// ∂(−Σ J_cᵀ f_c)/∂q over the columns `coords`, by central differences
+    /// of inverse dynamics at rest without gravity (which is −Σ J_cᵀ f_c).
+    fn force_torque_jacobian(
+        &self,
+        ws: &mut crate::dynamics::Workspace,
+        q: &[f64],
+        ext: &[PointForce],
+        coords: &[usize],
+    ) -> Result<nalgebra::DMatrix<f64>, SpError> {
+        let n = self.model.nq();
+        let rest = vec![0.0; n];
+        let none = nalgebra::Vector3::zeros();
+        let mut out = nalgebra::DMatrix::zeros(n, coords.len());
+        let (mut qh, mut tp, mut tm) = (q.to_vec(), vec![0.0; n], vec![0.0; n]);
+        for (j, &c) in coords.iter().enumerate() {
+            let h = 1e-6 * (1.0 + q[c].abs());
+            for (sign, t) in [(1.0, &mut tp), (-1.0, &mut tm)] {
+                qh[c] = q[c] + sign * h;
+                let x = JointState::new(&qh, &rest, &rest);
+                crate::dynamics::inverse_dynamics_at_points(self.model, ws, &x, &none, ext, t)
+                    .map_err(dyn_err)?;
+            }
+            qh[c] = q[c];
+            for i in 0..n {
+                out[(i, j)] = (tp[i] - tm[i]) / (2.0 * h);
+            }
+        }
+        Ok(out)
     }
 }
 
@@ -126,9 +165,11 @@ impl TorqueModel for BodyDynamics<'_> {
         q: &[f64],
         v: &[f64],
         a: &[f64],
+        ext: &[PointForce],
         tau: &mut [f64],
     ) -> Result<(), SpError> {
-        crate::dynamics::inverse_dynamics(self.model, ws, q, v, a, &self.gravity, tau)
+        let x = JointState::new(q, v, a);
+        crate::dynamics::inverse_dynamics_at_points(self.model, ws, &x, &self.gravity, ext, tau)
             .map_err(dyn_err)
     }
 
@@ -136,22 +177,33 @@ impl TorqueModel for BodyDynamics<'_> {
         &self,
         ws: &mut Self::Workspace,
         x: &JointState,
+        ext: &[PointForce],
         w: &[f64],
         grad: StateGradient,
     ) -> Result<f64, SpError> {
-        crate::dynamics::torque_sq_gradient(self.model, ws, x, &self.gravity, w, grad)
-            .map_err(dyn_err)
+        crate::dynamics::torque_sq_gradient_at_points(
+            self.model,
+            ws,
+            x,
+            &self.gravity,
+            w,
+            ext,
+            grad,
+        )
+        .map_err(dyn_err)
     }
 
-    /// Exact: the analytic RNEA derivatives and the mass matrix (CRBA).
+    /// The analytic RNEA derivatives and the mass matrix (CRBA), exact; with
+    /// forces, ∂(−Σ J_cᵀ f_c)/∂q beside them by central differences (the
+    /// forces' torques alone: inverse dynamics at rest without gravity).
     fn torque_jacobians(
         &self,
         ws: &mut Self::Workspace,
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
+        x: &JointState,
+        ext: &[PointForce],
         coords: &[usize],
     ) -> Result<[nalgebra::DMatrix<f64>; 3], SpError> {
+        let (q, v, a) = (x.q, x.v, x.a);
         let n = self.model.nq();
         let mut dq = nalgebra::DMatrix::zeros(n, n);
         let mut dv = nalgebra::DMatrix::zeros(n, n);
@@ -166,10 +218,10 @@ impl TorqueModel for BodyDynamics<'_> {
         )
         .map_err(dyn_err)?;
         crate::dynamics::mass_matrix(self.model, ws, q, &mut m).map_err(dyn_err)?;
-        Ok([
-            dq.select_columns(coords),
-            dv.select_columns(coords),
-            m.select_columns(coords),
-        ])
+        let mut dq = dq.select_columns(coords);
+        if !ext.is_empty() {
+            dq += self.force_torque_jacobian(ws, q, ext, coords)?;
+        }
+        Ok([dq, dv.select_columns(coords), m.select_columns(coords)])
     }
 }

@@ -285,3 +285,50 @@ fn repl_plot_draws_a_motion_in_the_terminal_and_refuses_other_values() {
     assert!(out.contains("2.000 s"), "no time axis in\n{out}");
     assert!(err.contains(":plot needs a motion"), "{err}");
 }
+
+/// `mx … | head -c 20`: the reader goes away while mx still writes. mx must
+/// end as Unix tools do — quietly, status 0 or killed by SIGPIPE (141 in a
+/// shell) — not panic with "failed printing to stdout" and a backtrace.
+#[test]
+fn a_closed_stdout_ends_mx_quietly() {
+    use std::io::Read;
+    let dir = tempfile::tempdir().unwrap();
+    // `print` line by line (mx run) and one large value (mx eval): both far
+    // beyond a pipe's buffer, so mx is still writing when the reader closes
+    std::fs::write(
+        dir.path().join("many.mx"),
+        "map(range(200000), fn(i) = print(\"line\", i))\n",
+    )
+    .unwrap();
+    for args in [
+        &["eval", "range(300000)"][..],
+        &["run", "many.mx"][..],
+        &["help", "--markdown"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_mx"))
+            .args(args)
+            .current_dir(dir.path())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("runs mx");
+        let mut head = [0u8; 20];
+        child.stdout.take().unwrap().read_exact(&mut head).unwrap();
+        // the read end is dropped here, like `head -c 20` exiting
+        let out = child.wait_with_output().unwrap();
+        let err = text(&out.stderr);
+        assert!(
+            err.is_empty(),
+            "mx {args:?} wrote to stderr after stdout closed: {err}"
+        );
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::ExitStatusExt;
+            assert!(
+                out.status.code() == Some(0) || out.status.signal() == Some(libc::SIGPIPE),
+                "mx {args:?} ended with {:?}",
+                out.status
+            );
+        }
+    }
+}

@@ -297,3 +297,50 @@ fn blenders_own_importer_puts_every_joint_within_a_millimetre() {
         assert!(worst <= 1e-3, "{line}: a joint is more than 1 mm off");
     }
 }
+
+/// The body and the clock travel with the motion: `body_of(load(glb))` is the
+/// saved body (its masses and inertias in the nodes' `extras`), so the torque
+/// energy of the loaded motion on it is the original's within 0.1 %; and the
+/// frames come back on the file's grid, so the original's last frame time is
+/// a time of the loaded motion (f32 key times read as is put it 2e-7 s early).
+#[test]
+fn glb_keeps_the_body_and_the_frame_grid() {
+    let files = common::shared_files("mocap", ".bvh");
+    let dir = tempfile::tempdir().unwrap();
+    for f in &files {
+        let name = f.file_stem().unwrap().to_string_lossy().to_string();
+        let out = dir.path().join(format!("{name}.glb"));
+        let mut i = Interpreter::new();
+        let src = format!(
+            "let m = load({f})\n\
+             let b = body_of(m, mass: 80)\n\
+             save(m, {out}, body: b)\n\
+             let g = load({out})\n\
+             let t = (frames(m) - 1) * frame_time(m)\n\
+             let undefined = sum(map(values(sample(g, t)), fn(v) = if v == nil {{ 1 }} else {{ 0 }}))\n\
+             [torque_energy(m, b), torque_energy(g, body_of(g)), frame_time(m), frame_time(g), undefined, len(dofs(m)), len(dofs(g))]",
+            f = quote(f),
+            out = quote(&out),
+        );
+        let v = i
+            .eval_str(&src)
+            .unwrap_or_else(|d| panic!("{name}: {}", d.render_plain()));
+        let n: Vec<f64> = v
+            .as_list()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_number().unwrap())
+            .collect();
+        let rel = (n[1] - n[0]) / n[0];
+        eprintln!(
+            "{name}: torque energy {:.6e} → {:.6e} ({rel:+.2e}), frame time {} → {}, DOFs {} → {}",
+            n[0], n[1], n[2], n[3], n[5], n[6]
+        );
+        assert!(
+            rel.abs() < 1e-3,
+            "{name}: torque energy {rel:+.2e} relative"
+        );
+        assert_eq!(n[3], n[2], "{name}: frame time off the file's grid");
+        assert_eq!(n[4], 0.0, "{name}: DOFs undefined at the last frame time");
+    }
+}

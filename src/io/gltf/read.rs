@@ -14,6 +14,11 @@
 //! exporter's armature node, its unit scale) are folded into the joints below
 //! them; uniform scales become lengths in metres.
 //!
+//! A file mx wrote says more in each node's `extras.mx`: the joint's mass
+//! properties (given back as [`Skeleton::inertias`], so `body_of` builds the
+//! saved body) and its BVH channels (then read in that order, Euler order
+//! included, instead of Z·X·Y: the saved body's own coordinates).
+//!
 //! Ignored, each with a note: other animations and skins, meshes, scale and
 //! morph-weight channels, animation of nodes that are not joints, non-uniform
 //! scale.
@@ -26,6 +31,7 @@ use nalgebra::{Matrix3, Matrix4, Quaternion, Rotation3, UnitQuaternion, Vector3}
 use super::GltfError;
 use crate::mocap::bvh::{BvhFile, BvhJoint, Channel, Skeleton, Units};
 use crate::mocap::{Clip, from_bvh};
+use crate::model::Inertia;
 
 /// Which animation of a file to read.
 #[derive(Clone, Debug, Default)]
@@ -135,7 +141,8 @@ pub fn from_bytes(bytes: &[u8], base: Option<&Path>, which: Which) -> Result<Loa
         ));
     }
 
-    let skeleton = SkinTree::new(doc, &skin, &mut notes)?;
+    let mut skeleton = SkinTree::new(doc, &skin, &mut notes)?;
+    skeleton.read_extras(&raw_json(bytes), index, &mut notes);
     let tracks = Tracks::new(&anim, &skeleton, &buffers, &mut notes)?;
     let file = skeleton.sample(&tracks)?;
     let clip = from_bvh(&file, Units::MetresPerUnit(1.0))?;
@@ -187,6 +194,65 @@ fn buffers(gltf: &::gltf::Gltf, base: Option<&Path>) -> Result<Vec<Vec<u8>>, Glt
             Ok(data)
         })
         .collect()
+}
+
+/// The channels a node's `extras.mx.channels` states, if they are ones the
+/// reader can write: three rotations about distinct axes (an Euler order),
+/// with no position or all three.
+fn stated_channels(v: &serde_json::Value) -> Option<Vec<Channel>> {
+    let channels: Vec<Channel> = v
+        .as_array()?
+        .iter()
+        .map(|c| c.as_str().and_then(Channel::parse))
+        .collect::<Option<_>>()?;
+    let axes = |rotation: bool| {
+        let mut a: Vec<usize> = channels
+            .iter()
+            .filter(|c| c.is_rotation() == rotation)
+            .map(|c| c.axis())
+            .collect();
+        a.sort_unstable();
+        a
+    };
+    let positions = axes(false);
+    (axes(true) == [0, 1, 2] && (positions.is_empty() || positions == [0, 1, 2]))
+        .then_some(channels)
+}
+
+/// The document's JSON as plain JSON, for what the `gltf` crate does not
+/// keep (node `extras`): a GLB's first chunk, or the whole `.gltf` file.
+/// `Null` when it does not parse (the `gltf` crate has read it already).
+fn raw_json(bytes: &[u8]) -> serde_json::Value {
+    let json = match bytes {
+        [
+            b'g',
+            b'l',
+            b'T',
+            b'F',
+            _,
+            _,
+            _,
+            _,
+            _,
+            _,
+            _,
+            _,
+            l0,
+            l1,
+            l2,
+            l3,
+            b'J',
+            b'S',
+            b'O',
+            b'N',
+            rest @ ..,
+        ] => {
+            let len = u32::from_le_bytes([*l0, *l1, *l2, *l3]) as usize;
+            rest.get(..len).unwrap_or(&[])
+        }
+        _ => bytes,
+    };
+    serde_json::from_slice(json).unwrap_or(serde_json::Value::Null)
 }
 
 /// `%20` and friends in a relative URI.
@@ -272,6 +338,14 @@ struct SkinJoint {
     scale: f64,
     /// Offsets (parent-joint frame, metres) of non-joint leaf children: BVH End Sites.
     end_sites: Vec<Vector3<f64>>,
+    /// The mass properties in the node's `extras.mx` (a file mx wrote).
+    inertia: Option<Inertia>,
+    /// The BVH channels in the node's `extras.mx`: three rotations about
+    /// distinct axes, with none or all three positions (see [`stated_channels`]).
+    channels: Option<Vec<Channel>>,
+    /// Frame ranges (first, last) whose Euler angles are the non-principal
+    /// triple (see `write::flipped_frames`).
+    flipped: Vec<(usize, usize)>,
 }
 
 /// The skin's joints in depth-first order (parents first).
@@ -373,6 +447,9 @@ impl SkinTree {
                 rest_r: unit(&[r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64]),
                 scale,
                 end_sites: Vec::new(),
+                inertia: None,
+                channels: None,
+                flipped: Vec::new(),
             });
         }
         // Leaf children that are not joints (exporters' `_end` nodes) end the bones.
@@ -399,6 +476,61 @@ impl SkinTree {
             ));
         }
         Ok(SkinTree { joints })
+    }
+
+    /// What a file mx wrote states in `extras.mx`: each joint's mass
+    /// properties (`write::mass_properties`: in the node's frame, which is
+    /// the joint's own frame here unless a scale stands between them), its
+    /// BVH channels, and the frames of the read animation where its Euler
+    /// angles are not the principal ones (`write::flipped_frames`).
+    fn read_extras(&mut self, raw: &serde_json::Value, animation: usize, notes: &mut Vec<String>) {
+        let mut unread = Vec::new();
+        let flipped = &raw["animations"][animation]["extras"]["mx"]["flipped"];
+        for j in &mut self.joints {
+            j.flipped = flipped[j.node.to_string()]
+                .as_array()
+                .map(|ranges| {
+                    ranges
+                        .iter()
+                        .filter_map(|r| Some((r[0].as_u64()? as usize, r[1].as_u64()? as usize)))
+                        .collect()
+                })
+                .unwrap_or_default();
+            let extras = &raw["nodes"][j.node]["extras"]["mx"];
+            if extras.is_null() {
+                continue;
+            }
+            j.channels = stated_channels(&extras["channels"]);
+            if extras["mass"].is_null() {
+                continue;
+            }
+            let nums = |key: &str, n: usize| -> Option<Vec<f64>> {
+                let v: Vec<f64> = extras[key]
+                    .as_array()?
+                    .iter()
+                    .filter_map(|x| x.as_f64())
+                    .collect();
+                (v.len() == n).then_some(v)
+            };
+            let scaled = (j.parent_scale * j.pre.s * j.scale - 1.0).abs() > 1e-9;
+            let read = (|| {
+                let m = extras["mass"].as_f64()?;
+                let c = nums("com", 3)?;
+                let i = nums("inertia", 6)?;
+                let i = Matrix3::new(i[0], i[3], i[4], i[3], i[1], i[5], i[4], i[5], i[2]);
+                Inertia::from_com(m, Vector3::new(c[0], c[1], c[2]), i).ok()
+            })();
+            match read {
+                Some(i) if !scaled => j.inertia = Some(i),
+                _ => unread.push(j.name.clone()),
+            }
+        }
+        if !unread.is_empty() {
+            notes.push(format!(
+                "mass properties in `extras.mx` not read (malformed, or under a scale) for: {}; body_of estimates them",
+                unread.join(", ")
+            ));
+        }
     }
 
     /// The BVH data of the sampled animation (metres, degrees).
@@ -430,6 +562,7 @@ impl SkinTree {
                     && !has_children[i]
                     && tracks.translation[i].is_none()
                     && tracks.rotation[i].is_none()
+                    && self.joints[i].inertia.is_none_or(|m| m.is_zero())
             })
             .collect();
         let mut index = vec![usize::MAX; n];
@@ -443,11 +576,20 @@ impl SkinTree {
                 continue;
             }
             moving[i] = j.parent.is_none() || pos[i].iter().any(|p| (p - rest).norm() > 1e-6);
-            let mut channels = Vec::new();
-            if moving[i] {
-                channels.extend([Channel::Xposition, Channel::Yposition, Channel::Zposition]);
-            }
-            channels.extend([Channel::Zrotation, Channel::Xrotation, Channel::Yrotation]);
+            // the channels the file states (the saved body's own DOFs), unless
+            // they leave out a translation the animation has
+            let stated = j
+                .channels
+                .clone()
+                .filter(|c| !moving[i] || c.iter().any(|c| !c.is_rotation()));
+            let channels = stated.unwrap_or_else(|| {
+                let mut c = Vec::new();
+                if moving[i] {
+                    c.extend([Channel::Xposition, Channel::Yposition, Channel::Zposition]);
+                }
+                c.extend([Channel::Zrotation, Channel::Xrotation, Channel::Yrotation]);
+                c
+            });
             index[i] = skeleton.joints.len();
             skeleton.joints.push(BvhJoint {
                 name: j.name.clone(),
@@ -457,6 +599,17 @@ impl SkinTree {
                 end_sites: j.end_sites.clone(),
             });
         }
+        // the file's mass properties, when it states any (a file mx wrote)
+        if self.joints.iter().any(|j| j.inertia.is_some()) {
+            skeleton.inertias = Some(
+                self.joints
+                    .iter()
+                    .zip(&end_site)
+                    .filter(|(_, e)| !**e)
+                    .map(|(j, _)| j.inertia.unwrap_or_else(Inertia::zero))
+                    .collect(),
+            );
+        }
         let width = skeleton.channel_count();
         let mut values = Vec::with_capacity(width * frames);
         for k in 0..frames {
@@ -464,10 +617,46 @@ impl SkinTree {
                 if end_site[i] {
                     continue;
                 }
-                if moving[i] {
-                    values.extend(pos[i][k].iter());
+                let channels = &skeleton.joints[index[i]].channels;
+                let order: Vec<usize> = channels
+                    .iter()
+                    .filter(|c| c.is_rotation())
+                    .map(|c| c.axis())
+                    .collect();
+                let angles = match order[..] {
+                    [2, 0, 1] if self.joints[i].channels.is_none() => zxy_degrees(&rot[i][k]),
+                    // the principal angles, as a BVH exporter writes them (the
+                    // clip's reader unwraps whole turns)
+                    [a, b, c] => {
+                        let [x, y, z] = crate::motion::rotation::euler_of([a, b, c], &rot[i][k]);
+                        let pi = std::f64::consts::PI;
+                        let flip = self.joints[i]
+                            .flipped
+                            .iter()
+                            .any(|&(f, l)| (f..=l).contains(&k));
+                        // the other triple of the same rotation, where the clip had it
+                        let e = if flip {
+                            [x + pi, pi - y, z + pi]
+                        } else {
+                            [x, y, z]
+                        };
+                        e.map(f64::to_degrees)
+                    }
+                    _ => {
+                        return Err(GltfError::invalid(
+                            "a joint's rotation channels are not an Euler order",
+                        ));
+                    }
+                };
+                let mut r = 0;
+                for c in channels {
+                    if c.is_rotation() {
+                        values.push(angles[r]);
+                        r += 1;
+                    } else {
+                        values.push(pos[i][k][c.axis()]);
+                    }
                 }
-                values.extend(zxy_degrees(&rot[i][k]));
             }
         }
         Ok(BvhFile {
@@ -731,19 +920,10 @@ impl Tracks {
             .iter()
             .map(|t| t.times[t.times.len() - 1])
             .fold(f64::NEG_INFINITY, f64::max);
-        // The densest channel's mean key spacing; a rate within 1e-7 (relative)
-        // of a whole number of frames per second is taken as that (key times are
-        // f32, ≤ 6e-8 relative; a BVH's 0.0333333 s stays itself, 1e-6 from 1/30).
         let densest = all.iter().max_by_key(|t| t.times.len()).expect("non-empty");
         let k = densest.times.len();
         let frame_time = if k > 1 && stop > start {
-            let dt = (densest.times[k - 1] - densest.times[0]) / (k - 1) as f64;
-            let rate = 1.0 / dt;
-            if (rate - rate.round()).abs() <= 1e-7 * rate {
-                1.0 / rate.round()
-            } else {
-                dt
-            }
+            grid_step(&densest.times)
         } else {
             1.0 / 30.0
         };
@@ -781,9 +961,70 @@ impl Tracks {
     }
 }
 
+/// The frame time the keys were written from. Key times are f32, so the
+/// mean spacing of a BVH's 0.0333333 s keys is 0.03333330 with the last key's
+/// rounding in it, and the last frame would land 2e-7 s early (`sample` at
+/// the clip's last frame time would find nothing). The grid is the simplest
+/// step whose multiples, rounded to f32, give every key within one f32 step:
+/// a whole frame rate (1/30 s), else the shortest decimal (0.0333333 s); the
+/// mean spacing when no step does (keys off any grid).
+fn grid_step(times: &[f64]) -> f64 {
+    let k = times.len();
+    let t0 = times[0];
+    let dt = (times[k - 1] - t0) / (k - 1) as f64;
+    let fits = |step: f64| {
+        times.iter().enumerate().all(|(i, &t)| {
+            let (want, got) = ((t0 + i as f64 * step) as f32, t as f32);
+            (want - got).abs() <= f32::EPSILON * got.abs().max(f32::MIN_POSITIVE)
+        })
+    };
+    let rate = (1.0 / dt).round();
+    if rate >= 1.0 && fits(1.0 / rate) {
+        return 1.0 / rate;
+    }
+    (1..=9)
+        .map(|digits| significant(dt, digits))
+        .find(|&step| step > 0.0 && fits(step))
+        .unwrap_or(dt)
+}
+
+/// `x` rounded to `digits` significant decimal digits.
+fn significant(x: f64, digits: i32) -> f64 {
+    let e = digits - 1 - x.abs().log10().floor() as i32;
+    if e >= 0 {
+        let p = 10f64.powi(e);
+        (x * p).round() / p
+    } else {
+        let p = 10f64.powi(-e);
+        (x / p).round() * p
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frame_times_come_back_on_the_grid_they_were_written_on() {
+        // keys as a writer stores them: f32 multiples of the frame time
+        let keys = |step: f64, n: usize| -> Vec<f64> {
+            (0..n)
+                .map(|i| f64::from((i as f64 * step) as f32))
+                .collect()
+        };
+        for (step, n) in [
+            (0.0333333, 210),
+            (1.0 / 30.0, 61),
+            (1.0 / 120.0, 5000),
+            (0.008333, 900),
+            (0.04, 3),
+        ] {
+            assert_eq!(grid_step(&keys(step, n)), step, "{step} × {n}");
+        }
+        // keys off any grid keep their mean spacing
+        let odd = [0.0, 0.1, 0.25, 0.3];
+        assert!((grid_step(&odd) - 0.1).abs() < 1e-12);
+    }
 
     #[test]
     fn zxy_angles_rebuild_the_rotation() {

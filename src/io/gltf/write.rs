@@ -15,7 +15,9 @@
 //! literals keeps the file readable next to the spec.
 //!
 //! Units: metres and seconds, mx's world frame as is (clips from BVH are
-//! y-up, as glTF asks).
+//! y-up, as glTF asks). Each node's `extras.mx` holds its link's mass
+//! properties ([`mass_properties`]) and, for a body from a clip, its BVH
+//! channels ([`bvh_channels`]): the reader gives both back to `body_of`.
 
 use std::path::Path;
 
@@ -80,6 +82,10 @@ pub fn to_bytes(
     let rest: Vec<Se3> = links.iter().map(|&l| rest_poses[l]).collect();
     let rest_local = locals(&rest, &parents);
 
+    let channels: Vec<Option<Vec<&str>>> = links
+        .iter()
+        .map(|&l| bvh_channels(body, l, &links))
+        .collect();
     // Nodes: one per joint, in link order (parents first).
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); links.len()];
     for (j, p) in parents.iter().enumerate() {
@@ -96,6 +102,17 @@ pub fn to_bytes(
         });
         if !children[j].is_empty() {
             node["children"] = json!(children[j]);
+        }
+        let mut mx = serde_json::Map::new();
+        let inertia = &body.link(l).inertia;
+        if !inertia.is_zero() {
+            mx.extend(mass_properties(inertia));
+        }
+        if let Some(c) = &channels[j] {
+            mx.insert("channels".into(), json!(c));
+        }
+        if !mx.is_empty() {
+            node["extras"] = json!({ "mx": mx });
         }
         doc.nodes.push(node);
     }
@@ -122,7 +139,13 @@ pub fn to_bytes(
                 "the body's joints changed while writing",
             ));
         }
+        let flipped = flipped_frames(clip.motion, body, &links, &channels, &poses.times)?;
         doc.animation(clip.name, &poses.times, &poses.poses, &parents, &rest_local);
+        if !flipped.is_empty()
+            && let Some(a) = doc.animations.last_mut()
+        {
+            a["extras"] = json!({ "mx": { "flipped": flipped } });
+        }
     }
     doc.finish(&roots, container)
 }
@@ -132,6 +155,107 @@ pub fn save(body: &Model, clips: &[Clip], rate: Option<f64>, path: &Path) -> Res
     let bytes = to_bytes(body, clips, rate, Container::for_path(path))?;
     crate::io::atomic::write_atomic(path, &bytes)?;
     Ok(())
+}
+
+/// A link's mass properties as glTF `extras` (`{"mx": {…}}` on its node), so
+/// `body_of(load("x.glb"))` is the body that was saved: mass (kg), centre of
+/// mass (m) and the inertia about it (kg·m², `[xx, yy, zz, xy, xz, yz]`), in
+/// the node's frame, as f64 (JSON numbers read back exactly). Every link
+/// that carries mass is a node: `joint_points` leaves out massless ones only.
+fn mass_properties(i: &crate::model::Inertia) -> serde_json::Map<String, Value> {
+    let c = i.com();
+    let m = i.inertia_com();
+    let mut out = serde_json::Map::new();
+    out.insert("mass".into(), json!(i.mass));
+    out.insert("com".into(), json!([c.x, c.y, c.z]));
+    out.insert(
+        "inertia".into(),
+        json!([
+            m[(0, 0)],
+            m[(1, 1)],
+            m[(2, 2)],
+            m[(0, 1)],
+            m[(0, 2)],
+            m[(1, 2)]
+        ]),
+    );
+    out
+}
+
+/// The BVH channels of joint link `l` in the body's order, when its
+/// coordinates are such channels (`Hips.Zrotation`…, a body from `body_of`):
+/// the reader then gives back the same DOFs, Euler order included, so the
+/// loaded motion drives the saved body in its own coordinates (∫Στ² depends
+/// on them). `None` for other bodies.
+fn bvh_channels(body: &Model, l: usize, joints: &[usize]) -> Option<Vec<&'static str>> {
+    // the links of this joint: up from `l` to the previous joint point
+    let mut chain = vec![l];
+    let mut p = body.link(l).parent;
+    while let Some(k) = p.filter(|k| !joints.contains(k)) {
+        chain.push(k);
+        p = body.link(k).parent;
+    }
+    let name = &body.link(l).name;
+    let mut out = vec![];
+    for &k in chain.iter().rev() {
+        for c in body.joint_coordinates(k) {
+            let (joint, channel) = body.coordinate_names()[c].rsplit_once('.')?;
+            if joint != name {
+                return None;
+            }
+            out.push(crate::mocap::bvh::Channel::parse(channel)?.name());
+        }
+    }
+    (!out.is_empty()).then_some(out)
+}
+
+/// Where a joint's Euler angles (stated channels, three rotations) are not
+/// the principal ones (middle angle beyond ±90°): the same rotation has two
+/// Euler triples, and a clip that turns past 90° keeps its angles continuous
+/// while an exporter that writes principal angles flips. The reader takes the
+/// principal triple except on these frames, so it gives back the clip's own
+/// coordinates. `{node: [[first, last], …]}` (frame indices), joints without
+/// such frames left out.
+fn flipped_frames(
+    motion: &Mu,
+    body: &Model,
+    links: &[usize],
+    channels: &[Option<Vec<&str>>],
+    times: &[f64],
+) -> Result<serde_json::Map<String, Value>, GltfError> {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    let mut out = serde_json::Map::new();
+    for (j, c) in channels.iter().enumerate() {
+        let Some(c) = c else { continue };
+        let name = &body.link(links[j]).name;
+        let rotations: Vec<String> = c
+            .iter()
+            .filter(|c| c.ends_with("rotation"))
+            .map(|c| format!("{name}.{c}"))
+            .collect();
+        let [_, middle, _] = &rotations[..] else {
+            continue;
+        };
+        let mut ranges: Vec<[usize; 2]> = vec![];
+        for (k, &t) in times.iter().enumerate() {
+            let Some(b) = motion.sample_value(middle, t)? else {
+                continue;
+            };
+            // wrapped into (−π, π]: principal when within ±π/2
+            let b = b - TAU * ((b + PI) / TAU).ceil() + TAU;
+            if b.abs() <= FRAC_PI_2 {
+                continue;
+            }
+            match ranges.last_mut() {
+                Some(r) if r[1] + 1 == k => r[1] = k,
+                _ => ranges.push([k, k]),
+            }
+        }
+        if !ranges.is_empty() {
+            out.insert(j.to_string(), json!(ranges));
+        }
+    }
+    Ok(out)
 }
 
 /// Each joint's frame in its parent joint's frame (world for a root).

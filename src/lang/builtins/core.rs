@@ -429,11 +429,16 @@ fn records(reg: &mut Registry) {
     );
     reg.add(
         "has(r, key)",
-        "Whether the record has the field `key`.",
+        "Whether `r` has the field `key`: a record's fields, or what `.key` reads on a value that has fields (an SP report, a body).",
         |a, _| {
-            let r = a.record("r")?;
+            let r = a.arg("r")?;
             let k = a.string("key")?;
-            Ok(Value::Bool(r.contains_key(k.as_ref())))
+            match &r.value {
+                Value::Record(m) => Ok(Value::Bool(m.contains_key(k.as_ref()))),
+                // a value with fields answers `.key` itself (`sp_report(m).groups`)
+                Value::Object(o) => Ok(Value::Bool(o.field(&k).is_some())),
+                _ => Err(a.type_error("r", "a record or a value with fields (an SP report)", &r)),
+            }
         },
     );
     reg.add(
@@ -450,9 +455,27 @@ fn records(reg: &mut Registry) {
     );
 }
 
-/// Strings: `join`.
+/// Strings: `join`, `split`.
 fn strings(reg: &mut Registry) {
     reg.topic(Topic::Language);
+    reg.add(
+        "split(s, sep)",
+        "The parts of s between occurrences of sep, in order: `\"Hips.Xrotation\".split(\".\")` is [\"Hips\", \"Xrotation\"]; `join` puts them back.",
+        |a, _| {
+            let s = a.string("s")?;
+            let sep = a.arg("sep")?;
+            let Value::Str(sep_s) = &sep.value else {
+                return Err(a.type_error("sep", "a string", &sep));
+            };
+            if sep_s.is_empty() {
+                return Err(MxError::value("`split`: `sep` is empty, and an empty separator splits nowhere")
+                    .at(sep.span)
+                    .label("empty")
+                    .help("give the text between the parts, e.g. `s.split(\".\")`"));
+            }
+            Ok(Value::list(s.split(sep_s.as_ref()).map(Value::str).collect()))
+        },
+    );
     reg.add(
         "join(xs, sep)",
         "The items of xs as text, separated by sep.",
@@ -470,7 +493,7 @@ fn strings(reg: &mut Registry) {
 fn files(reg: &mut Registry) {
     reg.topic(Topic::Files);
     reg.add(
-        "load(path)",
+        "load(path, ...options)",
         "Read a file; the format follows the extension (`:help formats` lists them).",
         |a, ev| {
             let arg = a.arg("path")?;

@@ -140,7 +140,7 @@ pub fn register(reg: &mut Registry) {
         },
     );
     reg.add(
-        "foot_skate(m, body, points: [...], floor: \"auto\", height: 0.02)",
+        "foot_skate(m, body, points: [...], floor: \"auto\", height: 0.02, speed: 0.3)",
         "Foot skate of m: the horizontal speed (cm/s) of each contact point over each frame step ending within `height` of the floor (data/inbetween's definition), \
          as `{mean, worst, worst_point, worst_frame, steps, weighted, floor}`; `weighted` is Zhang et al. 2018's sliding v·(2 − 2^(h/H)) (H = height) averaged over every point and step. \
          Contact points and floor as for `contacts`.",
@@ -161,7 +161,7 @@ pub fn register(reg: &mut Registry) {
         },
     );
     reg.add(
-        "penetration(m, body, points: [...], floor: \"auto\")",
+        "penetration(m, body, points: [...], floor: \"auto\", height: 0.02, speed: 0.3)",
         "How far the lowest contact point of m goes below the floor: `{depth, point, frame, time, floor}` (depth in cm, 0 when nothing goes below; \
          with the default floor, the lowest point itself, nothing can). State the floor (e.g. the capture's, `contacts(capture, b).floor`) to score a filled motion.",
         |a, _| {
@@ -179,7 +179,7 @@ pub fn register(reg: &mut Registry) {
         },
     );
     reg.add(
-        "ground_residual(m, body, friction: 0.8, points: [...], floor: \"auto\", height: 0.02)",
+        "ground_residual(m, body, friction: 0.8, points: [...], floor: \"auto\", height: 0.02, speed: 0.3)",
         "Per frame, the part of the external wrench m needs (inverse dynamics of the floating base: the wrench across the body's 6-DOF root) that no contact forces at the points within `height` of the floor, \
          each inside its friction cone (coefficient `friction`), can supply; moments weigh as the force that makes them at a body length. \
          Returns `{force_mean, force_worst, force_worst_frame, moment_mean, moment_worst, moment_worst_frame, force, moment, needed, in_contact, weight, floor, unsolved}`: force as % of body weight, \

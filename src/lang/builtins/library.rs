@@ -12,7 +12,6 @@ use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::library::{self, ClipInput, Library, LibraryError, Settings, Skipped, file};
-use crate::mocap::bvh::{self, Units};
 use crate::mocap::to_motion;
 
 fn lib_error(e: LibraryError, a: &Args) -> MxError {
@@ -64,23 +63,7 @@ fn clip_input(
     };
     if let Some(path) = v.as_str() {
         let p = ev.resolve_path(path, span_arg.span)?;
-        let read = std::fs::read(&p)
-            .map_err(|e| e.to_string())
-            .and_then(|bytes| {
-                let file =
-                    bvh::parse(&String::from_utf8_lossy(&bytes)).map_err(|e| e.to_string())?;
-                let units = bvh::resolve_units(Units::Auto, &file.skeleton)?;
-                Ok(ClipInput {
-                    name: library::clip_name(&p),
-                    file,
-                    metres_per_unit: units.metres_per_unit,
-                    source: Some((p.clone(), library::fingerprint(&bytes))),
-                })
-            });
-        return Ok(read.map_err(|reason| Skipped {
-            clip: library::clip_name(&p),
-            reason,
-        }));
+        return Ok(library::read_clip(&p));
     }
     let Some(Motion::Mu(mu)) = v.as_object::<Motion>() else {
         return Err(a.type_error(
@@ -110,7 +93,10 @@ fn build(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
         Value::Str(_) => {
             let path = ev.resolve_path(arg.value.as_str().unwrap_or(""), arg.span)?;
             if path.is_dir() {
-                library::clips_in_folder(&path).map_err(|e| lib_error(e, a))?
+                // read, indexed and let go file by file: the library keeps features
+                let paths = library::bvh_files(&path).map_err(|e| lib_error(e, a))?;
+                let lib = Library::build_files(&paths, settings).map_err(|e| lib_error(e, a))?;
+                return Ok(library_value(lib));
             } else {
                 let one = clip_input(String::new(), &arg.value, a, &arg, ev)?;
                 match one {
@@ -148,11 +134,15 @@ fn build(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
         }
     };
     let lib = Library::build(clips, skipped, settings).map_err(|e| lib_error(e, a))?;
+    Ok(library_value(lib))
+}
+
+fn library_value(lib: Library) -> Value {
     // reported, not dropped: on stderr now and in `lib.skipped`
     for s in &lib.skipped {
         eprintln!("warning: library: clip `{}` skipped: {}", s.clip, s.reason);
     }
-    Ok(Value::object(LibraryValue(Arc::new(lib))))
+    Value::object(LibraryValue(Arc::new(lib)))
 }
 
 fn matches(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {

@@ -227,7 +227,7 @@ fn gltf_files(reg: &mut Registry) {
             ext,
             "glTF 2.0 skeleton animation: an Mu with DOFs `Joint.Zrotation/Xrotation/Yrotation` (Z·X·Y Euler, radians) per joint of the skin and \
              `Joint.X/Y/Zposition` (metres) at the root and wherever a joint's translation is animated; frames on the keys' grid from t = 0. \
-             `body_of(m)` gives its body. Option `animation:` a name or an index (0 first; default the first). Meshes, scale and morph channels are ignored with a note.",
+             `body_of(m)` gives its body (the saved one, masses and inertias, when mx wrote the file). Option `animation:` a name or an index (0 first; default the first). Meshes, scale and morph channels are ignored with a note.",
             |path, a, ev| {
                 let which = match a.opt_named("animation") {
                     None => crate::io::gltf::Which::First,
@@ -259,7 +259,8 @@ fn gltf_files(reg: &mut Registry) {
         reg.saver(
             ext,
             "glTF 2.0 (.glb binary; .gltf one JSON file, its buffer embedded as base64): the body's joints as a skinned node hierarchy (y-up metres, names kept), \
-             each motion an animation of LINEAR rotation (quaternion) channels and the root's translation, keyed on its frames from 0 s. \
+             each motion an animation of LINEAR rotation (quaternion) channels and the root's translation, keyed on its frames from 0 s; \
+             each joint's mass, centre of mass and inertia in its node's `extras.mx`. \
              `save(m, \"x.glb\", body: b)`; several motions of one body: `save([a, b], \"x.glb\", body: b, names: [\"a\", \"b\"])`. \
              `body:` defaults to the body of the clip m came from; `rate:` frames per second (default: the motion's own).",
             |v, path, a, ev| {
@@ -269,7 +270,8 @@ fn gltf_files(reg: &mut Registry) {
                     Some(b) => body_of_arg(a, "body", &b)?.model.clone(),
                     None => {
                         let k = clip_of(v, &motions[0], ev).ok_or_else(|| no_skeleton(span))?;
-                        let (model, _) = mocap::body_of::body_of(&k.skeleton, 70.0, k.metres_per_unit).map_err(|e| mocap_error(e, span))?;
+                        let mass = k.skeleton.stated_mass().unwrap_or(70.0);
+                        let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| mocap_error(e, span))?;
                         Arc::new(model)
                     }
                 };
@@ -305,12 +307,13 @@ fn bodies(reg: &mut Registry) {
     reg.topic(Topic::Dynamics);
     reg.add(
         "body_of(clip, mass: 70)",
-        "A body whose coordinates are exactly the clip's DOFs (revolute per rotation channel, prismatic per position channel), de Leva (1996) segments scaled by bone lengths and `mass` (kg).",
+        "A body whose coordinates are exactly the clip's DOFs (revolute per rotation channel, prismatic per position channel), de Leva (1996) segments scaled by bone lengths and `mass` (kg). \
+         A glTF file mx wrote carries its body's masses and inertias: body_of gives that body back (`mass:` scales it; its default is then the saved total).",
         |a, ev| {
             let arg = a.arg("clip")?;
             let m = mu_of(a, "clip", &arg)?;
-            let mass = a.number_or("mass", 70.0)?;
             let k = clip_of(&arg.value, &m, ev).ok_or_else(|| no_skeleton(arg.span))?;
+            let mass = a.number_or("mass", k.skeleton.stated_mass().unwrap_or(70.0))?;
             let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| mocap_error(e, a.call_span()))?;
             Ok(Value::object(Body {
                 model: Arc::new(model),

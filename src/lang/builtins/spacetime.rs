@@ -446,7 +446,7 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
 pub fn register(reg: &mut Registry) {
     reg.topic(Topic::Spacetime);
     reg.add(
-        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"auto\")",
+        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"auto\", contact: \"none\", floor: \"auto\")",
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
@@ -563,7 +563,7 @@ pub fn register(reg: &mut Registry) {
         run_cyclify,
     );
     reg.add(
-        "loop(m, n)",
+        "loop(m, n) | loop(m, ts, tf)",
         "A cyclified motion (cyclify(m, ts, te)) played n times back to back; drifting DOFs continue from where the \
          previous cycle ended. loop(m, ts, tf): m repeated periodically over [ts, tf] (extrapolate(m, ts, tf, \"loop\")).",
         |a, _| {

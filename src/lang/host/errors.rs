@@ -10,6 +10,7 @@ use crate::lang::args::Args;
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError};
 use crate::motion::MotionError;
+use crate::shard::ShardError;
 use crate::spacetime::SpError;
 
 /// What the language needs from an engine error to report it.
@@ -159,7 +160,9 @@ fn sp_option_help(option: &str) -> Option<&'static str> {
 impl EngineError for GraphError {
     fn kind(&self) -> ErrorKind {
         match self {
-            GraphError::InvalidOption { .. } | GraphError::BadShard { .. } => ErrorKind::Value,
+            GraphError::InvalidOption { .. } | GraphError::Shard(ShardError::Bad { .. }) => {
+                ErrorKind::Value
+            }
             _ => ErrorKind::Host,
         }
     }

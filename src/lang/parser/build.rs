@@ -134,8 +134,54 @@ impl Builder<'_> {
                 };
                 Ok(Stmt::Fn(Arc::new(def)))
             }
+            Rule::import_stmt => self.import(p, span),
             _ => Ok(Stmt::Expr(self.expr(p)?)),
         }
+    }
+
+    /// `import "path" as name`; without `as`, the name is the file's stem.
+    fn import(&self, p: Pair<Rule>, span: Span) -> MxResult<Stmt> {
+        let mut it = p
+            .into_inner()
+            .filter(|q| !matches!(q.as_rule(), Rule::kw_import | Rule::kw_as));
+        let path = it.next().ok_or_else(|| internal(span))?;
+        let path_span = self.span(&path);
+        let file = match &self.expr(path)?.kind {
+            ExprKind::Str(f) => f.clone(),
+            _ => return Err(internal(span)),
+        };
+        let (name, name_span) = match it.next() {
+            Some(n) => (n.as_str().to_string(), self.span(&n)),
+            None => {
+                let stem = std::path::Path::new(file.as_ref())
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                let is_ident = stem.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+                    && stem.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+                if !is_ident {
+                    return Err(MxError::new(
+                        ErrorKind::Syntax,
+                        format!("`{stem}` is not a name the import can be bound to"),
+                    )
+                    .at(path_span)
+                    .label("needs a name")
+                    .help(format!("name it: `import \"{file}\" as walks`")));
+                }
+                (stem, path_span)
+            }
+        };
+        let span = Span {
+            end: name_span.end.max(path_span.end),
+            ..span
+        };
+        Ok(Stmt::Import(Import {
+            path: file,
+            path_span,
+            name,
+            name_span,
+            span,
+        }))
     }
 
     fn body(&self, p: Pair<Rule>) -> MxResult<Expr> {

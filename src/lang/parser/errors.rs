@@ -25,7 +25,7 @@ fn rule_name(r: &Rule) -> Option<&'static str> {
         Rule::or_op | Rule::and_op => "an operator",
         Rule::eq | Rule::ne | Rule::lt | Rule::le | Rule::gt | Rule::ge => "an operator",
         Rule::kw_else => "`else`",
-        Rule::let_stmt | Rule::fn_stmt => "a statement",
+        Rule::let_stmt | Rule::fn_stmt | Rule::import_stmt => "a statement",
         _ => return None,
     })
 }

@@ -101,6 +101,20 @@ pub struct BvhJoint {
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Skeleton {
     pub joints: Vec<BvhJoint>,
+    /// The body's mass properties, one per joint in its own frame (SI), when
+    /// the file carries them (a glTF file mx wrote): `body_of` then builds
+    /// the body that was saved instead of estimating one. BVH has none.
+    pub inertias: Option<Vec<crate::model::Inertia>>,
+}
+
+impl Skeleton {
+    /// The total mass the file states, if it carries mass properties.
+    pub fn stated_mass(&self) -> Option<f64> {
+        self.inertias
+            .as_ref()
+            .map(|v| v.iter().map(|i| i.mass).sum::<f64>())
+            .filter(|m| *m > 0.0)
+    }
 }
 
 impl Skeleton {

@@ -446,7 +446,10 @@ fn parse_hierarchy(mut c: Cursor<'_>) -> Result<Skeleton, BvhError> {
     if joints.is_empty() {
         return Err(BvhError::at(c.end_line, "the HIERARCHY has no ROOT joint"));
     }
-    Ok(Skeleton { joints })
+    Ok(Skeleton {
+        joints,
+        inertias: None,
+    })
 }
 
 /// `Frames: N` then `Frame Time: t`. Returns (N, line of N, t).

@@ -1,10 +1,12 @@
 //! The objective's Gauss–Newton Hessian: the change of variables the solver
-//! works in ([`Precond`]).
+//! works in ([`Precond`]), assembled from every term's part
+//! ([`super::Term::gauss_newton`]).
 
 use super::super::error::SpError;
 use super::super::precond::Precond;
 use super::super::torque::TorqueModel;
 use super::layout::NodeRows;
+use super::term::{GaussNewtonNode, Node};
 use super::{NodeScratch, Objective, Scratch};
 use nalgebra::DMatrix;
 
@@ -16,12 +18,11 @@ impl<M: TorqueModel> Objective<'_, M> {
         self.gauss_newton_at(s, &x0)
     }
 
-    /// The Gauss–Newton preconditioner linearised at x: with the torque
-    /// Jacobians D_α = ∂τ/∂(q, q̇, q̈) of the gap coordinates at every node,
-    /// H/2 = Σ_k w_k J_kᵀ W J_k, J_k[:, (d, j)] = Σ_α D_α[:, d] r_{α,d,k}[j].
-    /// Assembled as Σ_αβ G_αβ[d, e] · w_k r_{α,d,k} r_{β,e,k}ᵀ with
-    /// G_αβ = D_αᵀ W D_β, over the (at most four) basis functions alive at
-    /// the node, so a node costs O(nd²·nq) rather than O(nq·(nd·nf)²).
+    /// The Gauss–Newton preconditioner linearised at x: H/2 = Σ_k w_k J_kᵀ W J_k
+    /// over every term's residual rows at every node (for the torque term
+    /// J_k[:, (d, j)] = Σ_α D_α[:, d] r_{α,d,k}[j], D_α = ∂τ/∂(q, q̇, q̈) of the
+    /// gap coordinates; see [`GaussNewtonNode::add_rows`]), plus the exact
+    /// Hessian of quadratic terms (the prior).
     /// Linearising at every node, not at a few, matters: the body's pose and
     /// hence M(q) and the gravity Jacobian change over the gap, and with three
     /// linearisation points L-BFGS needed ~25 % more iterations for the same
@@ -31,10 +32,19 @@ impl<M: TorqueModel> Objective<'_, M> {
         s: &mut Scratch<M::Workspace>,
         x0: &[f64],
     ) -> Result<Precond, SpError> {
-        let nv = self.n_vars();
-        if nv == 0 {
+        if self.n_vars() == 0 {
             return Ok(Precond::Identity);
         }
+        Ok(Precond::from_half_hessian(self.half_gauss_newton(s, x0)?))
+    }
+
+    /// H/2 of [`Objective::gauss_newton_at`], whole (both triangles).
+    pub fn half_gauss_newton(
+        &self,
+        s: &mut Scratch<M::Workspace>,
+        x0: &[f64],
+    ) -> Result<DMatrix<f64>, SpError> {
+        let nv = self.n_vars();
         let nn = self.layout.nodes.len();
         let chunks = s.parts.len();
         let partial = |i: usize, ns: &mut NodeScratch<M::Workspace>| {
@@ -63,10 +73,13 @@ impl<M: TorqueModel> Objective<'_, M> {
         };
         // only the upper triangle was accumulated
         h.fill_lower_triangle_with_upper_triangle();
-        Ok(Precond::from_half_hessian(h))
+        Ok(h)
     }
 
-    /// Adds node k's term w_k J_kᵀ W J_k (upper triangle) to `h`.
+    /// Adds node k's part w_k J_kᵀ W J_k (upper triangle) to `h`: every
+    /// term's, last term first (the order the preconditioner had when the
+    /// prior and torque were its only parts, so that its rounding, hence the
+    /// solver's path, stays as it was).
     fn add_gauss_newton_node(
         &self,
         k: usize,
@@ -75,7 +88,6 @@ impl<M: TorqueModel> Objective<'_, M> {
         h: &mut DMatrix<f64>,
     ) -> Result<(), SpError> {
         let layout = &self.layout;
-        let nf = layout.n_free;
         // the gap DOFs alive at this node, with their rows
         let alive: Vec<(usize, &NodeRows)> = layout
             .active
@@ -83,40 +95,34 @@ impl<M: TorqueModel> Objective<'_, M> {
             .enumerate()
             .filter_map(|(d, a)| a[k].as_ref().map(|r| (d, r)))
             .collect();
-        if alive.is_empty() {
+        if alive.is_empty() && layout.n_extras() == 0 {
             return Ok(());
         }
         let coords: Vec<usize> = alive.iter().map(|(d, _)| layout.dofs[*d].coord).collect();
-        self.torque.load_node(layout, k, x0, s);
-        let wk = layout.qweights[k];
-        // G_αβ = D_αᵀ (w_k W) D_β; G_βα = G_αβᵀ
-        let g = self.torque.gauss_newton_blocks(s, &coords, wk)?;
-        let gab = |a: usize, b: usize, i: usize, j: usize| match (&g[a][b], &g[b][a]) {
-            (Some(m), _) => m[(i, j)],
-            (None, Some(m)) => m[(j, i)],
-            _ => 0.0,
+        self.sampled.load(layout, k, x0, s);
+        let NodeScratch {
+            ws, q, v, a, terms, ..
+        } = s;
+        let mut gn = GaussNewtonNode {
+            layout,
+            wk: layout.qweights[k],
+            alive: &alive,
+            coords: &coords,
+            h,
         };
-        self.prior.add_gauss_newton(&alive, wk, nf, h);
-        for (i, (di, rd)) in alive.iter().enumerate() {
-            for (j, (ei, re)) in alive.iter().enumerate().skip(i) {
-                let c: [[f64; 3]; 3] =
-                    std::array::from_fn(|a| std::array::from_fn(|b| gab(a, b, i, j)));
-                for p in rd.live.clone() {
-                    let row = di * nf + p;
-                    // [Σ_a c_ab r_a[p]]_b
-                    let cr: [f64; 3] = std::array::from_fn(|b| {
-                        (0..3).map(|a| c[a][b] * rd.rows[a][p]).sum::<f64>()
-                    });
-                    for l in re.live.clone() {
-                        let col = ei * nf + l;
-                        if col < row {
-                            continue;
-                        }
-                        h[(row, col)] +=
-                            cr[0] * re.rows[0][l] + cr[1] * re.rows[1][l] + cr[2] * re.rows[2][l];
-                    }
-                }
-            }
+        let terms: Vec<_> = self.terms().zip(terms.iter_mut()).collect();
+        for (term, scratch) in terms.into_iter().rev() {
+            let mut node = Node {
+                layout,
+                k,
+                q,
+                v,
+                a,
+                extras: layout.extras(x0),
+                ws: &mut *ws,
+                scratch,
+            };
+            term.gauss_newton(&mut node, &mut gn)?;
         }
         Ok(())
     }

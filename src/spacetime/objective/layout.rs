@@ -74,8 +74,13 @@ impl NodeRows {
     }
 }
 
-/// The gaps of one group laid out for a solve: the unknowns are `n_free`
-/// free coefficients per gap DOF, DOF after DOF.
+/// The gaps of one group laid out for a solve. The unknown vector is
+/// `[coefficients | extras]`: `n_free` free coefficients per gap DOF, DOF
+/// after DOF, then the extra unknowns a term may own beside the curves (the
+/// root's coordinates, a value per node; none unless
+/// [`GapLayout::with_extras`] adds them). A term reads its extras with
+/// [`GapLayout::extras`] and adds to their gradient through
+/// [`super::NodeGrad::add_extra`].
 #[derive(Clone, Debug)]
 pub struct GapLayout {
     pub(crate) dofs: Vec<GapDof>,
@@ -85,6 +90,8 @@ pub struct GapLayout {
     pub(crate) qweights: Vec<f64>,
     /// `active[d][k]`: gap DOF d's rows at node k, `None` outside its gap.
     pub(crate) active: Vec<Vec<Option<NodeRows>>>,
+    /// The extra unknowns' starting values (their number is its length).
+    pub(crate) extras_start: Vec<f64>,
 }
 
 impl GapLayout {
@@ -116,12 +123,48 @@ impl GapLayout {
             nodes,
             qweights,
             active,
+            extras_start: vec![],
         })
     }
 
-    /// Number of unknowns (gap DOFs × free coefficients), laid out DOF-major.
+    /// The same layout with extra unknowns after the coefficients, starting
+    /// at `start` (replacing any it had); they must be finite.
+    pub fn with_extras(mut self, start: Vec<f64>) -> Result<Self, SpError> {
+        if let Some(i) = start.iter().position(|v| !v.is_finite()) {
+            return Err(invalid(format!(
+                "extra unknown {i} starts at {}, which is not finite",
+                start[i]
+            )));
+        }
+        self.extras_start = start;
+        Ok(self)
+    }
+
+    /// Number of unknowns: gap DOFs × free coefficients, then the extras.
     pub fn n_vars(&self) -> usize {
+        self.n_coefficients() + self.n_extras()
+    }
+
+    /// Number of free coefficients (gap DOFs × free coefficients per DOF):
+    /// where the extras start in the unknown vector.
+    pub fn n_coefficients(&self) -> usize {
         self.dofs.len() * self.n_free
+    }
+
+    /// Number of extra unknowns.
+    pub fn n_extras(&self) -> usize {
+        self.extras_start.len()
+    }
+
+    /// The extra unknowns in `x` (or their part of a gradient).
+    pub fn extras<'x>(&self, x: &'x [f64]) -> &'x [f64] {
+        &x[self.n_coefficients()..]
+    }
+
+    /// The extras' part of a gradient (or of x), to write.
+    pub fn extras_mut<'x>(&self, g: &'x mut [f64]) -> &'x mut [f64] {
+        let n = self.n_coefficients();
+        &mut g[n..]
     }
 
     pub fn n_free(&self) -> usize {
@@ -159,12 +202,16 @@ impl GapLayout {
     }
 
     /// The starting point: every gap DOF's free coefficients fitted to the
-    /// Hermite curve (cubic for C¹ — exactly representable — quintic for C²).
+    /// Hermite curve (cubic for C¹ — exactly representable — quintic for C²),
+    /// then the extras' starting values.
     pub fn hermite_start(&self) -> Vec<f64> {
-        hermite_free_coefficients(&self.dofs, &self.curves)
+        let mut x = hermite_free_coefficients(&self.dofs, &self.curves);
+        x.extend_from_slice(&self.extras_start);
+        x
     }
 
-    /// Full coefficient vectors of every gap DOF for free coefficients x.
+    /// Full coefficient vectors of every gap DOF for unknowns x (the
+    /// extras, if any, are not read).
     pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
         full_coefficients(&self.dofs, &self.curves, self.n_free, x)
     }

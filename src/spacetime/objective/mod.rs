@@ -7,23 +7,33 @@
 //! node, and each gap coordinate's q, q̇, q̈ is linear in its free coefficients
 //! (the basis rows of the [`GapLayout`]), so ∂e/∂x = Σ_nodes w_k (g_q·B + g_q̇·B' + g_q̈·B'').
 //!
-//! The layout (`layout.rs`) is shared with the support IK; the torque term
-//! (`torque_term.rs`) and SP's kinematic prior (`prior.rs`) are summed node
-//! by node here; the Gauss–Newton preconditioner is `gauss_newton.rs`.
+//! The objective is a list of terms (`term.rs`: [`Term`]) summed node by
+//! node here: the torque term (`torque_term.rs`), SP's kinematic prior
+//! (`prior.rs`), then any added with [`Objective::with_term`]. The layout
+//! (`layout.rs`) is shared with the support IK; the state at the nodes is
+//! `sampled.rs`; the Gauss–Newton preconditioner, which asks every term for
+//! its part, is `gauss_newton.rs`.
 
 use super::error::{SpError, invalid};
 use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
+use crate::dynamics::PointForce;
 
 mod gauss_newton;
 pub mod layout;
 mod prior;
+mod sampled;
+pub mod term;
+#[cfg(test)]
+mod term_tests;
 #[cfg(test)]
 mod tests;
 mod torque_term;
 
 pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
 use prior::KinematicPrior;
+use sampled::Sampled;
+pub use term::{GaussNewtonNode, Node, NodeGrad, NodeSum, Term, TermScratch, scratch_of};
 use torque_term::TorqueTerm;
 
 /// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has
@@ -66,16 +76,21 @@ impl Default for TransitionSettings {
 pub type Inputs<'a> =
     dyn Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + 'a;
 
-/// The objective of one group of gaps: the torque term plus SP's kinematic
-/// prior, over one [`GapLayout`].
+/// The objective of one group of gaps over one [`GapLayout`]: the torque
+/// term, SP's kinematic prior, then the terms added with
+/// [`Objective::with_term`], summed node by node in that order.
 pub struct Objective<'a, M: TorqueModel> {
     layout: GapLayout,
+    /// The state at every node (the inputs sampled once).
+    sampled: Sampled,
     torque: TorqueTerm<'a, M>,
     /// Per gap DOF, the weights (c_v, c_a) of the kinematic prior
     /// ∫ c_v (q̇ − ṙ)² + c_a (q̈ − r̈)² dt added to the torque term
     /// ([`Objective::with_prior`], [`Objective::rescale_prior`]) and the
     /// example's [ṙ, r̈] it follows ([`Objective::with_example`]).
     prior: KinematicPrior,
+    /// The terms after the built-in two.
+    more: Vec<Box<dyn Term<M> + 'a>>,
 }
 
 /// Scratch vectors of one node evaluation (one thread's).
@@ -84,9 +99,13 @@ pub struct NodeScratch<W> {
     q: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
+    /// The integrand's gradient with respect to the node's state, which
+    /// every term adds to.
     gq: Vec<f64>,
     gv: Vec<f64>,
     ga: Vec<f64>,
+    /// Each term's own scratch, in the order of [`Objective::terms`].
+    terms: Vec<TermScratch>,
 }
 
 /// Scratch memory of one solve: one [`NodeScratch`] and one partial gradient
@@ -179,13 +198,59 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         weights: Vec<f64>,
         inputs: &Inputs<'_>,
     ) -> Result<Self, SpError> {
-        let torque = TorqueTerm::new(model, weights, &layout, inputs)?;
+        let sampled = Sampled::new(model, &layout, inputs)?;
         let prior = KinematicPrior::none(&layout);
         Ok(Objective {
             layout,
-            torque,
+            sampled,
+            torque: TorqueTerm {
+                model,
+                weights,
+                forces: vec![],
+            },
             prior,
+            more: vec![],
         })
+    }
+
+    /// The world forces at link points that act at each node besides the
+    /// joints (`per_node[k]` at node k; empty: none anywhere): the torque
+    /// term becomes Σwᵢτᵢ² with τ = ID − Σ J_cᵀ f_c, differentiated with the
+    /// forces held fixed. Replaces those set before.
+    pub fn set_forces(&mut self, per_node: Vec<Vec<PointForce>>) -> Result<(), SpError> {
+        if !per_node.is_empty() && per_node.len() != self.n_nodes() {
+            return Err(invalid(format!(
+                "forces are given at {} nodes but the objective has {}",
+                per_node.len(),
+                self.n_nodes()
+            )));
+        }
+        self.torque.forces = per_node;
+        Ok(())
+    }
+
+    /// q, q̇, q̈ of every coordinate at node k for unknowns x (the state every
+    /// term reads there), e.g. to compute the forces of [`Objective::set_forces`].
+    pub fn node_state(&self, x: &[f64], k: usize) -> [Vec<f64>; 3] {
+        let n = self.torque.model.nq();
+        let [mut q, mut v, mut a] = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        self.sampled
+            .load_into(&self.layout, k, x, [&mut q, &mut v, &mut a]);
+        [q, v, a]
+    }
+
+    /// Adds a term after those it has (see [`Term`]).
+    pub fn with_term(mut self, term: Box<dyn Term<M> + 'a>) -> Self {
+        self.more.push(term);
+        self
+    }
+
+    /// Every term in the order they are summed: torque, prior, then those
+    /// of [`Objective::with_term`].
+    pub fn terms(&self) -> impl Iterator<Item = &(dyn Term<M> + 'a)> + '_ {
+        [&self.torque as &dyn Term<M>, &self.prior as &dyn Term<M>]
+            .into_iter()
+            .chain(self.more.iter().map(|t| t.as_ref()))
     }
 
     /// Adds the kinematic prior Σ_d ∫ c_v,d q̇_d² + c_a,d q̈_d² dt over the gap
@@ -228,7 +293,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         &self.layout
     }
 
-    /// Number of unknowns (gap DOFs × free coefficients), laid out DOF-major.
+    /// Number of unknowns (gap DOFs × free coefficients, laid out DOF-major,
+    /// then the layout's extras).
     pub fn n_vars(&self) -> usize {
         self.layout.n_vars()
     }
@@ -270,6 +336,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             gq: vec![0.0; n],
             gv: vec![0.0; n],
             ga: vec![0.0; n],
+            terms: self.terms().map(|t| t.scratch()).collect(),
         }
     }
 
@@ -324,8 +391,9 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     }
 
     /// The part of e (and of ∂e/∂x, into `grad`, overwritten) from the nodes
-    /// in `range`: at each node the torque term, then the prior of every DOF
-    /// whose gap holds it (in that order: the sums are the solver's path).
+    /// in `range`: at each node every term in turn (in that order: the sums
+    /// are the solver's path), then the state gradient chained through the
+    /// basis rows of every DOF whose gap holds the node.
     fn eval_nodes(
         &self,
         range: std::ops::Range<usize>,
@@ -337,24 +405,55 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             g.fill(0.0);
         }
         let layout = &self.layout;
+        let n0 = layout.n_coefficients();
         let mut e = 0.0;
         for k in range {
-            self.torque.load_node(layout, k, x, s);
-            let f = self.torque.node_cost(s)?;
+            self.sampled.load(layout, k, x, s);
             let wk = layout.qweights[k];
-            e += wk * f;
-            for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
-                if act[k].is_some() {
-                    let c = dof.coord;
-                    e += wk * self.prior.cost(d, k, s.v[c], s.a[c]);
+            let NodeScratch {
+                ws,
+                q,
+                v,
+                a,
+                gq,
+                gv,
+                ga,
+                terms,
+            } = &mut *s;
+            if grad.is_some() {
+                for g in [&mut *gq, &mut *gv, &mut *ga] {
+                    g.fill(0.0);
                 }
+            }
+            for (term, scratch) in self.terms().zip(terms.iter_mut()) {
+                let mut node = Node {
+                    layout,
+                    k,
+                    q,
+                    v,
+                    a,
+                    extras: &x[n0..],
+                    ws: &mut *ws,
+                    scratch,
+                };
+                let mut sum = NodeSum {
+                    wk,
+                    e: &mut e,
+                    grad: grad.as_deref_mut().map(|g| NodeGrad {
+                        q: &mut gq[..],
+                        v: &mut gv[..],
+                        a: &mut ga[..],
+                        wk,
+                        extras: &mut g[n0..],
+                    }),
+                };
+                term.node(&mut node, &mut sum)?;
             }
             if let Some(g) = grad.as_deref_mut() {
                 for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
                     if let Some(r) = &act[k] {
                         let c = dof.coord;
-                        let [sv, sa] = self.prior.slopes(d, k, s.v[c], s.a[c]);
-                        let (a0, a1, a2) = (wk * s.gq[c], wk * (s.gv[c] + sv), wk * (s.ga[c] + sa));
+                        let (a0, a1, a2) = (wk * gq[c], wk * gv[c], wk * ga[c]);
                         let gd = &mut g[d * layout.n_free..(d + 1) * layout.n_free];
                         for j in r.live.clone() {
                             gd[j] += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];

@@ -6,9 +6,10 @@
 //! place instead of rebuilding the objective.
 
 use super::super::error::{SpError, invalid};
-use super::layout::{GapLayout, NodeRows};
+use super::super::torque::TorqueModel;
+use super::layout::GapLayout;
+use super::term::{GaussNewtonNode, Node, NodeSum, Term};
 use super::{GapDof, Inputs};
-use nalgebra::DMatrix;
 
 /// The prior's weights and the motion it follows.
 #[derive(Clone, Debug)]
@@ -129,28 +130,63 @@ impl KinematicPrior {
         let [rv, ra] = self.example[d][k];
         [2.0 * cv * (v - rv), 2.0 * ca * (a - ra)]
     }
+}
 
-    /// Adds the prior's half-Hessian at one node, w_k (c_v r₁r₁ᵀ + c_a r₂r₂ᵀ),
-    /// block-diagonal per DOF, to the upper triangle of `h` (`alive`: the
-    /// DOFs whose gap holds the node, with their rows).
-    pub(super) fn add_gauss_newton(
+impl<M: TorqueModel> Term<M> for KinematicPrior {
+    fn name(&self) -> &str {
+        "prior"
+    }
+
+    /// Σ_d over the DOFs whose gap holds the node; a DOF's integrand is
+    /// added on its own (the sums are the solver's path).
+    fn node(&self, node: &mut Node<'_, M>, sum: &mut NodeSum<'_>) -> Result<(), SpError> {
+        let (layout, k) = (node.layout, node.k);
+        let alive = || {
+            layout
+                .dofs
+                .iter()
+                .zip(&layout.active)
+                .enumerate()
+                .filter(move |(_, (_, act))| act[k].is_some())
+                .map(|(d, (dof, _))| (d, dof.coord))
+        };
+        for (d, c) in alive() {
+            sum.add(self.cost(d, k, node.v[c], node.a[c]));
+        }
+        if let Some(g) = sum.gradient() {
+            for (d, c) in alive() {
+                let [sv, sa] = self.slopes(d, k, node.v[c], node.a[c]);
+                g.v[c] += sv;
+                g.a[c] += sa;
+            }
+        }
+        Ok(())
+    }
+
+    /// Its exact half-Hessian at the node, w_k (c_v r₁r₁ᵀ + c_a r₂r₂ᵀ),
+    /// block-diagonal per DOF.
+    fn gauss_newton(
         &self,
-        alive: &[(usize, &NodeRows)],
-        wk: f64,
-        nf: usize,
-        h: &mut DMatrix<f64>,
-    ) {
-        for (di, rd) in alive {
-            let [cv, ca] = self.weights[*di];
+        _node: &mut Node<'_, M>,
+        gn: &mut GaussNewtonNode<'_>,
+    ) -> Result<(), SpError> {
+        let (wk, nf) = (gn.wk(), gn.layout.n_free);
+        for &(di, rd) in gn.alive() {
+            let [cv, ca] = self.weights[di];
             if cv == 0.0 && ca == 0.0 {
                 continue;
             }
             for p in rd.live.clone() {
                 for l in rd.live.clone().filter(|&l| l >= p) {
-                    h[(di * nf + p, di * nf + l)] += wk
-                        * (cv * rd.rows[1][p] * rd.rows[1][l] + ca * rd.rows[2][p] * rd.rows[2][l]);
+                    gn.add(
+                        di * nf + p,
+                        di * nf + l,
+                        wk * (cv * rd.rows[1][p] * rd.rows[1][l]
+                            + ca * rd.rows[2][p] * rd.rows[2][l]),
+                    );
                 }
             }
         }
+        Ok(())
     }
 }

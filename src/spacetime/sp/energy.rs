@@ -77,7 +77,7 @@ pub fn torque_energy(m: &Mu, model: &Model, gravity: Option<Vector3<f64>>) -> Re
                         need: crate::spacetime::Need::TorqueEnergy,
                     });
                 }
-                body.torques(&mut ws, &q, &v, &a, &mut tau)?;
+                body.torques(&mut ws, &q, &v, &a, &[], &mut tau)?;
                 total += wq
                     * tau
                         .iter()

@@ -1,0 +1,220 @@
+//! Where an indexed clip's frames are, read only when a match needs them:
+//! the index keeps features in memory, not clips, so a library of 10⁴
+//! clips fits where its clips would not, and SP reads the few it follows.
+
+use super::features::KeyJoints;
+use super::{LibraryError, fingerprint};
+use crate::mocap::bvh::{self, BvhFile, Units};
+use crate::mocap::{self, Clip};
+use serde::{Deserialize, Serialize};
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, SystemTime};
+
+/// A clip handed to [`super::Library::build`].
+#[derive(Clone, Debug)]
+pub struct ClipInput {
+    pub name: String,
+    pub file: BvhFile,
+    pub metres_per_unit: f64,
+    /// The file it was read from, as it was then: the library reads the clip
+    /// from there when a match needs it, and a saved index whose sources
+    /// changed since is refused as stale. `None`: a clip made in memory,
+    /// which the library keeps.
+    pub source: Option<Source>,
+}
+
+/// A clip's file as it was when it was read: its fingerprint and size, and
+/// its modification time where that can be trusted to tell a change.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Source {
+    pub path: PathBuf,
+    pub fingerprint: u64,
+    pub len: u64,
+    /// Nanoseconds since 1970; `None` when the file was modified within
+    /// [`RACY`] of being read, where another change could keep the same time.
+    pub modified_ns: Option<u64>,
+}
+
+/// How recent a modification time is too recent to vouch for the file's
+/// content (git's "racily clean" entries): a later write within the file
+/// system's timestamp granularity could leave it unchanged.
+const RACY: Duration = Duration::from_secs(2);
+
+fn modified_ns(meta: &std::fs::Metadata) -> Option<u64> {
+    let m = meta.modified().ok()?;
+    if SystemTime::now()
+        .duration_since(m)
+        .is_ok_and(|age| age < RACY)
+    {
+        return None;
+    }
+    Some(m.duration_since(SystemTime::UNIX_EPOCH).ok()?.as_nanos() as u64)
+}
+
+impl Source {
+    /// The stamp of `path`, whose content is `bytes` (read just now).
+    pub fn of(path: &Path, bytes: &[u8]) -> Source {
+        let meta = std::fs::metadata(path).ok();
+        Source {
+            path: path.to_path_buf(),
+            fingerprint: fingerprint(bytes),
+            len: bytes.len() as u64,
+            modified_ns: meta.as_ref().and_then(modified_ns),
+        }
+    }
+
+    /// Whether the file still holds what was indexed: `None` when it is gone
+    /// (the library stands alone where its clips are kept). The size and the
+    /// modification time answer without reading it; where they cannot
+    /// vouch, the bytes are fingerprinted.
+    pub fn unchanged(&self) -> Option<bool> {
+        let meta = std::fs::metadata(&self.path).ok()?;
+        if meta.len() != self.len {
+            return Some(false);
+        }
+        if self.modified_ns.is_some() && modified_ns(&meta) == self.modified_ns {
+            return Some(true);
+        }
+        let now = std::fs::read(&self.path).ok()?;
+        Some(fingerprint(&now) == self.fingerprint)
+    }
+}
+
+/// An open `.mxlib` file whose clip section is read on demand. The handle
+/// keeps the file that was loaded, even when a later save renames another
+/// over its path.
+pub struct SectionFile {
+    pub path: PathBuf,
+    file: Mutex<File>,
+}
+
+impl SectionFile {
+    pub fn new(path: &Path, file: File) -> SectionFile {
+        SectionFile {
+            path: path.to_path_buf(),
+            file: Mutex::new(file),
+        }
+    }
+
+    /// `len` bytes at `offset`.
+    pub fn read(&self, offset: u64, len: u64) -> std::io::Result<Vec<u8>> {
+        let mut f = self.file.lock().unwrap_or_else(|p| p.into_inner());
+        f.seek(SeekFrom::Start(offset))?;
+        let mut out = vec![0; len as usize];
+        f.read_exact(&mut out)?;
+        Ok(out)
+    }
+}
+
+impl std::fmt::Debug for SectionFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SectionFile({})", self.path.display())
+    }
+}
+
+/// Where a clip's frames are.
+#[derive(Clone, Debug)]
+pub enum ClipData {
+    /// Kept in memory: a clip made from a motion, with no file.
+    Memory(Arc<BvhFile>),
+    /// Its `.bvh` file, read when needed and refused if it changed.
+    File(Source),
+    /// BVH text inside an `.mxlib` file: `len` bytes at `offset`, with their fingerprint.
+    Section {
+        file: Arc<SectionFile>,
+        offset: u64,
+        len: u64,
+        fingerprint: u64,
+    },
+}
+
+impl ClipData {
+    /// The clip's BVH text as stored (`None` for a clip in memory), checked
+    /// against the fingerprint taken when it was indexed or saved.
+    pub fn stored_bytes(&self, name: &str) -> Result<Option<Vec<u8>>, LibraryError> {
+        match self {
+            ClipData::Memory(_) => Ok(None),
+            ClipData::File(s) => {
+                let bytes = std::fs::read(&s.path).map_err(|e| {
+                    LibraryError::new(format!(
+                        "the clip `{name}` cannot be read from {}: {e} (the library refers to its file: keep it, or save the library while it is there)",
+                        s.path.display()
+                    ))
+                })?;
+                if fingerprint(&bytes) != s.fingerprint {
+                    return Err(LibraryError::new(format!(
+                        "stale: the clip `{name}` ({}) changed since the library was built: rebuild it with library(…)",
+                        s.path.display()
+                    )));
+                }
+                Ok(Some(bytes))
+            }
+            ClipData::Section {
+                file,
+                offset,
+                len,
+                fingerprint: fp,
+            } => {
+                let damaged = || {
+                    LibraryError::new(format!(
+                        "{}: damaged (the clip `{name}` does not match its checksum): rebuild it with library(…)",
+                        file.path.display()
+                    ))
+                };
+                let bytes = file.read(*offset, *len).map_err(|_| damaged())?;
+                if fingerprint(&bytes) != *fp {
+                    return Err(damaged());
+                }
+                Ok(Some(bytes))
+            }
+        }
+    }
+
+    /// The clip as parsed BVH.
+    pub fn bvh(&self, name: &str) -> Result<Arc<BvhFile>, LibraryError> {
+        if let ClipData::Memory(f) = self {
+            return Ok(f.clone());
+        }
+        let bytes = self.stored_bytes(name)?.unwrap_or_default();
+        let text = String::from_utf8_lossy(&bytes);
+        bvh::parse(&text)
+            .map(Arc::new)
+            .map_err(|e| LibraryError::new(format!("the clip `{name}`: {e}")))
+    }
+}
+
+/// One indexed clip: its name, where its frames are, and where its features
+/// sit in the index.
+#[derive(Clone, Debug)]
+pub struct LibClip {
+    pub name: String,
+    pub metres_per_unit: f64,
+    pub data: ClipData,
+    /// The file it was read from, as it was then (the stale check of a
+    /// saved index), if any.
+    pub source: Option<Source>,
+    pub keys: KeyJoints,
+    /// Time (s) of grid frame 0 (the clip's first frame).
+    pub start: f64,
+    /// Grid frames.
+    pub frames: usize,
+    /// Index of its frame 0 in the library's feature arrays.
+    pub offset: usize,
+}
+
+impl LibClip {
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The clip as a motion (radians, metres), for SP's example: read from
+    /// where it is kept.
+    pub fn motion(&self) -> Result<Clip, LibraryError> {
+        let file = self.data.bvh(&self.name)?;
+        mocap::from_bvh(&file, Units::MetresPerUnit(self.metres_per_unit))
+            .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", self.name)))
+    }
+}
