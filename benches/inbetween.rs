@@ -209,7 +209,7 @@ fn main() {
     let total = windows * methods.len();
     let results = inbetween::run(&cases, &p, &methods, |r| {
         let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-        if n % 50 == 0 {
+        if n.is_multiple_of(50) {
             eprintln!(
                 "  {n}/{total} fills ({} {} gap {} {})",
                 r.clip, r.start, r.gap, r.method

@@ -17,6 +17,9 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
+/// One held-out clip's library once built, behind its own lock.
+type Slot = Arc<Mutex<Option<Arc<Library>>>>;
+
 /// The folder's clips, indexed, and the libraries assembled so far, by
 /// held-out clip.
 pub struct LeaveOneOut {
@@ -24,7 +27,7 @@ pub struct LeaveOneOut {
     settings: Settings,
     /// Per held-out clip, its library once built (its own lock: one build
     /// per clip, other clips' windows go on meanwhile).
-    built: Mutex<HashMap<String, Arc<Mutex<Option<Arc<Library>>>>>>,
+    built: Mutex<HashMap<String, Slot>>,
 }
 
 impl std::fmt::Debug for LeaveOneOut {
