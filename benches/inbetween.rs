@@ -90,8 +90,8 @@ fn numbers<T: std::str::FromStr>(name: &str, v: &str) -> Vec<T> {
 }
 
 fn main() {
-    let dirs_ = dirs("MX_INBETWEEN_DIR")
-        .unwrap_or_else(|| vec![shared().join("data").join("inbetween")]);
+    let dirs_ =
+        dirs("MX_INBETWEEN_DIR").unwrap_or_else(|| vec![shared().join("data").join("inbetween")]);
     let filter = ClipFilter::parse(
         &var("MX_INBETWEEN_CLIPS").unwrap_or_default(),
         flag("MX_INBETWEEN_LOCOMOTION"),

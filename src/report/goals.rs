@@ -55,7 +55,9 @@ impl Verdict {
                 }
             }
             // a blow-up to ∞ or NaN is a miss, not a pass
-            (Some(_), Some(b)) if b.is_finite() => Verdict::Miss { over: f64::INFINITY },
+            (Some(_), Some(b)) if b.is_finite() => Verdict::Miss {
+                over: f64::INFINITY,
+            },
             _ => Verdict::NotMeasured,
         }
     }
@@ -130,7 +132,11 @@ pub fn goals(rows: &[Summary]) -> Vec<Goal> {
     let mut out = vec![];
     for (root, gap) in keys {
         let get = |m: &str| row(rows, root, gap, m);
-        let (sp, today, cap) = (get(SP_DEFAULTS), get(TODAYS_SP), get(Method::Capture.label()));
+        let (sp, today, cap) = (
+            get(SP_DEFAULTS),
+            get(TODAYS_SP),
+            get(Method::Capture.label()),
+        );
         let (hermite, slerp) = (get(Method::Hermite.label()), get(Method::Slerp.label()));
         let mut goal = |issue: u32, what: &str, measured: Option<f64>, bound: Option<f64>| {
             out.push(Goal {
@@ -161,7 +167,8 @@ pub fn goals(rows: &[Summary]) -> Vec<Goal> {
             both(sp, cap).map(|(s, c)| s.residual - c.residual),
             Some(RESIDUAL_EXCESS),
         );
-        let vs_hermite = |s: Option<&Summary>| both(s, hermite).and_then(|(s, h)| ratio(s.l2p, h.l2p));
+        let vs_hermite =
+            |s: Option<&Summary>| both(s, hermite).and_then(|(s, h)| ratio(s.l2p, h.l2p));
         match root {
             RootMode::Filled => goal(
                 35,
@@ -183,7 +190,12 @@ pub fn goals(rows: &[Summary]) -> Vec<Goal> {
             sp.map(|s| s.not_converged as f64),
             Some(0.0),
         );
-        goal(35, "largest bone-length change (m)", sp.map(|s| s.bone), Some(BONE_M));
+        goal(
+            35,
+            "largest bone-length change (m)",
+            sp.map(|s| s.bone),
+            Some(BONE_M),
+        );
         goal(
             35,
             "s per solve ÷ today's SP's",
@@ -325,23 +337,39 @@ mod tests {
             assert!(close(skate.measured, 1.6));
             assert!(matches!(skate.verdict, Verdict::Miss { over } if (over - 0.1).abs() < 1e-12));
             let depth = find(&g, root, "worst depth");
-            assert!(matches!(depth.verdict, Verdict::Pass { margin } if (margin - 0.6).abs() < 1e-12));
+            assert!(
+                matches!(depth.verdict, Verdict::Pass { margin } if (margin - 0.6).abs() < 1e-12)
+            );
             let res = find(&g, root, "residual");
             assert!(close(res.measured, 4.0));
             assert!(matches!(res.verdict, Verdict::Miss { over } if (over - 1.0).abs() < 1e-12));
-            assert!(matches!(find(&g, root, "blow-ups").verdict, Verdict::Miss { .. }));
-            assert!(matches!(find(&g, root, "not converged").verdict, Verdict::Pass { .. }));
-            assert!(matches!(find(&g, root, "largest bone").verdict, Verdict::Pass { .. }));
+            assert!(matches!(
+                find(&g, root, "blow-ups").verdict,
+                Verdict::Miss { .. }
+            ));
+            assert!(matches!(
+                find(&g, root, "not converged").verdict,
+                Verdict::Pass { .. }
+            ));
+            assert!(matches!(
+                find(&g, root, "largest bone").verdict,
+                Verdict::Pass { .. }
+            ));
             assert!(close(find(&g, root, "s per solve").measured, 2.5));
             let better = find(&g, root, "[lib");
             assert!(close(better.measured, 4.2 / 4.0));
-            assert!(matches!(better.verdict, Verdict::Miss { over } if (over - 0.03).abs() < 1e-12));
+            assert!(
+                matches!(better.verdict, Verdict::Miss { over } if (over - 0.03).abs() < 1e-12)
+            );
         }
         // root given: SP's ratio against today's, the library against slerp
         let given = find(&g, RootMode::Given, "root given");
         assert!(close(given.measured, 0.75) && close(given.bound, 0.7));
         assert!(matches!(given.verdict, Verdict::Miss { over } if (over - 0.05).abs() < 1e-12));
-        assert!(close(find(&g, RootMode::Given, "library L2P").measured, 0.5));
+        assert!(close(
+            find(&g, RootMode::Given, "library L2P").measured,
+            0.5
+        ));
         // natural cut: both against Hermite
         let cut = find(&g, RootMode::Filled, "natural cut: L2P");
         assert!(matches!(cut.verdict, Verdict::Pass { margin } if (margin - 0.05).abs() < 1e-12));
@@ -379,10 +407,15 @@ mod tests {
     fn an_infinite_or_nan_measure_is_a_miss() {
         assert_eq!(
             Verdict::at_most(Some(f64::NAN), Some(1.0)),
-            Verdict::Miss { over: f64::INFINITY }
+            Verdict::Miss {
+                over: f64::INFINITY
+            }
         );
         assert_eq!(Verdict::at_most(Some(1.0), None), Verdict::NotMeasured);
-        assert_eq!(Verdict::at_most(Some(1.0), Some(1.0)), Verdict::Pass { margin: 0.0 });
+        assert_eq!(
+            Verdict::at_most(Some(1.0), Some(1.0)),
+            Verdict::Pass { margin: 0.0 }
+        );
         assert_eq!(Verdict::Miss { over: 0.4212 }.label(), "MISS by 0.421");
     }
 
@@ -391,6 +424,11 @@ mod tests {
         let g = goals(&table_rows());
         let t = table(&g);
         assert_eq!(t.lines().count(), g.len() + 2);
-        assert!(t.contains("| #35 | natural cut | 30 | skate ÷ capture's | ≤ 1.50 | 1.60 | MISS by 0.100 |"), "{t}");
+        assert!(
+            t.contains(
+                "| #35 | natural cut | 30 | skate ÷ capture's | ≤ 1.50 | 1.60 | MISS by 0.100 |"
+            ),
+            "{t}"
+        );
     }
 }

@@ -39,8 +39,8 @@ pub fn regrid(mu: &Mu, span: f64, speed: f64, dt: f64) -> Result<(Mu, usize), St
             })
             .collect::<Result<Vec<f64>, String>>()?;
         let curve = Curve::samples(0.0, dt, values).map_err(|e| e.to_string())?;
-        let interval = Interval::curve(curve, 0.0, (frames - 1) as f64 * dt)
-            .map_err(|e| e.to_string())?;
+        let interval =
+            Interval::curve(curve, 0.0, (frames - 1) as f64 * dt).map_err(|e| e.to_string())?;
         out.insert(
             name.clone(),
             Dof::new(vec![interval]).map_err(|e| e.to_string())?,

@@ -401,7 +401,9 @@ pub const FRICTION: f64 = 0.8;
 /// subset shown on its own).
 pub fn is_locomotion(clip: &str) -> bool {
     let c = clip.to_ascii_lowercase();
-    ["walk", "run", "dash", "turn"].iter().any(|k| c.contains(k))
+    ["walk", "run", "dash", "turn"]
+        .iter()
+        .any(|k| c.contains(k))
 }
 
 fn is_foot(name: &str) -> bool {
@@ -1029,10 +1031,7 @@ pub fn library_methods(libraries: Arc<LeaveOneOut>) -> Vec<Method> {
         };
         Method::SpLibrary(label.into(), Box::new(o), libraries.clone())
     };
-    vec![
-        with(SP_LIBRARY, false),
-        with(SP_LIBRARY_SELF, true),
-    ]
+    vec![with(SP_LIBRARY, false), with(SP_LIBRARY_SELF, true)]
 }
 
 /// Every window's result as CSV rows (with a header), for plots and digging.
@@ -1238,4 +1237,3 @@ pub(super) fn section(
         );
     }
 }
-

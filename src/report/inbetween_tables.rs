@@ -71,7 +71,8 @@ pub fn library(rows: &[Summary]) -> String {
             continue;
         }
         let slerp = l2p(same(rows, r, Method::Slerp.label()));
-        let ratio = |m: Option<&Summary>, b: Option<f64>| m.map_or("–".into(), |m| over(m.l2p, b));
+        let ratio =
+            |m: Option<&Summary>, b: Option<f64>| m.map_or("–".into(), |m| over(m.l2p, b));
         s.push_str(&format!(
             "| {} | {} | {} | {} | {:.2} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.root.label(),

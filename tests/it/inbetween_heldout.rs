@@ -30,7 +30,11 @@ fn every_held_out_clip_reads_at_the_protocols_rate() {
         assert!((at.frame_time - dt).abs() < 1e-12, "{}", own.name);
         let span = (own.frames - 1) as f64 * own.frame_time;
         let last = (at.frames - 1) as f64 * dt;
-        assert!(last <= span + 1e-9 && span - last < dt, "{}: {last} of {span} s", own.name);
+        assert!(
+            last <= span + 1e-9 && span - last < dt,
+            "{}: {last} of {span} s",
+            own.name
+        );
         if (own.frame_time - dt).abs() > 1e-9 {
             resampled += 1;
         }
@@ -38,7 +42,11 @@ fn every_held_out_clip_reads_at_the_protocols_rate() {
             for k in [0, at.frames / 2, at.frames - 1] {
                 let t = k as f64 * dt;
                 let (a, b) = (value(&at, dof, t), value(&own, dof, t));
-                assert!((a - b).abs() < 1e-9, "{} {dof} frame {k}: {a} vs {b}", own.name);
+                assert!(
+                    (a - b).abs() < 1e-9,
+                    "{} {dof} frame {k}: {a} vs {b}",
+                    own.name
+                );
             }
         }
         let feet = mx::ground::contact_points(&at.body, None).unwrap();
@@ -67,19 +75,31 @@ fn warps_and_mirrors_are_the_clip_replayed_and_reflected() {
         assert_eq!(w.frames, expect, "speed {speed}");
         for (dof, _) in case.capture.dofs.iter().take(8) {
             for k in [1, w.frames / 3, w.frames - 1] {
-                let (a, b) = (value(&w, dof, k as f64 * dt), value(&case, dof, k as f64 * dt * speed));
-                assert!((a - b).abs() < 1e-9, "{dof} speed {speed} frame {k}: {a} vs {b}");
+                let (a, b) = (
+                    value(&w, dof, k as f64 * dt),
+                    value(&case, dof, k as f64 * dt * speed),
+                );
+                assert!(
+                    (a - b).abs() < 1e-9,
+                    "{dof} speed {speed} frame {k}: {a} vs {b}"
+                );
             }
         }
     }
     let m = heldout::mirrored(&case).unwrap();
-    assert_eq!((m.source.as_str(), m.frames), (case.name.as_str(), case.frames));
+    assert_eq!(
+        (m.source.as_str(), m.frames),
+        (case.name.as_str(), case.frames)
+    );
     let back = heldout::mirrored(&m).unwrap();
     let mut moved = 0.0f64;
     for (dof, _) in &case.capture.dofs {
         for k in [0, case.frames / 2, case.frames - 1] {
             let t = k as f64 * dt;
-            assert!((value(&back, dof, t) - value(&case, dof, t)).abs() < 1e-6, "{dof} at {t}");
+            assert!(
+                (value(&back, dof, t) - value(&case, dof, t)).abs() < 1e-6,
+                "{dof} at {t}"
+            );
             moved = moved.max((value(&m, dof, t) - value(&case, dof, t)).abs());
         }
     }
@@ -106,8 +126,8 @@ fn the_clip_filter_keeps_globs_and_locomotion() {
     };
     let all = heldout::clip_paths(std::slice::from_ref(&dir), &ClipFilter::default()).unwrap();
     assert_eq!(all.len(), mocap_files().len());
-    let walks = heldout::clip_paths(&[dir.clone()], &ClipFilter::parse("*walk*", false).unwrap())
-        .unwrap();
+    let walks =
+        heldout::clip_paths(&[dir.clone()], &ClipFilter::parse("*walk*", false).unwrap()).unwrap();
     assert!(walks.len() < all.len());
     assert!(walks.iter().all(|p| p.to_string_lossy().contains("walk")));
     assert!(heldout::clip_paths(&[dir.join("no such folder")], &ClipFilter::default()).is_err());
@@ -159,14 +179,19 @@ fn results_do_not_depend_on_the_thread_count() {
     let methods = [
         Method::Hermite,
         Method::Sp(inbetween::SP_DEFAULTS.into(), Box::default()),
-        Method::Sp(inbetween::TODAYS_SP.into(), Box::new(inbetween::todays_sp())),
+        Method::Sp(
+            inbetween::TODAYS_SP.into(),
+            Box::new(inbetween::todays_sp()),
+        ),
     ];
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
-        let mut rows = pool.install(|| inbetween::run(&cases, &p, &methods, |_| {})).unwrap();
+        let mut rows = pool
+            .install(|| inbetween::run(&cases, &p, &methods, |_| {}))
+            .unwrap();
         for r in &mut rows {
             r.seconds = 0.0;
         }
