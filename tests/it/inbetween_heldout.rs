@@ -126,8 +126,11 @@ fn the_clip_filter_keeps_globs_and_locomotion() {
     };
     let all = heldout::clip_paths(std::slice::from_ref(&dir), &ClipFilter::default()).unwrap();
     assert_eq!(all.len(), mocap_files().len());
-    let walks =
-        heldout::clip_paths(&[dir.clone()], &ClipFilter::parse("*walk*", false).unwrap()).unwrap();
+    let walks = heldout::clip_paths(
+        std::slice::from_ref(&dir),
+        &ClipFilter::parse("*walk*", false).unwrap(),
+    )
+    .unwrap();
     assert!(walks.len() < all.len());
     assert!(walks.iter().all(|p| p.to_string_lossy().contains("walk")));
     assert!(heldout::clip_paths(&[dir.join("no such folder")], &ClipFilter::default()).is_err());
