@@ -844,32 +844,6 @@ pub fn summarise_locomotion(results: &[WindowResult]) -> Vec<Summary> {
     summarise(&loco)
 }
 
-/// The ground measures of a summary as a Markdown table, one row per method
-/// beside its L2P: skate within 2 cm of the floor, penetration (mean, worst),
-/// ground residual (mean, worst frame).
-pub fn ground_table(rows: &[Summary]) -> String {
-    let mut s = String::from(
-        "| root | gap | method | windows | L2P cm | skate 2 cm cm/s | below floor cm (worst) | ground residual % BW (worst frame) |\n\
-         |---|---:|---|---:|---:|---:|---:|---:|\n",
-    );
-    for r in rows {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.2} | {:.1} | {:.2} ({:.2}) | {:.1} ({:.1}) |\n",
-            r.root.label(),
-            r.gap,
-            r.method,
-            r.windows,
-            r.l2p,
-            r.ground_skate,
-            r.penetration,
-            r.penetration_worst,
-            r.residual,
-            r.residual_worst
-        ));
-    }
-    s
-}
-
 /// The summary as a Markdown table.
 pub fn table(rows: &[Summary]) -> String {
     let mut s = String::from(
