@@ -10,6 +10,7 @@
 //! clips, and the per-frame measures (skate's finite differences, NPSS's
 //! spectrum) mean the same thing on every clip.
 
+use super::error::ReportError;
 use super::inbetween::{Case, PROTOCOL_RATE, is_locomotion};
 use crate::mocap::bvh::Skeleton;
 use crate::motion::channel::mirror_name;
@@ -19,11 +20,12 @@ use std::path::{Path, PathBuf};
 /// `mu` played `speed` times as fast, sampled every `dt` s from t = 0 over
 /// the `span` seconds of `mu` it covers (`speed` 1: resampled only); each
 /// DOF becomes one sampled curve. Returns the motion and its frame count.
-pub fn regrid(mu: &Mu, span: f64, speed: f64, dt: f64) -> Result<(Mu, usize), String> {
+pub fn regrid(mu: &Mu, span: f64, speed: f64, dt: f64) -> Result<(Mu, usize), ReportError> {
     if !(speed.is_finite() && speed > 0.0 && dt.is_finite() && dt > 0.0 && span >= 0.0) {
         return Err(format!(
             "regrid needs a positive speed and step and a span ≥ 0, found speed {speed}, step {dt}, span {span}"
-        ));
+        )
+        .into());
     }
     // frames whose source time k·dt·speed stays within the span (to rounding)
     let frames = (span / (speed * dt) + 1e-6).floor() as usize + 1;
@@ -82,7 +84,7 @@ pub fn lateral_axis(skeleton: &Skeleton) -> Option<usize> {
 
 /// `case` played `speed` times as fast (0.8: slower, 1.25: faster), at its
 /// own frame time, named `NAME~speed0.8`.
-pub fn warped(case: &Case, speed: f64) -> Result<Case, String> {
+pub fn warped(case: &Case, speed: f64) -> Result<Case, ReportError> {
     let span = (case.frames - 1) as f64 * case.frame_time;
     let (mu, frames) = regrid(&case.capture, span, speed, case.frame_time)?;
     Case::from_motion(
@@ -97,7 +99,7 @@ pub fn warped(case: &Case, speed: f64) -> Result<Case, String> {
 
 /// `case` mirrored left for right ([`crate::motion::compose::mirror`] in
 /// the plane normal to its [`lateral_axis`]), named `NAME~mirror`.
-pub fn mirrored(case: &Case) -> Result<Case, String> {
+pub fn mirrored(case: &Case) -> Result<Case, ReportError> {
     let axis = lateral_axis(&case.skeleton)
         .ok_or_else(|| format!("{}: no joint has a left/right twin to mirror", case.name))?;
     let mu = crate::motion::compose::mirror(&case.capture, axis).map_err(|e| e.to_string())?;
@@ -121,7 +123,7 @@ pub struct ClipFilter {
 
 impl ClipFilter {
     /// `walk*,run*` style globs (comma-separated); a bad one is an error naming it.
-    pub fn parse(globs: &str, locomotion: bool) -> Result<ClipFilter, String> {
+    pub fn parse(globs: &str, locomotion: bool) -> Result<ClipFilter, ReportError> {
         let globs = globs
             .split(',')
             .map(str::trim)
@@ -140,7 +142,7 @@ impl ClipFilter {
 /// The `.bvh` files of `dirs` whose names `filter` keeps, sorted by name
 /// within each folder, folders in the order given. A folder that cannot be
 /// read, or names no clip at all, is an error naming it.
-pub fn clip_paths(dirs: &[PathBuf], filter: &ClipFilter) -> Result<Vec<PathBuf>, String> {
+pub fn clip_paths(dirs: &[PathBuf], filter: &ClipFilter) -> Result<Vec<PathBuf>, ReportError> {
     let mut out = vec![];
     for dir in dirs {
         let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -149,7 +151,7 @@ pub fn clip_paths(dirs: &[PathBuf], filter: &ClipFilter) -> Result<Vec<PathBuf>,
             .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh")))
             .collect();
         if paths.is_empty() {
-            return Err(format!("no .bvh clips in {}", dir.display()));
+            return Err(format!("no .bvh clips in {}", dir.display()).into());
         }
         paths.sort();
         out.extend(paths.into_iter().filter(|p| keeps_path(filter, p)));
@@ -165,9 +167,9 @@ fn keeps_path(filter: &ClipFilter, p: &Path) -> bool {
 /// Made-up clips of the cases: each played at every speed of `speeds` and,
 /// with `mirror`, mirrored; in the order of `cases`. A clip that cannot be
 /// mirrored (no left/right twins) is left out of the mirrors.
-pub fn variants(cases: &[Case], speeds: &[f64], mirror: bool) -> Result<Vec<Case>, String> {
+pub fn variants(cases: &[Case], speeds: &[f64], mirror: bool) -> Result<Vec<Case>, ReportError> {
     use rayon::prelude::*;
-    let per_case: Vec<Result<Vec<Case>, String>> = cases
+    let per_case: Vec<Result<Vec<Case>, ReportError>> = cases
         .par_iter()
         .map(|c| {
             let mut out = vec![];
@@ -188,7 +190,7 @@ pub fn variants(cases: &[Case], speeds: &[f64], mirror: bool) -> Result<Vec<Case
 }
 
 /// Every clip of `paths` at the protocol's rate ([`PROTOCOL_RATE`]).
-pub fn load(paths: &[PathBuf]) -> Result<Vec<Case>, String> {
+pub fn load(paths: &[PathBuf]) -> Result<Vec<Case>, ReportError> {
     use rayon::prelude::*;
     paths
         .par_iter()
