@@ -25,7 +25,7 @@
 //! floor, cm/s), penetration (deepest foot joint below it, cm) and the ground
 //! residual (the force no friction-cone contact forces, μ 0.8, at foot joints
 //! within 2 cm can supply, % of body weight); the capture is their reference
-//! row, and the locomotion clips (walk*, run*, dash*) are summarised on their own.
+//! row, and the locomotion clips (walk, run, dash, turn) are summarised on their own.
 //! Used by `benches/inbetween.rs`, `mx report` and the plausibility tests.
 
 use super::leave_one_out::LeaveOneOut;
@@ -81,7 +81,7 @@ impl RootMode {
     pub fn label(self) -> &'static str {
         match self {
             RootMode::Given => "root given",
-            RootMode::Filled => "root filled",
+            RootMode::Filled => "natural cut",
         }
     }
 }
@@ -115,6 +115,9 @@ impl Method {
 /// One clip of the benchmark: its captured motion and the body of its skeleton.
 pub struct Case {
     pub name: String,
+    /// The file (name without extension) the clip was read from: its own
+    /// name, or the clip a time warp or mirror was made of.
+    pub source: String,
     pub capture: Mu,
     pub body: Model,
     pub frame_time: f64,
@@ -129,27 +132,79 @@ pub struct Case {
     pub metres_per_unit: f64,
 }
 
+/// The frame rate the protocol counts frames at (Hz): gaps of 15/30/45
+/// frames are 0.5/1/1.5 s, whatever rate a clip was captured at.
+pub const PROTOCOL_RATE: f64 = 30.0;
+
 /// Body mass of the benchmark's bodies (kg), `body_of`'s default.
 pub const BODY_MASS: f64 = 70.0;
 
 impl Case {
+    /// The clip at `path` at its own frame rate.
     pub fn load(path: &Path) -> Result<Case, ReportError> {
+        Case::load_at(path, None)
+    }
+
+    /// The clip at `path`, resampled to `rate` Hz when it was captured at
+    /// another rate (`super::heldout::regrid`): the protocol counts frames at
+    /// 30 fps ([`PROTOCOL_RATE`]), so a 120 Hz clip is read as its every
+    /// fourth frame and a gap of 30 frames is 1 s on every clip.
+    pub fn load_at(path: &Path, rate: Option<f64>) -> Result<Case, ReportError> {
         let clip =
             mocap::load(path, Units::Auto).map_err(|e| format!("{}: {e}", path.display()))?;
-        let (body, _) = mocap::body_of(&clip.skeleton, BODY_MASS, clip.units.metres_per_unit)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let names = clip.skeleton.channel_names();
-        let starts = clip.skeleton.channel_starts();
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let (mu, frame_time, frames) = match rate {
+            Some(r) if ((1.0 / clip.frame_time) - r).abs() > 1e-3 * r => {
+                let dt = 1.0 / r;
+                let (mu, frames) = super::heldout::regrid(
+                    &clip.mu,
+                    (clip.frames - 1) as f64 * clip.frame_time,
+                    1.0,
+                    dt,
+                )
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+                (mu, dt, frames)
+            }
+            _ => (clip.mu, clip.frame_time, clip.frames),
+        };
+        Case::from_motion(
+            &name,
+            &name,
+            mu,
+            Arc::new(clip.skeleton),
+            clip.units.metres_per_unit,
+            (frame_time, frames),
+        )
+        .map_err(|e| ReportError::Check(format!("{}: {e}", path.display())))
+    }
+
+    /// A case from a motion sampled every `frame_time` s over `frames`
+    /// frames from t = 0, played on `skeleton`'s body; `source` names the
+    /// file it came from (a leave-one-out library leaves that file out).
+    pub fn from_motion(
+        name: &str,
+        source: &str,
+        mu: Mu,
+        skeleton: Arc<Skeleton>,
+        metres_per_unit: f64,
+        (frame_time, frames): (f64, usize),
+    ) -> Result<Case, ReportError> {
+        let (body, _) =
+            mocap::body_of(&skeleton, BODY_MASS, metres_per_unit).map_err(|e| e.to_string())?;
+        let names = skeleton.channel_names();
+        let starts = skeleton.channel_starts();
         let joint_dofs = |j: usize| -> Vec<String> {
-            let n = clip.skeleton.joints[j].channels.len();
+            let n = skeleton.joints[j].channels.len();
             names[starts[j]..starts[j] + n].to_vec()
         };
         let constant = |dof: &str| {
-            (0..clip.frames).all(|k| {
-                let t = k as f64 * clip.frame_time;
-                let v = clip.mu.sample(dof, t).ok().flatten().map(|s| s[0]);
-                let v0 = clip.mu.sample(dof, 0.0).ok().flatten().map(|s| s[0]);
-                v == v0
+            let v0 = mu.sample(dof, 0.0).ok().flatten().map(|s| s[0]);
+            (0..frames).all(|k| {
+                let t = k as f64 * frame_time;
+                mu.sample(dof, t).ok().flatten().map(|s| s[0]) == v0
             })
         };
         let mut root_dofs = vec![];
@@ -158,34 +213,26 @@ impl Case {
             let dofs = joint_dofs(j);
             let still = dofs.iter().all(|d| constant(d));
             root_dofs.extend(dofs);
-            match clip.skeleton.children(j).next() {
+            match skeleton.children(j).next() {
                 Some(k) if still => j = k,
                 _ => break,
             }
         }
-        let feet = crate::ground::contact_points(&body, None)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
-        let floor = crate::ground::tracks(
-            &clip.mu,
-            &body,
-            &feet,
-            &ground_options(None, clip.frame_time),
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?
-        .lowest();
+        let feet = crate::ground::contact_points(&body, None).map_err(|e| e.to_string())?;
+        let floor = crate::ground::tracks(&mu, &body, &feet, &ground_options(None, frame_time))
+            .map_err(|e| e.to_string())?
+            .lowest();
         Ok(Case {
             floor,
-            name: path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-            capture: clip.mu,
+            name: name.to_string(),
+            source: source.to_string(),
+            capture: mu,
             body,
-            frame_time: clip.frame_time,
-            frames: clip.frames,
+            frame_time,
+            frames,
             root_dofs,
-            metres_per_unit: clip.units.metres_per_unit,
-            skeleton: Arc::new(clip.skeleton),
+            metres_per_unit,
+            skeleton,
         })
     }
 
@@ -348,9 +395,13 @@ fn ground_options(floor: Option<f64>, frame_time: f64) -> crate::ground::GroundO
 /// Friction coefficient of the ground residual (the README's μ).
 pub const FRICTION: f64 = 0.8;
 
-/// Whether a clip is locomotion (walk*, run*, dash*: the subset shown on its own).
+/// Whether a clip is locomotion (its name has walk, run, dash or turn: the
+/// subset shown on its own).
 pub fn is_locomotion(clip: &str) -> bool {
-    ["walk", "run", "dash"].iter().any(|k| clip.contains(k))
+    let c = clip.to_ascii_lowercase();
+    ["walk", "run", "dash", "turn"]
+        .iter()
+        .any(|k| c.contains(k))
 }
 
 fn is_foot(name: &str) -> bool {
@@ -532,7 +583,7 @@ pub fn fill_window(
     // the leave-one-out library is built (once per file) before the clock starts
     let library = match method {
         Method::SpLibrary(_, _, l) => {
-            let source = l.source(&case.name, case.skeleton.clone(), case.metres_per_unit);
+            let source = l.source(&case.source, case.skeleton.clone(), case.metres_per_unit);
             Some(source.map_err(|e| format!("{}: {e}", case.name))?)
         }
         _ => None,
@@ -546,9 +597,6 @@ pub fn fill_window(
             let mut o = (**opts).clone();
             if library.is_some() {
                 o.library = library;
-            }
-            if root == RootMode::Filled {
-                o.root = crate::spacetime::RootFill::Pinned;
             }
             let (m, r) = sp(&cut, &case.body, &o).map_err(|e| format!("{}: {e}", case.name))?;
             (m, Some(r))
@@ -588,28 +636,81 @@ pub fn run_window(
     Ok(r)
 }
 
-/// Every window of every case under every method (methods side by side on the same windows).
+/// Every window of every case under every method (methods side by side on
+/// the same windows), in parallel over windows (rayon; `RAYON_NUM_THREADS=1`
+/// for one thread). Each window's methods run one after the other on one
+/// thread, so their times compare; the results, in window order, do not
+/// depend on the number of threads. SP rows whose options are the same
+/// ([`same_options`]) are solved once per window and copied under each label.
 pub fn run(
     cases: &[Case],
     p: &Protocol,
     methods: &[Method],
-    mut progress: impl FnMut(&WindowResult),
+    progress: impl Fn(&WindowResult) + Sync,
 ) -> Result<Vec<WindowResult>, ReportError> {
-    let mut out = vec![];
+    use rayon::prelude::*;
+    let mut windows = vec![];
     for &root in &p.roots {
         for &gap in &p.gaps {
             for case in cases {
                 for start in case.windows(p, gap) {
-                    for m in methods {
-                        let r = run_window(case, p, start, gap, root, m)?;
-                        progress(&r);
-                        out.push(r);
-                    }
+                    windows.push((root, gap, case, start));
                 }
             }
         }
     }
+    let firsts = [RootMode::Given, RootMode::Filled].map(|r| same_options(methods, r));
+    let per_window: Vec<Result<Vec<WindowResult>, ReportError>> = windows
+        .par_iter()
+        .map(|&(root, gap, case, start)| {
+            let mut rows: Vec<WindowResult> = Vec::with_capacity(methods.len());
+            for (i, m) in methods.iter().enumerate() {
+                let r = match firsts[usize::from(root == RootMode::Filled)][i] {
+                    Some(j) => WindowResult {
+                        method: m.label().to_string(),
+                        ..rows[j].clone()
+                    },
+                    None => run_window(case, p, start, gap, root, m)?,
+                };
+                progress(&r);
+                rows.push(r);
+            }
+            Ok(rows)
+        })
+        .collect();
+    let mut out = Vec::with_capacity(windows.len() * methods.len());
+    for rows in per_window {
+        out.extend(rows?);
+    }
     Ok(out)
+}
+
+/// For each method, the index of an earlier SP method with the same options
+/// (their `Debug` text), whose result it shares; `None`: solve it. Only
+/// [`Method::Sp`] rows share (a library row's options are filled per
+/// window). With the root given no root channel is cut, so `root:` is moot
+/// and left out of the comparison.
+pub fn same_options(methods: &[Method], root: RootMode) -> Vec<Option<usize>> {
+    let keys: Vec<Option<String>> = methods
+        .iter()
+        .map(|m| match m {
+            Method::Sp(_, o) => {
+                let mut o = (**o).clone();
+                if root == RootMode::Given {
+                    o.root = crate::spacetime::RootFill::default();
+                }
+                Some(format!("{o:?}"))
+            }
+            _ => None,
+        })
+        .collect();
+    keys.iter()
+        .enumerate()
+        .map(|(i, k)| {
+            let k = k.as_ref()?;
+            keys[..i].iter().position(|e| e.as_ref() == Some(k))
+        })
+        .collect()
 }
 
 /// One row of the summary: a method at one gap length and root setting.
@@ -735,32 +836,6 @@ pub fn summarise_locomotion(results: &[WindowResult]) -> Vec<Summary> {
     summarise(&loco)
 }
 
-/// The ground measures of a summary as a Markdown table, one row per method
-/// beside its L2P: skate within 2 cm of the floor, penetration (mean, worst),
-/// ground residual (mean, worst frame).
-pub fn ground_table(rows: &[Summary]) -> String {
-    let mut s = String::from(
-        "| root | gap | method | windows | L2P cm | skate 2 cm cm/s | below floor cm (worst) | ground residual % BW (worst frame) |\n\
-         |---|---:|---|---:|---:|---:|---:|---:|\n",
-    );
-    for r in rows {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.2} | {:.1} | {:.2} ({:.2}) | {:.1} ({:.1}) |\n",
-            r.root.label(),
-            r.gap,
-            r.method,
-            r.windows,
-            r.l2p,
-            r.ground_skate,
-            r.penetration,
-            r.penetration_worst,
-            r.residual,
-            r.residual_worst
-        ));
-    }
-    s
-}
-
 /// The summary as a Markdown table.
 pub fn table(rows: &[Summary]) -> String {
     let mut s = String::from(
@@ -801,13 +876,61 @@ pub fn table(rows: &[Summary]) -> String {
     s
 }
 
+/// Label of SP at its defaults, the row issue 35's goals judge.
+pub const SP_DEFAULTS: &str = "SP defaults";
+/// Label of [`todays_sp`].
+pub const TODAYS_SP: &str = "today's SP";
+
+/// SP as it was before grounded SP changed the defaults: no contact
+/// planning (`contact: "none"`), the kinematic root (`root: "pinned"`: the
+/// frames after a cut root stay where they were captured, the root's x–z
+/// a cubic between the sides) and the prior at its old weight with the
+/// motion's own example. Every option that reproduces the old behaviour is
+/// set here explicitly, so the row stays the "before" when a default moves
+/// (the BOARD of issues 35/36 keeps this list).
+pub fn todays_sp() -> SpOptions {
+    use crate::spacetime::{Contact, Prior, RootFill, Support};
+    SpOptions {
+        contact: Contact::None,
+        root: RootFill::Pinned,
+        support: Support::Auto { box_size: 0.02 },
+        prior: Prior {
+            smoothness: 1e6,
+            time_constant: None,
+            example: true,
+        },
+        ..Default::default()
+    }
+}
+
 /// The methods the benchmark and the report compare, on the same windows:
-/// the two interpolation baselines, SP at its defaults, and a row for each
-/// knob of SP's objective — Rose's ∫Στ² alone (`objective: "torque"`), the
-/// prior's weight (`smoothness:`), its time constant (`time_constant:`,
-/// fixed instead of (0.32 s)²/gap) — SP without support IK, and SP with
-/// foot contact planned (`contact: "auto"`).
+/// the two interpolation baselines, the capture itself (the reference row),
+/// SP at its defaults, SP as it was before grounded SP ([`todays_sp`]) and
+/// with foot contact planned (`contact: "auto"`).
 pub fn methods() -> Vec<Method> {
+    use crate::spacetime::SpOptions;
+    vec![
+        Method::Hermite,
+        Method::Slerp,
+        Method::Capture,
+        Method::Sp(SP_DEFAULTS.into(), Box::default()),
+        Method::Sp(TODAYS_SP.into(), Box::new(todays_sp())),
+        Method::Sp(
+            "SP contact: \"auto\"".into(),
+            Box::new(SpOptions {
+                contact: crate::spacetime::Contact::Auto,
+                ..Default::default()
+            }),
+        ),
+    ]
+}
+
+/// A row for each knob of SP's objective (`MX_INBETWEEN_KNOBS=1` in the
+/// bench): Rose's ∫Στ² alone (`objective: "torque"`), the prior without the
+/// example, the prior's weight (`smoothness:`), its time constant
+/// (`time_constant:`, fixed instead of (0.32 s)²/gap), and SP without
+/// support IK; each otherwise at the defaults.
+pub fn knob_methods() -> Vec<Method> {
     use crate::spacetime::{Prior, SpOptions, Support};
     let sp = |label: &str, o: SpOptions| Method::Sp(label.into(), Box::new(o));
     let with_prior = |prior: Prior| SpOptions {
@@ -815,10 +938,6 @@ pub fn methods() -> Vec<Method> {
         ..Default::default()
     };
     vec![
-        Method::Hermite,
-        Method::Slerp,
-        Method::Capture,
-        Method::Sp("SP defaults".into(), Box::default()),
         sp("SP objective: \"torque\" (Rose)", with_prior(Prior::none())),
         sp(
             "SP example: \"none\"",
@@ -855,16 +974,13 @@ pub fn methods() -> Vec<Method> {
                 ..Default::default()
             },
         ),
-        // foot contact planned per gap (issue #25; opt-in until it helps)
-        sp(
-            "SP contact: \"auto\"",
-            SpOptions {
-                contact: crate::spacetime::Contact::Auto,
-                ..Default::default()
-            },
-        ),
     ]
 }
+
+/// Label of SP following the leave-one-out library alone (issue 36's goals).
+pub const SP_LIBRARY: &str = "SP example: lib (leave-one-out)";
+/// Label of SP following `[lib, "self"]` (issue 36's goals).
+pub const SP_LIBRARY_SELF: &str = "SP example: [lib, \"self\"] (leave-one-out)";
 
 /// The rows that follow a clip library held out from the window's own file
 /// (`MX_INBETWEEN_LIBRARY=1` in the bench): SP with `example: lib` and with
@@ -881,10 +997,7 @@ pub fn library_methods(libraries: Arc<LeaveOneOut>) -> Vec<Method> {
         };
         Method::SpLibrary(label.into(), Box::new(o), libraries.clone())
     };
-    vec![
-        with("SP example: lib (leave-one-out)", false),
-        with("SP example: [lib, \"self\"] (leave-one-out)", true),
-    ]
+    vec![with(SP_LIBRARY, false), with(SP_LIBRARY_SELF, true)]
 }
 
 /// Every window's result as CSV rows (with a header), for plots and digging.
@@ -930,7 +1043,7 @@ pub(super) fn section(
     d: &mut super::doc::Doc,
     shared: Option<&Path>,
     smoke: bool,
-    tick: &mut dyn FnMut(),
+    tick: &(dyn Fn() + Sync),
 ) {
     use std::fmt::Write as _;
     let Some(dir) = shared.map(|s| s.join("data").join("inbetween")) else {
@@ -953,6 +1066,7 @@ pub(super) fn section(
         // every other clip, one window per clip and gap: minutes, not the bench's hour
         cases = cases.into_iter().step_by(2).collect();
         Protocol {
+            gaps: vec![15, 30, 45],
             windows_per_clip: Some(1),
             ..Protocol::default()
         }
@@ -967,7 +1081,8 @@ pub(super) fn section(
         "Cut a gap out of a real clip, fill it, compare with what the person did (the protocol of \
          `data/inbetween/README.md`, after Harvey et al. 2020): {} clips (every other one of the folder), at most {} window per clip and gap \
          (`cargo bench --bench inbetween` runs every window), {} context frames, root given (its channels kept) \
-         and root filled (the frames after the gap stay where they were captured: SP's `root: \"pinned\"`). \
+         and the natural cut (every DOF cut, the frames after the gap where they were captured; SP at its own \
+         `root:` default, today's SP with `root: \"pinned\"`). \
          L2P: mean joint-position error over the gap (cm); ×Hermite: its ratio to `fill(m, \"hermite\")` on the \
          same windows; worst: the largest joint error and where; L2Q: Harvey et al.'s mean over frames of \
          the L2 distance of the stacked world orientations (unit quaternions, sign-aligned); NPSS: normalised power \
@@ -1045,48 +1160,46 @@ pub(super) fn section(
         ];
         d.row(&cells);
     }
+    let loco = summarise_locomotion(&results);
     let _ = writeln!(
         d.md,
-        "\nStanding on the ground (`data/inbetween/README.md`'s ground measures, `crate::ground`), over \
-         each gap and the step on either side, against the floor of the whole captured clip: skate: \
-         horizontal speed of a foot joint (`Foot_*`, `Toes_*`) within 2 cm of the floor (cm/s); below floor: \
-         the deepest foot joint under it (cm; mean, and worst window); ground residual: the force the \
-         floating base needs that no friction-cone (μ {FRICTION}) forces at the foot joints within 2 cm can \
-         supply (% of body weight; mean, and worst frame). The capture row is the reference. All clips, then \
-         the locomotion clips (walk*, run*, dash*) alone.\n"
+        "\nAccuracy and standing on the ground, one row per method (`data/inbetween/README.md`'s ground \
+         measures, `crate::ground`, over each gap and the step on either side, against the floor of the whole \
+         captured clip): skate: horizontal speed of a foot joint (found by name: Foot, Toe, Ankle, Heel) within \
+         2 cm of the floor (cm/s), and its ratio to the capture's on the same windows; below floor: the deepest \
+         foot joint under it (cm; mean, and worst window); ground residual: the force the floating base needs \
+         that no friction-cone (μ {FRICTION}) forces at the foot joints within 2 cm can supply (% of body \
+         weight; mean, its excess over the capture's, and worst frame); SP's evaluations and seconds per solve. \
+         The capture row is the reference. `today's SP` is SP with the options that reproduce it before grounded \
+         SP (`contact: \"none\"`, `root: \"pinned\"`, the old prior); where its options equal the defaults it \
+         is the same solve. All clips, then the locomotion clips (walk, run, dash, turn) alone.\n"
     );
-    for (title, rows) in [
-        ("all clips", rows.clone()),
-        ("locomotion", summarise_locomotion(&results)),
-    ] {
-        d.header(&[
-            "clips",
-            "root",
-            "gap",
-            "method",
-            "windows",
-            "L2P cm",
-            "skate 2 cm cm/s",
-            "below floor cm",
-            "worst below cm",
-            "residual % BW",
-            "worst frame % BW",
-        ]);
-        for r in &rows {
-            let cells = [
-                title.to_string(),
-                r.root.label().to_string(),
-                r.gap.to_string(),
-                r.method.clone(),
-                r.windows.to_string(),
-                d.n(r.l2p),
-                d.n(r.ground_skate),
-                d.n(r.penetration),
-                d.n(r.penetration_worst),
-                d.n(r.residual),
-                d.n(r.residual_worst),
-            ];
-            d.row(&cells);
-        }
+    for (title, rows) in [("all clips", &rows), ("locomotion", &loco)] {
+        let _ = writeln!(
+            d.md,
+            "\n{title}:\n\n{}",
+            super::inbetween_tables::accuracy_and_ground(rows)
+        );
+    }
+    let _ = writeln!(
+        d.md,
+        "\nThe goals of issue 35 (SP at its defaults: skate ≤ {} × the capture's, no foot point more than \
+         {} cm below the floor, residual ≤ the capture's + {} % BW, natural-cut L2P ≤ {} × Hermite's, root-given \
+         L2P ÷ Hermite's no worse than today's SP's, no blow-up, every solve converged, bones kept, ≤ {} × \
+         today's SP's time) and of issue 36 (leave-one-out library rows, where they ran: `cargo bench --bench \
+         inbetween` with `MX_INBETWEEN_LIBRARY=1`), measured on these windows: PASS, or MISS by how much \
+         above the bound.\n",
+        super::goals::SKATE_RATIO,
+        super::goals::DEPTH_CM,
+        super::goals::RESIDUAL_EXCESS,
+        super::goals::NATURAL_CUT_VS_HERMITE,
+        super::goals::TIME_RATIO,
+    );
+    for (title, rows) in [("all clips", &rows), ("locomotion", &loco)] {
+        let _ = writeln!(
+            d.md,
+            "\ngoals, {title}:\n\n{}",
+            super::goals::table(&super::goals::goals(rows))
+        );
     }
 }

@@ -3,10 +3,12 @@
 //! from its own file, so the library cannot hand back the frames that were
 //! cut (the held-out protocol the literature reports).
 //!
-//! The folder's clips are indexed once (their raw features); each file's
+//! The folders' clips are indexed once (their raw features); each file's
 //! library is assembled from the others' the first time one of its windows
 //! asks for it (normalised over them alone, its own tree) and kept for the
-//! rest: every gap length, root setting and method of that file shares it.
+//! rest: every gap length, root setting and method of that file, and every
+//! clip made from it by a time warp or mirror, share it; windows asking at
+//! once wait for one build.
 
 use crate::library::{self, IndexedClip, Library, LibraryError, Settings, Skipped};
 use crate::mocap::bvh::Skeleton;
@@ -15,12 +17,17 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex};
 
+/// One held-out clip's library once built, behind its own lock.
+type Slot = Arc<Mutex<Option<Arc<Library>>>>;
+
 /// The folder's clips, indexed, and the libraries assembled so far, by
 /// held-out clip.
 pub struct LeaveOneOut {
     indexed: Vec<Result<IndexedClip, Skipped>>,
     settings: Settings,
-    built: Mutex<HashMap<String, Arc<Library>>>,
+    /// Per held-out clip, its library once built (its own lock: one build
+    /// per clip, other clips' windows go on meanwhile).
+    built: Mutex<HashMap<String, Slot>>,
 }
 
 impl std::fmt::Debug for LeaveOneOut {
@@ -39,8 +46,17 @@ fn name(r: &Result<IndexedClip, Skipped>) -> &str {
 impl LeaveOneOut {
     /// Every `.bvh` clip of `dir` (as `library(dir)` reads them), indexed.
     pub fn new(dir: &Path, settings: Settings) -> Result<LeaveOneOut, LibraryError> {
+        LeaveOneOut::of_folders(&[dir], settings)
+    }
+
+    /// Every `.bvh` clip of every folder of `dirs` (the held-out runs'
+    /// library can be the shared clips while the windows come from elsewhere).
+    pub fn of_folders(dirs: &[&Path], settings: Settings) -> Result<LeaveOneOut, LibraryError> {
         settings.check()?;
-        let paths = library::bvh_files(dir)?;
+        let mut paths = vec![];
+        for dir in dirs {
+            paths.extend(library::bvh_files(dir)?);
+        }
         Ok(LeaveOneOut {
             indexed: library::index_files(&paths, &settings, &|| {}),
             settings,
@@ -60,7 +76,15 @@ impl LeaveOneOut {
     /// The library of every clip but `clip` (a file's name without its
     /// extension), assembled once.
     pub fn without(&self, clip: &str) -> Result<Arc<Library>, LibraryError> {
-        if let Some(l) = self.built.lock().expect("library cache").get(clip) {
+        let cell = self
+            .built
+            .lock()
+            .expect("library cache")
+            .entry(clip.to_string())
+            .or_default()
+            .clone();
+        let mut slot = cell.lock().expect("library slot");
+        if let Some(l) = slot.as_ref() {
             return Ok(l.clone());
         }
         let others = self
@@ -74,10 +98,7 @@ impl LeaveOneOut {
             vec![],
             self.settings.clone(),
         )?);
-        self.built
-            .lock()
-            .expect("library cache")
-            .insert(clip.to_string(), lib.clone());
+        *slot = Some(lib.clone());
         Ok(lib)
     }
 

@@ -152,9 +152,8 @@ fn spacetime_section(d: &mut Doc, run: &mut Run<'_>) {
 }
 
 fn inbetween_section(d: &mut Doc, run: &mut Run<'_>) {
-    inbetween::section(d, run.opts.shared.as_deref(), run.smoke, &mut || {
-        run.pb.inc(1)
-    });
+    let pb = run.pb;
+    inbetween::section(d, run.opts.shared.as_deref(), run.smoke, &|| pb.inc(1));
 }
 
 fn integrators_section(d: &mut Doc, run: &mut Run<'_>) {

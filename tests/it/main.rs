@@ -26,6 +26,7 @@ mod hard_cases;
 mod ik;
 #[cfg(feature = "report")]
 mod inbetween;
+mod inbetween_heldout;
 mod joints;
 mod joints_lang;
 mod knee_pendulum;
