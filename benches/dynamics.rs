@@ -1,14 +1,22 @@
 //! Dynamics benchmark: prints tables.
 //!
 //! 1. Per call on every URDF of `$MX_SHARED/data/reference` (human44, Panda,
-//!    UR5): RNEA, ABA, CRBA, ∂τ (RNEA derivatives) and the adjoint gradient of
-//!    Σwτ², median µs over random states; when Pinocchio's timer is built
+//!    UR5), on the URDFs `MX_BENCH_URDFS` names (colon-separated: models the
+//!    project never tuned on) and on generated trees (`mx::report::trees`:
+//!    chains, humanoid-like and random trees of 6–60 coordinates with mixed
+//!    joints, written as URDF to a temporary folder): RNEA, ABA, CRBA, ∂τ (RNEA
+//!    derivatives) and the adjoint gradient of Σwτ², median µs over random
+//!    states, and the mass matrix by each of its two passes (world and link
+//!    frames) with the one the workspace picks; when Pinocchio's timer is built
 //!    (`$MX_SHARED/tools/pinocchio/build.sh /tmp/pinocchio-bench`, or
 //!    `$MX_PINOCCHIO_BENCH`), it is run on the same URDF in the same session,
 //!    alternated with ours `MX_BENCH_RUNS` times (default 5), and the median
 //!    ratios are printed (the table says so when it is absent); beside them
 //!    mx's instructions per call under callgrind (when valgrind is installed),
-//!    which show whether a change saved work on this noisy shared machine.
+//!    which show whether a change saved work on this noisy shared machine (but
+//!    not a stall: #37's CRBA doubled its time at ±10 % instructions). A summary
+//!    closes the table: per model the ratios with instructions in brackets,
+//!    their mean, and whether the goals (each ≤ 1, CRBA ≤ 0.8, mean ≤ 0.6) hold.
 //! 2. The cost of each scene effect (same scene with and without it).
 //! 3. Integrator work–precision: error at t = 1 s against a tight reference vs time.
 //!
@@ -26,7 +34,7 @@ use mx::model::joints::Revolute;
 use mx::model::{Inertia, Model};
 use nalgebra::{Matrix3, Vector3};
 use std::hint::black_box;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -40,7 +48,7 @@ impl Rng {
     }
 }
 
-use mx::report::perf::{ALGORITHMS, median_us};
+use mx::report::perf::{ALGORITHMS, TIMED, median_us};
 
 /// Runs of mx's timing and Pinocchio's timer, alternated, per model: ratios are
 /// quoted as the median over the runs (`MX_BENCH_RUNS`, default 5).
@@ -119,40 +127,57 @@ fn instructions_driver(args: &[String]) {
     }
 }
 
+/// What one model's table found: the median ratios mx / Pinocchio of
+/// [`ALGORITHMS`] (empty without Pinocchio's timer), mx's instructions per call
+/// of the [`TIMED`] algorithms, and the two CRBA passes' times.
+struct Found {
+    name: String,
+    nq: usize,
+    ratios: Vec<f64>,
+    instructions: Vec<Option<f64>>,
+    /// the median of the runs' world/link time ratios, and of the picked
+    /// pass's time over the faster pass's
+    passes: (f64, f64),
+    /// the pass the workspace picks
+    picks: &'static str,
+}
+
 /// One model's table: mx's time, Pinocchio's (its C++ timer, same URDF, same
 /// session, alternated with ours `runs()` times), the ratio and mx's
-/// instructions per call. Times are medians over the runs of each run's
-/// median per call (ours: 2000 states; Pinocchio's: the best of its 5 rounds
-/// of 10000), the ratio the median of the runs' ratios with their range.
-/// Returns the median ratios, for the mean over all models.
-fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
+/// instructions per call; then the mass matrix by each of mx's two passes.
+/// Times are medians over the runs of each run's median per call (ours: 2000
+/// states; Pinocchio's: the best of its 5 rounds of 10000), ratios the median
+/// of the runs' ratios with their range.
+fn per_call(name: &str, urdf: &Path) -> Option<Found> {
     let model = match Model::from_urdf_file(urdf) {
         Ok(m) => m,
         Err(e) => {
             println!("{name}: cannot load ({e})");
-            return Vec::new();
+            return None;
         }
     };
     const N: usize = 2000;
     let runs = runs();
-    let mut ours: Vec<[f64; 5]> = Vec::new();
+    let all: Vec<usize> = (0..TIMED.len()).collect();
+    let mut ours: Vec<Vec<f64>> = Vec::new();
     let mut theirs: Vec<[f64; 4]> = Vec::new();
     for _ in 0..runs {
-        match mx::report::perf::per_call(&model, N) {
+        match mx::report::perf::per_call_of(&model, N, &all) {
             Ok(t) => ours.push(t),
             Err(e) => {
                 println!("{name}: {e}");
-                return Vec::new();
+                return None;
             }
         }
         if let Some(p) = mx::report::perf::pinocchio(urdf) {
             theirs.push(p);
         }
     }
-    let instructions: Vec<Option<f64>> = ALGORITHMS
+    let instructions: Vec<Option<f64>> = TIMED
         .iter()
         .map(|a| instructions_per_call(urdf, a))
         .collect();
+    let kilo = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{:.1}k", x / 1e3));
     println!(
         "\n{name} (nq = {}): median over {runs} alternated runs of the median µs per call",
         model.nq()
@@ -161,11 +186,11 @@ fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
         "{:<24}{:>10}{:>14}{:>8}{:>14}{:>15}",
         "algorithm", "mx µs", "pinocchio µs", "ratio", "ratio range", "mx instr/call"
     );
-    let pin = theirs.len() == ours.len();
+    let pin = !theirs.is_empty() && theirs.len() == ours.len();
     let mut ratios = Vec::new();
     for (k, alg) in ALGORITHMS.iter().enumerate() {
         let t = median(ours.iter().map(|r| r[k]).collect());
-        let ins = instructions[k].map_or("-".to_string(), |x| format!("{x:.0}"));
+        let ins = kilo(instructions[k]);
         if pin {
             let p = median(theirs.iter().map(|r| r[k]).collect());
             let each: Vec<f64> = ours.iter().zip(&theirs).map(|(a, b)| a[k] / b[k]).collect();
@@ -185,12 +210,28 @@ fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
             );
         }
     }
-    let adj = median(ours.iter().map(|r| r[4]).collect());
-    let rnea = median(ours.iter().map(|r| r[0]).collect());
+    let med = |k: usize| median(ours.iter().map(|r| r[k]).collect());
+    let (adj, rnea) = (med(4), med(0));
     println!(
-        "{:<24}{adj:>10.3}   ({:.2}× one RNEA)",
+        "{:<24}{adj:>10.3}   ({:.2}× one RNEA){:>29}",
         "adjoint Σwτ² gradient",
-        adj / rnea
+        adj / rnea,
+        kilo(instructions[4])
+    );
+    let picks = match mx::dynamics::crba_frame_for(&model) {
+        mx::dynamics::CrbaFrame::Link => "link",
+        mx::dynamics::CrbaFrame::World => "world",
+    };
+    let world_over_link = median(ours.iter().map(|r| r[5] / r[6]).collect());
+    for (k, pass) in [(5, "crba, world-frame pass"), (6, "crba, link-frame pass")] {
+        println!("{pass:<24}{:>10.3}{:>36}", med(k), kilo(instructions[k]));
+    }
+    // what the workspace's choice costs against the faster pass of each run
+    let picked = if picks == "link" { 6 } else { 5 };
+    let lost = median(ours.iter().map(|r| r[picked] / r[5].min(r[6])).collect());
+    println!(
+        "{:<24}{world_over_link:>10.2}   (the workspace picks the {picks}-frame pass: {lost:.2}× the faster one)",
+        "world / link time"
     );
     if !pin {
         println!(
@@ -200,7 +241,92 @@ fn per_call(name: &str, urdf: &Path) -> Vec<f64> {
             mx::report::perf::pinocchio_exe().display()
         );
     }
-    ratios
+    Some(Found {
+        name: name.to_string(),
+        nq: model.nq(),
+        ratios,
+        instructions,
+        passes: (world_over_link, lost),
+        picks,
+    })
+}
+
+/// The summary of every model: each cell the ratio mx / Pinocchio with mx's
+/// instructions per call in brackets, the mean of the four ratios, and whether
+/// the goals hold (every ratio ≤ 1, CRBA ≤ 0.8, the mean ≤ 0.6).
+fn summary(found: &[Found]) {
+    println!(
+        "\nSummary: time ratio mx / Pinocchio (mx instructions per call); goals: each ≤ 1.0, CRBA ≤ 0.8, mean ≤ 0.6"
+    );
+    println!(
+        "{:<26}{:>4}{:>16}{:>16}{:>16}{:>16}{:>7}  {:<6}{:>11}{:>11}  goals",
+        "model", "nq", "RNEA", "ABA", "CRBA", "∂τ", "mean", "pass", "world/link", "vs faster"
+    );
+    for f in found {
+        let cell = |k: usize| {
+            let ins = f.instructions[k].map_or(String::new(), |x| format!(" ({:.1}k)", x / 1e3));
+            match f.ratios.get(k) {
+                Some(r) => format!("{r:.2}{ins}"),
+                None => format!("-{ins}"),
+            }
+        };
+        let (mean, goals) = if f.ratios.len() == 4 {
+            let mean = f.ratios.iter().sum::<f64>() / 4.0;
+            let ok = f.ratios.iter().all(|r| *r <= 1.0) && f.ratios[2] <= 0.8 && mean <= 0.6;
+            (format!("{mean:.2}"), if ok { "met" } else { "MISSED" })
+        } else {
+            ("-".into(), "-")
+        };
+        println!(
+            "{:<26}{:>4}{:>16}{:>16}{:>16}{:>16}{mean:>7}  {:<6}{:>11.2}{:>11.2}  {goals}",
+            f.name,
+            f.nq,
+            cell(0),
+            cell(1),
+            cell(2),
+            cell(3),
+            f.picks,
+            f.passes.0,
+            f.passes.1
+        );
+    }
+}
+
+/// The models of table 1: every URDF of the reference data, the files
+/// `MX_BENCH_URDFS` names (colon-separated: models this project never tuned
+/// on), and the generated trees of [`mx::report::trees::family`], written as
+/// URDF to a temporary folder so Pinocchio reads the same files.
+fn models(dir: &Path) -> Vec<(String, PathBuf)> {
+    let stem = |p: &Path| {
+        p.file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into())
+    };
+    let mut urdfs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "urdf"))
+                .collect()
+        })
+        .unwrap_or_default();
+    urdfs.sort();
+    if urdfs.is_empty() {
+        println!("\nno URDF in {} (set MX_SHARED)", dir.display());
+    }
+    if let Some(extra) = std::env::var_os("MX_BENCH_URDFS") {
+        urdfs.extend(std::env::split_paths(&extra));
+    }
+    let mut out: Vec<(String, PathBuf)> = urdfs.iter().map(|p| (stem(p), p.clone())).collect();
+    let tmp = std::env::temp_dir().join(format!("mx-bench-trees-{}", std::process::id()));
+    if std::fs::create_dir_all(&tmp).is_ok() {
+        for t in mx::report::trees::family() {
+            let path = tmp.join(format!("{}.urdf", t.name));
+            match std::fs::write(&path, &t.urdf) {
+                Ok(()) => out.push((t.name, path)),
+                Err(e) => println!("{}: cannot write {} ({e})", t.name, path.display()),
+            }
+        }
+    }
+    out
 }
 
 fn chain(n: usize) -> Arc<Model> {
@@ -412,25 +538,16 @@ fn main() {
         println!("dynamics bench: run with `cargo bench --bench dynamics` for the tables");
         return;
     }
-    // Every URDF of the reference data (human44, Panda, UR5, and any added later).
-    let mut urdfs: Vec<_> = std::fs::read_dir(&dir)
-        .map(|d| {
-            d.filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "urdf"))
-                .collect()
-        })
-        .unwrap_or_default();
-    urdfs.sort();
-    if urdfs.is_empty() {
-        println!("\nno URDF in {} (set MX_SHARED)", dir.display());
+    // Every URDF of the reference data (human44, Panda, UR5, and any added
+    // later), the ones MX_BENCH_URDFS names, and the generated trees.
+    let mut found = Vec::new();
+    for (name, urdf) in models(&dir) {
+        found.extend(per_call(&name, &urdf));
     }
-    let mut ratios = Vec::new();
-    for urdf in &urdfs {
-        let name = urdf
-            .file_stem()
-            .map_or_else(String::new, |s| s.to_string_lossy().into());
-        ratios.extend(per_call(&name, urdf));
-    }
+    let ratios: Vec<f64> = found
+        .iter()
+        .flat_map(|f| f.ratios.iter().copied())
+        .collect();
     if !ratios.is_empty() {
         println!(
             "\nmean ratio over {} cells (models × algorithms): {:.2}",
@@ -438,6 +555,7 @@ fn main() {
             ratios.iter().sum::<f64>() / ratios.len() as f64
         );
     }
+    summary(&found);
     // Table 1 alone is what one checks against Pinocchio after a change.
     if args.iter().any(|a| a == "per_call") {
         return;

@@ -3,18 +3,36 @@
 //! subtree of link j, all in the world frame.
 
 use crate::dynamics::DynamicsError;
+use crate::dynamics::crba_frame::CrbaFrame;
 use crate::dynamics::crba_local::mass_matrix_local;
 use crate::dynamics::workspace::Workspace;
 use crate::model::joint::Derivatives;
 use crate::model::{Inertia, Model};
 use nalgebra::DMatrix;
 
-/// Fills `m` (nq × nq, symmetric) with the mass matrix `M(q)`.
+/// Fills `m` (nq × nq, symmetric) with the mass matrix `M(q)`, by the pass
+/// the workspace chose for its model.
 pub fn mass_matrix(
     model: &Model,
     ws: &mut Workspace,
     q: &[f64],
     m: &mut DMatrix<f64>,
+) -> Result<(), DynamicsError> {
+    let frame = if ws.crba_in_link_frames {
+        CrbaFrame::Link
+    } else {
+        CrbaFrame::World
+    };
+    mass_matrix_in(model, ws, q, m, frame)
+}
+
+/// [`mass_matrix`] by a pass the caller names (the dynamics bench times both).
+pub fn mass_matrix_in(
+    model: &Model,
+    ws: &mut Workspace,
+    q: &[f64],
+    m: &mut DMatrix<f64>,
+    frame: CrbaFrame,
 ) -> Result<(), DynamicsError> {
     ws.check(model)?;
     model.check_vec("q", q, model.nq())?;
@@ -30,7 +48,7 @@ pub fn mass_matrix(
     let out = m.as_mut_slice();
     out.fill(0.0);
     // (A workspace checks only the sizes of its model: test the link order too.)
-    if ws.crba_in_link_frames && model.subtree_coordinates(0).is_some() {
+    if frame == CrbaFrame::Link && model.subtree_coordinates(0).is_some() {
         mass_matrix_local(model, ws, q, out);
     } else {
         mass_matrix_world(model, ws, q, out);

@@ -23,11 +23,16 @@ enum Placement {
 }
 
 impl Placement {
+    /// Carries every wrench of `fs` from the link frame to the parent's.
     #[inline(always)]
-    fn wrench_to_parent(&self, f: &Wrench) -> Wrench {
+    fn wrenches_to_parent(&self, fs: &mut [Wrench]) {
         match self {
-            Placement::Turn(t) => t.ad_wrench(f),
-            Placement::General(x) => x.ad_wrench(f),
+            Placement::Turn(t) => t.ad_wrenches(fs),
+            Placement::General(x) => {
+                for f in fs {
+                    *f = x.ad_wrench(f);
+                }
+            }
         }
     }
 
@@ -108,9 +113,7 @@ pub(super) fn mass_matrix_local(model: &Model, ws: &mut Workspace, q: &[f64], ou
                 let yp = placement.inertia_to_parent(&y);
                 ws.ic[p] += yp;
             }
-            for c in subtree {
-                ws.ag[c] = placement.wrench_to_parent(&ws.ag[c]);
-            }
+            placement.wrenches_to_parent(&mut ws.ag[subtree]);
         }
     }
 }

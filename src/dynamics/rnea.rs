@@ -151,8 +151,7 @@ pub fn inverse_dynamics_ext(
     fext: &[Wrench],
     tau: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
-    check_out(model, "tau", tau)?;
+    check_state(model, ws, x, gravity, tau)?;
     check_fext(model, fext)?;
     rnea_core(model, ws, x, gravity, Some(fext), tau);
     Ok(())
@@ -169,11 +168,22 @@ pub fn inverse_dynamics_at_points(
     forces: &[PointForce],
     tau: &mut [f64],
 ) -> Result<(), DynamicsError> {
-    check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
-    check_out(model, "tau", tau)?;
+    check_state(model, ws, x, gravity, tau)?;
     check_points(model, forces)?;
     rnea_points(model, ws, x, gravity, forces, tau);
     Ok(())
+}
+
+/// The state, gravity and output of an inverse dynamics call.
+fn check_state(
+    model: &Model,
+    ws: &Workspace,
+    x: &JointState,
+    gravity: &Vector3<f64>,
+    tau: &[f64],
+) -> Result<(), DynamicsError> {
+    check_inputs(model, ws, &[("q", x.q), ("v", x.v), ("a", x.a)], gravity)?;
+    check_out(model, "tau", tau)
 }
 
 pub(crate) fn check_fext(model: &Model, fext: &[Wrench]) -> Result<(), DynamicsError> {

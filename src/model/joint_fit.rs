@@ -329,11 +329,16 @@ fn normal_equations(
     Ok((chol, rhs, data_part))
 }
 
-/// The smoothing weights `smooth: "auto"` chooses among: none, and the
-/// useful range 1e-6…1e-2 (heavier weights trade translation accuracy for
-/// rotation smoothness, which the twist residual, dominated by its radians,
-/// would let cross-validation accept).
+/// The smoothing weights `smooth: "auto"` first scores: none, and the useful
+/// range 1e-6…1e-2, one per decade (heavier weights trade translation
+/// accuracy for rotation smoothness, which the twist residual, dominated by
+/// its radians, would let cross-validation accept).
 pub const AUTO_WEIGHTS: [f64; 6] = [0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2];
+
+/// Golden-section steps that refine the best decade of [`AUTO_WEIGHTS`] in
+/// log w: four steps narrow two decades to a third of one, finer than the
+/// GCV curve's flat minimum distinguishes.
+const REFINE_STEPS: usize = 4;
 
 /// Generalised cross-validation of a fit (Craven & Wahba 1979) on the
 /// problem linearised at the fitted joint: V = m·RSS / (m − tr H)², with m
@@ -356,19 +361,30 @@ pub fn gcv_score(
     Ok(m * rss / (dof * dof))
 }
 
-/// What [`fit_spline_joint_auto`] returns: the fit, its weight and every
-/// (weight, score) tried.
-pub type AutoFit = (FitReport, f64, Vec<(f64, f64)>);
+/// What [`fit_spline_joint_auto`] returns.
+#[derive(Debug, Clone)]
+pub struct AutoFit {
+    /// The fit at the chosen weight.
+    pub fit: FitReport,
+    /// The chosen smoothing weight w.
+    pub weight: f64,
+    /// Every (weight, GCV score) tried, in the order tried.
+    pub scores: Vec<(f64, f64)>,
+}
 
-/// Fits with each weight of [`AUTO_WEIGHTS`] and keeps the one of least
-/// generalised cross-validation score (`smooth: "auto"`).
+/// Chooses the smoothing weight from the data (`smooth: "auto"`, the
+/// language's default), as spline smoothers do (Woltring's GCVSPL, which
+/// OpenSim's GCVSpline wraps): the weight of least generalised
+/// cross-validation score. The score is taken at every weight of
+/// [`AUTO_WEIGHTS`]; when the best is positive, a golden-section search in
+/// log w between its neighbours (the decade below 1e-6 stands for 0) refines it.
 pub fn fit_spline_joint_auto(
     samples: &JointSamples,
     opt: &FitOptions,
 ) -> Result<AutoFit, JointSpecError> {
-    let mut best: Option<(FitReport, f64, f64)> = None;
     let mut scores = Vec::new();
-    for w in AUTO_WEIGHTS {
+    let mut best: Option<(FitReport, f64, f64)> = None;
+    let mut score = |w: f64, best: &mut Option<(FitReport, f64, f64)>| {
         let o = FitOptions {
             smooth: w,
             ..opt.clone()
@@ -377,11 +393,48 @@ pub fn fit_spline_joint_auto(
         let v = gcv_score(&r.joint, samples, &o)?;
         scores.push((w, v));
         if best.as_ref().is_none_or(|b| v < b.2) {
-            best = Some((r, w, v));
+            *best = Some((r, w, v));
+        }
+        Ok::<f64, JointSpecError>(v)
+    };
+    for w in AUTO_WEIGHTS {
+        score(w, &mut best)?;
+    }
+    let w0 = best.as_ref().map_or(0.0, |b| b.1);
+    if w0 > 0.0 {
+        let k = AUTO_WEIGHTS.iter().position(|&w| w == w0).unwrap_or(0);
+        let lo = if k >= 2 {
+            AUTO_WEIGHTS[k - 1]
+        } else {
+            w0 / 10.0
+        };
+        let hi = AUTO_WEIGHTS.get(k + 1).copied().unwrap_or(w0);
+        // golden section on x = log10 w over [lo, hi], w0 (already scored) inside
+        let phi = (5f64.sqrt() - 1.0) / 2.0;
+        let (mut a, mut b) = (lo.log10(), hi.log10());
+        let mut c = b - phi * (b - a);
+        let mut d = a + phi * (b - a);
+        let mut fc = score(10f64.powf(c), &mut best)?;
+        let mut fd = score(10f64.powf(d), &mut best)?;
+        for _ in 2..REFINE_STEPS {
+            if fc < fd {
+                (b, d, fd) = (d, c, fc);
+                c = b - phi * (b - a);
+                fc = score(10f64.powf(c), &mut best)?;
+            } else {
+                (a, c, fc) = (c, d, fd);
+                d = a + phi * (b - a);
+                fd = score(10f64.powf(d), &mut best)?;
+            }
         }
     }
-    let (r, w, _) = best.ok_or_else(|| JointSpecError("no smoothing weight to try".into()))?;
-    Ok((r, w, scores))
+    let (fit, weight, _) =
+        best.ok_or_else(|| JointSpecError("no smoothing weight to try".into()))?;
+    Ok(AutoFit {
+        fit,
+        weight,
+        scores,
+    })
 }
 
 /// Adds w NᵀN and −c w Nᵀh, N = ∂h/∂ǔ by central differences.

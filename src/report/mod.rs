@@ -23,6 +23,7 @@ pub mod perf;
 pub mod plot;
 mod sections;
 pub mod spacetime;
+pub mod trees;
 
 use doc::Doc;
 use indicatif::{ProgressBar, ProgressStyle};

@@ -5,8 +5,8 @@
 //! also counts instructions per call under callgrind through [`drive`].
 
 use crate::dynamics::{
-    DynamicsError, JointState, StateGradient, Workspace, forward_dynamics, inverse_dynamics,
-    mass_matrix, rnea_derivatives, torque_sq_gradient,
+    CrbaFrame, DynamicsError, JointState, StateGradient, Workspace, forward_dynamics,
+    inverse_dynamics, mass_matrix, mass_matrix_in, rnea_derivatives, torque_sq_gradient,
 };
 use crate::model::Model;
 use nalgebra::DMatrix;
@@ -17,6 +17,19 @@ use std::time::Instant;
 /// The algorithms timed beside Pinocchio, in the order of [`pinocchio`]'s and
 /// [`per_call`]'s results (named as Pinocchio's timer names them).
 pub const ALGORITHMS: [&str; 4] = ["rnea", "aba", "crba", "rnea_derivatives"];
+
+/// Everything mx times, by the index [`drive`] and [`per_call_of`] take: the
+/// four of [`ALGORITHMS`], the adjoint Σwτ² gradient, and the mass matrix by
+/// each pass whatever the workspace would choose (`crba_world`, `crba_link`).
+pub const TIMED: [&str; 7] = [
+    "rnea",
+    "aba",
+    "crba",
+    "rnea_derivatives",
+    "adjoint",
+    "crba_world",
+    "crba_link",
+];
 
 /// Median µs per call of `f(i)` over `n` states, timing each call after a warm-up.
 pub fn median_us(n: usize, mut f: impl FnMut(usize)) -> f64 {
@@ -113,7 +126,7 @@ impl<'a> Calls<'a> {
         }
     }
 
-    /// Algorithm `k` (0–3 as [`ALGORITHMS`], 4 the adjoint Σwτ² gradient) at state `i`.
+    /// Algorithm `k` (as [`TIMED`]) at state `i`.
     fn call(&mut self, k: usize, i: usize) -> Result<(), DynamicsError> {
         let model = self.model;
         let g = model.default_gravity;
@@ -131,6 +144,8 @@ impl<'a> Calls<'a> {
                 &mut self.dq,
                 &mut self.dv,
             )?,
+            5 => mass_matrix_in(model, ws, q, &mut self.mm, CrbaFrame::World)?,
+            6 => mass_matrix_in(model, ws, q, &mut self.mm, CrbaFrame::Link)?,
             _ => {
                 let [gq, gv, ga] = &mut self.grad;
                 let j = torque_sq_gradient(
@@ -155,34 +170,39 @@ impl<'a> Calls<'a> {
 
 /// Our medians in µs: rnea, aba, crba, rnea_derivatives, adjoint Σwτ² gradient.
 pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
-    let mut calls = Calls::new(model, n_states);
-    // Check once that every algorithm accepts the model before timing (errors, not panics).
-    for k in 0..5 {
-        calls.call(k, 0).map_err(|e| e.to_string())?;
-    }
-    let mut t = [0.0; 5];
-    for (k, tk) in t.iter_mut().enumerate() {
-        *tk = median_us(n_states, |i| {
-            let _ = calls.call(k, i);
-        });
-    }
-    Ok(t)
+    let t = per_call_of(model, n_states, &[0, 1, 2, 3, 4])?;
+    Ok([t[0], t[1], t[2], t[3], t[4]])
 }
 
-/// Runs algorithm `algorithm` (a name of [`ALGORITHMS`]) `n_calls` times,
+/// Our medians in µs of the algorithms `which` (indices into [`TIMED`]), timed
+/// one after another on the same states.
+pub fn per_call_of(model: &Model, n_states: usize, which: &[usize]) -> Result<Vec<f64>, String> {
+    let mut calls = Calls::new(model, n_states);
+    // Check once that every algorithm accepts the model before timing (errors, not panics).
+    for &k in which {
+        calls.call(k, 0).map_err(|e| e.to_string())?;
+    }
+    Ok(which
+        .iter()
+        .map(|&k| {
+            median_us(n_states, |i| {
+                let _ = calls.call(k, i);
+            })
+        })
+        .collect())
+}
+
+/// Runs algorithm `algorithm` (a name of [`TIMED`]) `n_calls` times,
 /// cycling over 64 random states, and nothing else: the driver a process runs
 /// under callgrind, so that two runs of different lengths differ only by calls
 /// and their difference gives instructions per call.
 pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), String> {
-    let k = ALGORITHMS
-        .iter()
-        .position(|a| *a == algorithm)
-        .ok_or_else(|| {
-            format!(
-                "unknown algorithm `{algorithm}`; one of {}",
-                ALGORITHMS.join(", ")
-            )
-        })?;
+    let k = TIMED.iter().position(|a| *a == algorithm).ok_or_else(|| {
+        format!(
+            "unknown algorithm `{algorithm}`; one of {}",
+            TIMED.join(", ")
+        )
+    })?;
     let mut calls = Calls::new(model, 64);
     for i in 0..n_calls {
         calls.call(k, i % 64).map_err(|e| e.to_string())?;

@@ -57,7 +57,7 @@ fn fitted_curve_joint_reaches_0_1_mm_and_0_05_deg_with_at_most_16_frames() {
 }
 
 #[test]
-fn smoothing_lowers_hessian_energy_and_stays_close_to_clean_data() {
+fn smoothing_lowers_hessian_energy_monotonically() {
     for path in common::shared_files("opensim", "_samples.json") {
         let clean = JointSamples::load(&path).unwrap();
         // the report's noisy data: 1 mm per translation axis and 0.5° per
@@ -89,15 +89,12 @@ fn smoothing_lowers_hessian_energy_and_stays_close_to_clean_data() {
                 "{w:>6} | {energy:>12.5e} | {:>9.4} {:>9.4} {:>9.4} {:>9.4}",
                 e.max_mm, e.rms_mm, e.max_deg, e.rms_deg
             );
-            rows.push((w, energy, e));
+            rows.push((w, energy));
         }
-        // Stated bounds. (1) ∫‖∇S‖² falls monotonically with w. (2) Every fit
-        // stays within 1.5 mm of the clean motion (noise σ: 1 mm per axis).
-        // (3) Up to w = 1e-3 smoothing only removes noise: the RMS error to the
-        // clean data is no larger than without smoothing. (4) Unsmoothed, 16
-        // frames chase the rotational noise (≈2° at worst); the heaviest
-        // smoothing brings the worst rotation error under 0.6°.
-        let err0 = rows[0].2;
+        // The weight trades data fit for ∫‖∇S‖², so the energy falls with w.
+        // Which weight is *best* depends on the data (the knee, the noise): no
+        // fixed weight is asserted to be good; `smooth: "auto"` chooses one
+        // (the test below).
         for pair in rows.windows(2) {
             assert!(
                 pair[1].1 < pair[0].1,
@@ -107,20 +104,6 @@ fn smoothing_lowers_hessian_energy_and_stays_close_to_clean_data() {
                 pair[0].1
             );
         }
-        for &(w, _, e) in &rows {
-            assert!(e.max_mm <= 1.5, "w = {w}: {e:?}");
-            if w <= 1e-3 {
-                assert!(
-                    e.rms_mm <= err0.rms_mm && e.rms_deg <= err0.rms_deg,
-                    "w = {w}: {e:?} vs {err0:?}"
-                );
-            }
-        }
-        let smoothest = rows.last().unwrap().2;
-        assert!(
-            smoothest.max_deg <= 0.6 && smoothest.max_deg < err0.max_deg,
-            "heaviest smoothing: {smoothest:?} vs unsmoothed {err0:?}"
-        );
     }
 }
 
@@ -215,14 +198,80 @@ fn example_knee_samples() -> JointSamples {
     JointSamples::new(q, g).unwrap()
 }
 
+/// A knee nobody tuned on: a random smooth 1-DOF motion of knee size. The
+/// coordinate turns the child about a random axis over a random range of
+/// 80–140°; two smaller rotations about random axes (up to ±4° each) and the
+/// translation (a random offset up to 0.45 m, varying by up to ±8 mm per axis)
+/// are sums of slow sines of q. Sampled at 61–181 evenly spaced q.
+fn generated_knee(seed: u64) -> JointSamples {
+    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut r = |lo: f64, hi: f64| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        lo + (hi - lo) * ((s >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let unit = |r: &mut dyn FnMut(f64, f64) -> f64| {
+        let v = nalgebra::Vector3::new(r(-1.0, 1.0), r(-1.0, 1.0), r(-1.0, 1.0) + 0.1);
+        v / v.norm()
+    };
+    let axes = [unit(&mut r), unit(&mut r), unit(&mut r)];
+    // a smooth function of q: Σ amplitude·sin(ω q + φ) over three terms, ω ≤ 2/rad
+    type Wave = [(f64, f64, f64); 3];
+    let wave = |amp: f64, r: &mut dyn FnMut(f64, f64) -> f64| -> Wave {
+        [0, 1, 2].map(|_| (r(-amp, amp) / 3.0, r(0.3, 2.0), r(0.0, 6.3)))
+    };
+    let eval = |w: &Wave, q: f64| {
+        w.iter()
+            .map(|(a, om, ph)| a * (om * q + ph).sin())
+            .sum::<f64>()
+    };
+    let small = 4f64.to_radians();
+    let rot = [wave(small, &mut r), wave(small, &mut r)];
+    let trans = [wave(8e-3, &mut r), wave(8e-3, &mut r), wave(8e-3, &mut r)];
+    let offset = nalgebra::Vector3::new(r(-0.05, 0.05), r(-0.45, -0.3), r(-0.05, 0.05));
+    let lo = r(-2.2, 0.0);
+    let span = r(80f64, 140.0).to_radians();
+    let n = r(61.0, 182.0) as usize;
+    let (q, g): (Vec<f64>, Vec<Se3>) = (0..n)
+        .map(|k| {
+            let q = lo + span * k as f64 / (n - 1) as f64;
+            let turn = |axis: &nalgebra::Vector3<f64>, angle: f64| {
+                exp_se3(&Twist::new(
+                    axis.x * angle,
+                    axis.y * angle,
+                    axis.z * angle,
+                    0.,
+                    0.,
+                    0.,
+                ))
+            };
+            let mut g = turn(&axes[0], q)
+                .compose(&turn(&axes[1], eval(&rot[0], q)))
+                .compose(&turn(&axes[2], eval(&rot[1], q)));
+            g.p = offset
+                + nalgebra::Vector3::new(
+                    eval(&trans[0], q),
+                    eval(&trans[1], q),
+                    eval(&trans[2], q),
+                );
+            (q, g)
+        })
+        .unzip();
+    JointSamples::new(q, g).unwrap()
+}
+
+/// How many generated knees the test below adds to the data folder's.
+const GENERATED_KNEES: u64 = 6;
+
 #[test]
-fn automatic_smoothing_by_gcv_is_never_worse_than_none_on_noisy_samples_of_both_knees() {
+fn gcv_weight_brings_every_knee_closer_to_clean_data_than_no_smoothing() {
     let mut knees: Vec<(String, JointSamples)> = common::shared_files("opensim", "_samples.json")
         .into_iter()
         .map(|p| (p.display().to_string(), JointSamples::load(&p).unwrap()))
         .collect();
     knees.push(("examples/data/knee_r.osim".into(), example_knee_samples()));
-    assert!(knees.len() >= 2 || common::shared_dir().is_none());
+    knees.extend((1..=GENERATED_KNEES).map(|k| (format!("generated knee {k}"), generated_knee(k))));
     for (name, clean) in knees {
         for seed in [fit::NOISE_SEED, 7] {
             let noisy = clean.with_noise(fit::NOISE_M, fit::NOISE_DEG.to_radians(), seed);
@@ -230,25 +279,38 @@ fn automatic_smoothing_by_gcv_is_never_worse_than_none_on_noisy_samples_of_both_
                 frames: 16,
                 ..Default::default()
             };
-            let (auto, w, scores) = fit_spline_joint_auto(&noisy, &opt).unwrap();
+            let auto = fit_spline_joint_auto(&noisy, &opt).unwrap();
             let none = fit_spline_joint(&noisy, &opt).unwrap();
             let (ea, e0) = (
-                joint_error(&auto.joint, &clean).unwrap(),
+                joint_error(&auto.fit.joint, &clean).unwrap(),
                 joint_error(&none.joint, &clean).unwrap(),
             );
             println!(
-                "{name} (seed {seed}): GCV chose w = {w:e} from {scores:?}; error to clean data rms {:.4} mm {:.4}° (w = 0: {:.4} mm {:.4}°)",
-                ea.rms_mm, ea.rms_deg, e0.rms_mm, e0.rms_deg
+                "{name} (seed {seed}): GCV chose w = {:.3e} of {} tried; error to clean data rms {:.4} mm {:.4}°, max {:.4} mm {:.4}° (w = 0: rms {:.4} mm {:.4}°, max {:.4} mm {:.4}°)",
+                auto.weight,
+                auto.scores.len(),
+                ea.rms_mm,
+                ea.rms_deg,
+                ea.max_mm,
+                ea.max_deg,
+                e0.rms_mm,
+                e0.rms_deg,
+                e0.max_mm,
+                e0.max_deg
             );
-            assert_eq!(scores.len(), AUTO_WEIGHTS.len());
-            assert!(scores.iter().all(|(_, v)| v.is_finite() && *v > 0.0));
-            // Never worse than no smoothing (a hair of slack for the iteration's stopping rule).
+            assert!(auto.scores.iter().all(|(_, v)| v.is_finite() && *v > 0.0));
+            // the chosen weight is the least score of all tried
+            let least = auto
+                .scores
+                .iter()
+                .fold(f64::INFINITY, |m, (_, v)| m.min(*v));
+            assert!(auto.scores.contains(&(auto.weight, least)));
+            // Closer to the clean data than no smoothing, in position and in angle.
             assert!(
-                ea.rms_mm <= e0.rms_mm * (1.0 + 1e-6) && ea.rms_deg <= e0.rms_deg * (1.0 + 1e-6),
-                "{name}: auto {ea:?} vs w = 0 {e0:?}"
+                ea.rms_mm < e0.rms_mm && ea.rms_deg < e0.rms_deg,
+                "{name} (seed {seed}): auto w = {} {ea:?} vs w = 0 {e0:?}",
+                auto.weight
             );
-            // and noise is there to remove: GCV does smooth.
-            assert!(w > 0.0, "{name}: GCV kept w = 0 on noisy data");
         }
     }
 }
@@ -258,16 +320,40 @@ fn smooth_auto_in_the_language() {
     for path in common::shared_files("opensim", "_samples.json") {
         let p = path.display().to_string();
         let mut mx = mx::Interpreter::new();
+        mx.eval_str(&format!("let s = load_samples({p:?})"))
+            .unwrap();
+        // "auto" is the default, and the joint reports the weight it chose
+        let auto = mx
+            .eval_str("fit_spline_joint(s, frames: 8, smooth: \"auto\").smooth")
+            .unwrap();
+        let default = mx
+            .eval_str("fit_spline_joint(s, frames: 8).smooth")
+            .unwrap();
+        assert_eq!(auto.to_string(), default.to_string());
+        let samples = JointSamples::load(&path).unwrap();
+        let engine = fit_spline_joint_auto(
+            &samples,
+            &FitOptions {
+                frames: 8,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            auto.to_string(),
+            mx::Value::Number(engine.weight).to_string()
+        );
+        // a number still sets the weight
+        let set = mx
+            .eval_str("fit_spline_joint(s, frames: 8, smooth: 0.001).smooth")
+            .unwrap();
+        assert_eq!(set.to_string(), "0.001");
         let v = mx
-            .eval_str(&format!(
-                "{{ let s = load_samples({p:?}); joint_error(fit_spline_joint(s, frames: 8, smooth: \"auto\"), s).rms_mm < 1 }}"
-            ))
+            .eval_str("joint_error(fit_spline_joint(s, frames: 8), s).rms_mm < 1")
             .unwrap();
         assert_eq!(v.to_string(), "true");
         let e = mx
-            .eval_str(&format!(
-                "fit_spline_joint(load_samples({p:?}), smooth: \"often\")"
-            ))
+            .eval_str("fit_spline_joint(s, smooth: \"often\")")
             .unwrap_err();
         assert!(format!("{e:?}").contains("\\\"auto\\\""), "{e:?}");
     }

@@ -317,8 +317,8 @@ fn design(reg: &mut Registry) {
         },
     );
     reg.add(
-        "fit_spline_joint(samples, frames: 8, smooth: 0, knots: \"uniform\")",
-        "Fit a cubic spline curve joint with `frames` control frames to samples (paper §6.2); `smooth` = w in [0, 1) trades data fit for a smaller joint Hessian (§6.3; useful w are small, 1e-5…1e-2), or \"auto\": the w of 0, 1e-6…1e-2 with the least generalised cross-validation score; knots \"uniform\" or \"natural\".",
+        "fit_spline_joint(samples, frames: 8, smooth: \"auto\", knots: \"uniform\")",
+        "Fit a cubic spline curve joint with `frames` control frames to samples (paper §6.2). `smooth` trades data fit for a smaller joint Hessian (§6.3): \"auto\" (default) picks the weight of least generalised cross-validation score (w = 0 and 1e-6…1e-2, refined between decades), a number w in [0, 1) sets it (0 fits the data only). The weight used is the joint's `.smooth`. knots \"uniform\" or \"natural\".",
         |a, _| {
             let s = a.object::<SamplesValue>("samples", "joint samples (from load_samples)")?.0.clone();
             let farg = a.opt("frames");
@@ -329,14 +329,14 @@ fn design(reg: &mut Registry) {
                 },
                 None => 8,
             };
-            // `smooth: "auto"`: the weight of least generalised cross-validation score.
+            // `smooth: "auto"` (None, the default): the weight of least generalised cross-validation score.
             let smooth = match a.opt("smooth") {
                 Some(v) if v.value.as_str_opt().as_deref() == Some("auto") => None,
                 Some(v) => match v.value.as_number() {
                     Some(x) => Some(x),
                     None => return Err(value_error(a, &v, "`smooth` must be a number in [0, 1) or \"auto\"")),
                 },
-                None => Some(0.0),
+                None => None,
             };
             let knots = match a.opt("knots") {
                 Some(k) => match k.value.as_str_opt().as_deref() {
@@ -347,12 +347,12 @@ fn design(reg: &mut Registry) {
                 None => KnotPlacement::Uniform,
             };
             let opt = FitOptions { frames, smooth: smooth.unwrap_or(0.0), knots, ..Default::default() };
-            let r = match smooth {
-                Some(_) => fit_spline_joint(&s, &opt),
-                None => fit_spline_joint_auto(&s, &opt).map(|(r, _, _)| r),
+            let (r, w) = match smooth {
+                Some(w) => fit_spline_joint(&s, &opt).map(|r| (r, w)),
+                None => fit_spline_joint_auto(&s, &opt).map(|f| (f.fit, f.weight)),
             }
             .map_err(|e| spec(a, e))?;
-            Ok(Value::object(JointValue::curve(r.joint)))
+            Ok(Value::object(JointValue::fitted(r.joint, w)))
         },
     );
     reg.add(

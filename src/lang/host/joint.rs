@@ -16,6 +16,8 @@ pub struct JointValue {
     pub joint: Arc<dyn Joint>,
     /// Set for spline curve joints (for `.frames` / `.knots`).
     pub curve: Option<Arc<SplineCurveJoint>>,
+    /// The smoothing weight a fitted curve joint was made with (`.smooth`).
+    pub smooth: Option<f64>,
 }
 
 impl JointValue {
@@ -23,6 +25,7 @@ impl JointValue {
         JointValue {
             joint: Arc::new(j),
             curve: None,
+            smooth: None,
         }
     }
     /// A spline curve joint, keeping its frames and knots for `.frames`/`.knots`.
@@ -31,6 +34,14 @@ impl JointValue {
         JointValue {
             joint: c.clone(),
             curve: Some(c),
+            smooth: None,
+        }
+    }
+    /// A curve joint fitted to samples with smoothing weight `w`.
+    pub fn fitted(j: SplineCurveJoint, w: f64) -> Self {
+        JointValue {
+            smooth: Some(w),
+            ..Self::curve(j)
         }
     }
 }
@@ -53,6 +64,7 @@ impl HostObject for JointValue {
                 .curve
                 .as_ref()
                 .map(|c| Value::list(c.frames().iter().map(matrix_value).collect())),
+            "smooth" => self.smooth.map(Value::Number),
             "knots" => self.curve.as_ref().map(|c| numbers(c.basis().knots())),
             "domain" => self.curve.as_ref().map(|c| {
                 let (a, b) = c.domain();

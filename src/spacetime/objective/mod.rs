@@ -33,7 +33,7 @@ mod torque_term;
 pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
 use prior::KinematicPrior;
 use sampled::Sampled;
-pub use term::{GaussNewtonNode, Node, NodeGrad, NodeSum, Term, TermScratch};
+pub use term::{GaussNewtonNode, Node, NodeGrad, NodeSum, Term, TermScratch, scratch_of};
 use torque_term::TorqueTerm;
 
 /// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has

@@ -18,8 +18,16 @@ use super::layout::{GapLayout, NodeRows};
 use nalgebra::DMatrix;
 
 /// A term's own scratch memory, one per evaluation thread
-/// ([`Term::scratch`]; read back with [`Node::scratch`]).
+/// ([`Term::scratch`]; read back with [`scratch_of`]).
 pub type TermScratch = Box<dyn std::any::Any + Send>;
+
+/// The scratch a term's [`Term::scratch`] built, as its type `T`
+/// (`scratch_of::<T>(node.scratch)`, which leaves the node's other fields free to borrow).
+pub fn scratch_of<T: 'static>(s: &mut TermScratch) -> Result<&mut T, SpError> {
+    s.downcast_mut::<T>().ok_or_else(|| {
+        SpError::Numerical("an objective term was given another term's scratch".into())
+    })
+}
 
 /// One term of the objective.
 pub trait Term<M: TorqueModel>: Send + Sync {
@@ -66,16 +74,8 @@ pub struct Node<'s, M: TorqueModel> {
     /// The extra unknowns (see [`GapLayout::with_extras`]).
     pub extras: &'s [f64],
     pub ws: &'s mut M::Workspace,
-    pub(super) scratch: &'s mut TermScratch,
-}
-
-impl<M: TorqueModel> Node<'_, M> {
-    /// The term's scratch, as its [`Term::scratch`] built it.
-    pub fn scratch<T: 'static>(&mut self) -> Result<&mut T, SpError> {
-        self.scratch.downcast_mut::<T>().ok_or_else(|| {
-            SpError::Numerical("an objective term was given another term's scratch".into())
-        })
-    }
+    /// The term's own scratch (see [`scratch_of`]).
+    pub scratch: &'s mut TermScratch,
 }
 
 /// Where a term adds its integrand at one node: the objective's running sum,

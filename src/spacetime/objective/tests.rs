@@ -46,6 +46,29 @@ pub(super) fn known_motion(
     Ok(())
 }
 
+/// The gradient of `obj` at x, checked against central differences of e
+/// in every unknown (relative to its largest entry).
+pub(super) fn assert_gradient<M: TorqueModel>(obj: &Objective<'_, M>, x: &[f64]) -> Vec<f64> {
+    let mut s = obj.scratch();
+    let mut g = vec![0.0; x.len()];
+    obj.eval(&mut s, x, Some(&mut g)).unwrap();
+    let scale = g.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    for i in 0..x.len() {
+        let h = 1e-6;
+        let (mut xp, mut xm) = (x.to_vec(), x.to_vec());
+        xp[i] += h;
+        xm[i] -= h;
+        let fd = (obj.eval(&mut s, &xp, None).unwrap() - obj.eval(&mut s, &xm, None).unwrap())
+            / (2.0 * h);
+        assert!(
+            (fd - g[i]).abs() <= 1e-6 * scale,
+            "i={i}: fd {fd} vs {}",
+            g[i]
+        );
+    }
+    g
+}
+
 #[test]
 fn gradient_matches_central_differences() {
     let arm = TwoLinkArm::default();
@@ -62,24 +85,8 @@ fn gradient_matches_central_differences() {
             continuity: cont,
         };
         let obj = problem(&arm, &settings).with_prior(&prior).unwrap();
-        let mut s = obj.scratch();
         let x: Vec<f64> = (0..obj.n_vars()).map(|i| 0.3 * (i as f64).cos()).collect();
-        let mut g = vec![0.0; x.len()];
-        obj.eval(&mut s, &x, Some(&mut g)).unwrap();
-        for i in 0..x.len() {
-            let h = 1e-6;
-            let (mut xp, mut xm) = (x.clone(), x.clone());
-            xp[i] += h;
-            xm[i] -= h;
-            let fd = (obj.eval(&mut s, &xp, None).unwrap() - obj.eval(&mut s, &xm, None).unwrap())
-                / (2.0 * h);
-            let scale = g.iter().map(|v: &f64| v.abs()).fold(0.0, f64::max);
-            assert!(
-                (fd - g[i]).abs() <= 1e-6 * scale,
-                "{cont:?} i={i}: fd {fd} vs {}",
-                g[i]
-            );
-        }
+        assert_gradient(&obj, &x);
     }
 }
 
@@ -155,22 +162,7 @@ fn an_example_moves_the_priors_target_to_its_own_derivatives() {
         }
     }
     assert!((part - sum).abs() < 1e-6 * sum, "{part} vs {sum}");
-    let mut g = vec![0.0; x.len()];
-    with.eval(&mut s, &x, Some(&mut g)).unwrap();
-    let scale = g.iter().map(|v: &f64| v.abs()).fold(0.0, f64::max);
-    for i in 0..x.len() {
-        let h = 1e-6;
-        let (mut xp, mut xm) = (x.clone(), x.clone());
-        xp[i] += h;
-        xm[i] -= h;
-        let fd = (with.eval(&mut s, &xp, None).unwrap() - with.eval(&mut s, &xm, None).unwrap())
-            / (2.0 * h);
-        assert!(
-            (fd - g[i]).abs() <= 1e-6 * scale,
-            "i={i}: fd {fd} vs {}",
-            g[i]
-        );
-    }
+    assert_gradient(&with, &x);
     // an example undefined at some node is refused, the objective unchanged
     let undefined = |t: f64, q: &mut [f64], v: &mut [f64], a: &mut [f64]| {
         if t < 1.0 { inputs(t, q, v, a) } else { Ok(()) }

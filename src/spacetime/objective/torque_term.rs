@@ -8,7 +8,7 @@
 
 use super::super::error::SpError;
 use super::super::torque::TorqueModel;
-use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch};
+use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch, scratch_of};
 use crate::dynamics::{JointState, PointForce, StateGradient};
 
 pub(super) struct TorqueTerm<'a, M: TorqueModel> {
@@ -48,13 +48,9 @@ impl<M: TorqueModel> Term<M> for TorqueTerm<'_, M> {
 
     fn node(&self, node: &mut Node<'_, M>, sum: &mut NodeSum<'_>) -> Result<(), SpError> {
         let (q, v, a) = (node.q, node.v, node.a);
-        let ws = &mut *node.ws;
-        let g = node
-            .scratch
-            .downcast_mut::<Gradient>()
-            .ok_or_else(|| SpError::Numerical("the torque term lost its scratch".into()))?;
+        let g = scratch_of::<Gradient>(node.scratch)?;
         let f = self.model.torque_sq_grad(
-            ws,
+            node.ws,
             &JointState::new(q, v, a),
             self.forces_at(node.k),
             &self.weights,
