@@ -19,6 +19,7 @@ use super::torque::TorqueModel;
 use super::transition::{Continuity, EndState, TransitionCurve};
 use crate::dynamics::PointForce;
 
+mod example;
 mod gauss_newton;
 pub mod layout;
 mod prior;
@@ -30,6 +31,7 @@ mod term_tests;
 mod tests;
 mod torque_term;
 
+pub use example::{ExampleTerm, position_weight};
 pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
 use prior::KinematicPrior;
 use sampled::Sampled;
