@@ -88,6 +88,27 @@ impl LaidExample {
             .map(|d| &d.curve)
     }
 
+    /// q, q̇, q̈ at gap time t of the laid coordinates (the others, and a
+    /// coordinate whose own gap does not reach t, left as they are): what
+    /// the example term pulls toward and the prior follows.
+    pub fn inputs(
+        &self,
+    ) -> impl Fn(f64, &mut [f64], &mut [f64], &mut [f64]) -> Result<(), SpError> + Sync + '_ {
+        move |t, q, v, a| {
+            for d in &self.curves {
+                let tol = crate::motion::time_tol(t);
+                if t < d.t0 - tol || t > d.t1 + tol {
+                    continue;
+                }
+                let [x, dx, ddx] = d.curve.eval(t).map_err(SpError::Motion)?;
+                q[d.coord] = x;
+                v[d.coord] = dx;
+                a[d.coord] = ddx;
+            }
+            Ok(())
+        }
+    }
+
     /// The model coordinates laid, in order.
     pub fn coords(&self) -> impl Iterator<Item = usize> + '_ {
         self.curves.iter().map(|d| d.coord)
@@ -121,7 +142,7 @@ pub struct Lay<'a> {
     pub root: &'a RootCoords,
     /// The motion being filled (its end states and poses at the gap's ends).
     pub motion: &'a Mu,
-    pub rotation: &'a dyn Fn(usize) -> bool,
+    pub rotation: &'a (dyn Fn(usize) -> bool + Sync),
     pub joints: &'a Joints,
 }
 

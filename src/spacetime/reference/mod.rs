@@ -182,6 +182,26 @@ impl Origin {
     }
 }
 
+/// One example source asked for a group of gaps: its best example's match
+/// cost ρ, or why it gave none.
+pub type Tried = (Origin, Result<f64, NoExample>);
+
+/// Why a group of gaps follows no example, from each source `tried`
+/// (`None` when it follows one, `followed`, or no source was asked).
+pub fn why_none(tried: &[Tried], followed: bool) -> Option<String> {
+    if followed || tried.is_empty() {
+        return None;
+    }
+    let parts: Vec<String> = tried
+        .iter()
+        .map(|(o, r)| match r {
+            Err(why) => format!("{}: {why}", o.label()),
+            Ok(rho) => format!("{}: mismatch {rho:.3}, not followed", o.label()),
+        })
+        .collect();
+    Some(parts.join("; "))
+}
+
 /// The example a group of gaps follows, laid over it, or why none is:
 /// each source asked, with its best match cost or why it had none.
 #[derive(Clone, Debug, Default)]
@@ -189,7 +209,7 @@ pub struct ExampleChoice {
     pub laid: Option<LaidExample>,
     /// Per source asked (`"self"`, the library), its example's ρ or why it
     /// gave none; the laid one is the lower ρ.
-    pub tried: Vec<(Origin, Result<f64, NoExample>)>,
+    pub tried: Vec<Tried>,
 }
 
 impl ExampleChoice {
@@ -201,21 +221,10 @@ impl ExampleChoice {
     /// Why none is followed (`None` when one is): every source's reason,
     /// or [`NoExample::NotAsked`] when none was asked.
     pub fn why_none(&self) -> Option<String> {
-        if self.laid.is_some() {
-            return None;
-        }
-        if self.tried.is_empty() {
+        if self.laid.is_none() && self.tried.is_empty() {
             return Some(NoExample::NotAsked.to_string());
         }
-        let parts: Vec<String> = self
-            .tried
-            .iter()
-            .map(|(o, r)| match r {
-                Err(why) => format!("{}: {why}", o.label()),
-                Ok(rho) => format!("{}: mismatch {rho:.3}", o.label()),
-            })
-            .collect();
-        Some(parts.join("; "))
+        why_none(&self.tried, self.laid.is_some())
     }
 }
 
