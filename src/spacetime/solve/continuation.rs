@@ -254,11 +254,29 @@ fn anchored<M: TorqueModel>(
         per_coord[g.coord] = position_weight(c_a, g.t1 - g.t0, trust);
     }
     let term = ExampleTerm::new(obj.layout(), per_coord.len(), example, &per_coord)?;
-    let obj = obj.with_term(Box::new(term));
-    step(problem, 0, 1);
+    let obj = obj.with_term(Box::new(term.clone()));
+    step(problem, 0, 2);
     let hermite = check.hermite.clone();
-    let (x, last) = run(&obj, hermite.clone(), problem.opts)?;
     let mut work = Work::default();
+    // the anchor alone first (prior and example term, no torque: quadratic,
+    // so its Gauss–Newton steps are exact), so the full solve starts on the
+    // example rather than on Hermite's curves far from it (a dance's fast
+    // limbs stopped short of the example from there)
+    let zeros = vec![0.0; problem.weights.len()];
+    let mut anchor = Objective::new(
+        problem.model,
+        dofs.to_vec(),
+        problem.settings,
+        zeros,
+        problem.inputs,
+    )?
+    .with_prior(&prior.weights)?;
+    anchor.with_example(example, 0.0, &follow, trust)?;
+    let anchor = anchor.with_term(Box::new(term));
+    let (x_anchor, first) = run(&anchor, hermite.clone(), problem.opts)?;
+    work.add(&first);
+    step(problem, 1, 2);
+    let (x, last) = run(&obj, x_anchor, problem.opts)?;
     work.add(&last);
     let energy = check.energy(&x)?;
     let outcome = Outcome {
