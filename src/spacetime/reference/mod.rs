@@ -269,6 +269,9 @@ pub fn choose_with(
     Ok(found.into_iter().find_map(|(_, r)| r.ok()))
 }
 
+/// A source and its best example or why it has none.
+type Found = (Origin, Result<Example, NoExample>);
+
 /// Each source asked (`own`: the motion itself; the library), with its best
 /// example or why it has none.
 fn searched(
@@ -279,7 +282,7 @@ fn searched(
     gaps: &[GapDof],
     own: bool,
     library: Option<&LibrarySource>,
-) -> Result<Vec<(Origin, Result<Example, NoExample>)>, SpError> {
+) -> Result<Vec<Found>, SpError> {
     let mut found = vec![];
     if own {
         found.push((Origin::Own, own::search(m, names, rotation, joints, gaps)?));
@@ -294,7 +297,7 @@ fn searched(
 }
 
 /// A source's match cost, for choosing between them (none: last).
-fn rank(found: &(Origin, Result<Example, NoExample>)) -> f64 {
+fn rank(found: &Found) -> f64 {
     found.1.as_ref().map_or(f64::INFINITY, |e| e.mismatch)
 }
 

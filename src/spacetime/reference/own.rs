@@ -67,7 +67,7 @@ pub(super) fn search(
         return Ok(Err(NoExample::NoStretch));
     };
     // (a NaN ρ is refused too)
-    if !(rho <= MAX_MISMATCH) {
+    if rho.is_nan() || rho > MAX_MISMATCH {
         return Ok(Err(NoExample::NoMatch {
             best: rho,
             threshold: MAX_MISMATCH,
