@@ -470,7 +470,7 @@ pub fn register(reg: &mut Registry) {
         "sp_report(m)",
         "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \
          initial_energy (∫Στ² of the Hermite start), energy (∫Στ² of the result), grad_norm, stop = why the solver \
-         stopped, converged (false: stopped short, also warned on stderr), prior_scale (the factor the prior ended at), example (the stretch the prior followed: shift in s and mismatch, or none), \
+         stopped, converged (false: stopped short, also warned on stderr), prior_scale (the factor the prior ended at), example (the stretch followed, or nil: source \"self\"/\"library\", clip, time, warp, from–to (s, the stretch on its own clock), shift, mismatch (ρ), end_distance_start/end_distance_end (m, mean joint distance of its laid poses to the gap's end states), end_angle, dofs), no_example (why none, or nil), tried (each source asked: {source, mismatch} or {source, why}), \
          solves, seconds), `root` (t0, t1, shift applied to the motion after each gap), `pinned` (gaps whose root x–z was pinned: t0, t1, auto, \
          mismatch in m between the recorded and the predicted displacement, tolerance), `hermite` (root DOFs filled by \
          Hermite curves), `constant` (bone-offset DOFs held constant: dof, start, stop), `undefined` \

@@ -10,6 +10,8 @@ use indexmap::IndexMap;
 use super::motion::{Provenance, provenance};
 use crate::lang::value::{HostObject, Value};
 use crate::spacetime::SpReport;
+use crate::spacetime::reference::EndFit;
+use crate::spacetime::solve::GapReport;
 use crate::spacetime::sp::Undefined;
 
 /// The report of a motion SP returned, if `v` is one.
@@ -45,6 +47,67 @@ fn spans(list: &[Undefined]) -> Value {
                     ("start", num(u.start)),
                     ("stop", num(u.stop)),
                 ])
+            })
+            .collect(),
+    )
+}
+
+/// The example a group followed (nil: none; `no_example` says why): its
+/// source, clip and time span, its match cost and how far its laid poses
+/// were from the gap's end states.
+fn example(g: &GapReport) -> Value {
+    let Some(ex) = &g.example else {
+        return Value::Nil;
+    };
+    let clip = ex.clip.as_ref();
+    let source = if clip.is_some() { "library" } else { "self" };
+    // the stretch the gap followed, on the example's own clock
+    let (from, to) = match clip {
+        Some(c) => (c.time, c.time + c.warp * (g.t1 - g.t0)),
+        None => (g.t0 + ex.shift, g.t1 + ex.shift),
+    };
+    let fit = |f: fn(&EndFit) -> f64| ex.fit.as_ref().map_or(Value::Nil, |e| num(f(e)));
+    record(vec![
+        ("source", Value::str(source)),
+        ("shift", num(ex.shift)),
+        ("mismatch", num(ex.mismatch)),
+        ("clip", clip.map_or(Value::Nil, |c| Value::str(&c.name))),
+        ("time", clip.map_or(Value::Nil, |c| num(c.time))),
+        ("warp", clip.map_or(Value::Nil, |c| num(c.warp))),
+        ("from", num(from)),
+        ("to", num(to)),
+        ("end_distance_start", fit(|e| e.start)),
+        ("end_distance_end", fit(|e| e.end)),
+        ("end_angle", fit(|e| e.angle)),
+        (
+            "dofs",
+            Value::list(
+                g.coords
+                    .iter()
+                    .zip(&g.names)
+                    .filter(|(c, _)| ex.follow.contains(c))
+                    .map(|(_, n)| Value::str(n))
+                    .collect(),
+            ),
+        ),
+    ])
+}
+
+/// Each example source asked for a group: `{source, mismatch}` or
+/// `{source, why}`.
+fn tried(g: &GapReport) -> Value {
+    Value::list(
+        g.tried
+            .iter()
+            .map(|(o, r)| match r {
+                Ok(rho) => record(vec![
+                    ("source", Value::str(o.label())),
+                    ("mismatch", num(*rho)),
+                ]),
+                Err(why) => record(vec![
+                    ("source", Value::str(o.label())),
+                    ("why", Value::str(why.to_string())),
+                ]),
             })
             .collect(),
     )
@@ -93,35 +156,12 @@ impl SpReportValue {
                         ("converged", Value::Bool(g.converged())),
                         ("prior_scale", num(g.prior_scale)),
                         ("solves", num(g.solves as f64)),
+                        ("example", example(g)),
                         (
-                            "example",
-                            match &g.example {
-                                Some(ex) => record(vec![
-                                    ("shift", num(ex.shift)),
-                                    ("mismatch", num(ex.mismatch)),
-                                    (
-                                        "clip",
-                                        ex.clip
-                                            .as_ref()
-                                            .map_or(Value::Nil, |c| Value::str(&c.name)),
-                                    ),
-                                    ("time", ex.clip.as_ref().map_or(Value::Nil, |c| num(c.time))),
-                                    ("warp", ex.clip.as_ref().map_or(Value::Nil, |c| num(c.warp))),
-                                    (
-                                        "dofs",
-                                        Value::list(
-                                            g.coords
-                                                .iter()
-                                                .zip(&g.names)
-                                                .filter(|(c, _)| ex.follow.contains(c))
-                                                .map(|(_, n)| Value::str(n))
-                                                .collect(),
-                                        ),
-                                    ),
-                                ]),
-                                None => Value::Nil,
-                            },
+                            "no_example",
+                            g.why_no_example().map_or(Value::Nil, Value::str),
                         ),
+                        ("tried", tried(g)),
                         ("seconds", num(g.seconds)),
                     ])
                 })
@@ -271,5 +311,99 @@ mod tests {
         assert!(report_of(&other).is_none());
         assert!(m.equals(&other), "provenance does not change equality");
         assert_eq!(m.repr(), other.repr(), "nor printing");
+    }
+}
+
+#[cfg(test)]
+mod example_tests {
+    use super::*;
+    use crate::spacetime::reference::{Example, NoExample, Origin};
+    use crate::spacetime::solve::StopReason;
+
+    fn group(
+        example: Option<Example>,
+        tried: Vec<crate::spacetime::reference::Tried>,
+    ) -> GapReport {
+        GapReport {
+            coords: vec![0, 1],
+            names: vec!["a".into(), "b".into()],
+            t0: 1.0,
+            t1: 1.5,
+            n_vars: 8,
+            method: "gn",
+            iterations: 1,
+            evaluations: 1,
+            initial_energy: 1.0,
+            energy: 1.0,
+            grad_norm: 0.0,
+            stop: StopReason::Converged,
+            seconds: 0.0,
+            prior_scale: 1.0,
+            solves: 1,
+            example,
+            tried,
+        }
+    }
+
+    fn field<'v>(v: &'v Value, name: &str) -> &'v Value {
+        v.as_record()
+            .and_then(|r| r.get(name))
+            .unwrap_or_else(|| panic!("no field {name}"))
+    }
+
+    #[test]
+    fn a_group_says_which_example_it_followed_and_how_well_it_fit() {
+        let ex = Example {
+            shift: -0.8,
+            mismatch: 0.2,
+            follow: vec![1],
+            of: 2,
+            clip: None,
+            fit: Some(EndFit {
+                start: 0.01,
+                end: 0.03,
+                angle: 0.1,
+            }),
+        };
+        let g = group(
+            Some(ex),
+            vec![
+                (Origin::Own, Ok(0.2)),
+                (Origin::Library, Err(NoExample::LibraryEmpty)),
+            ],
+        );
+        let e = example(&g);
+        assert!(field(&e, "source").equals(&Value::str("self")));
+        assert!(field(&e, "mismatch").equals(&num(0.2)));
+        let Value::Number(from) = field(&e, "from") else {
+            panic!("a number")
+        };
+        assert!((from - 0.2).abs() < 1e-12, "{from}");
+        assert!(field(&e, "end_distance_end").equals(&num(0.03)));
+        assert!(field(&e, "dofs").equals(&Value::list(vec![Value::str("b")])));
+        assert!(g.why_no_example().is_none());
+        let t = tried(&g);
+        let Value::List(t) = &t else { panic!("a list") };
+        assert_eq!(t.len(), 2);
+        assert!(field(&t[1], "why").to_string().contains("empty"));
+    }
+
+    #[test]
+    fn a_group_without_an_example_says_why() {
+        let g = group(
+            None,
+            vec![(
+                Origin::Library,
+                Err(NoExample::NoMatch {
+                    best: 1.7,
+                    threshold: 1.0,
+                }),
+            )],
+        );
+        assert!(matches!(example(&g), Value::Nil));
+        let why = g.why_no_example().expect("a reason");
+        assert!(why.contains("library") && why.contains("1.7"), "{why}");
+        // no source asked: nothing to explain
+        assert!(group(None, vec![]).why_no_example().is_none());
     }
 }

@@ -4,8 +4,8 @@
 
 use super::laid::{FloorMap, laid_on_gap};
 use super::{
-    CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MIN_CONTEXT_SAMPLES, STEP,
-    gap_coords, gap_span, spread, wrap,
+    CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MIN_CONTEXT_SAMPLES, NoExample,
+    STEP, gap_coords, gap_span, span_seconds, spread, wrap,
 };
 use crate::library::features::{KeyJoints, key_positions};
 use crate::library::{Library, Match};
@@ -100,32 +100,65 @@ pub fn from_library_with(
     gaps: &[GapDof],
     src: &LibrarySource,
 ) -> Result<Option<Example>, SpError> {
+    Ok(search(m, names, rotation, joints, gaps, src)?.ok())
+}
+
+/// [`from_library_with`], saying why there is none.
+pub(super) fn search(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    joints: &Joints,
+    gaps: &[GapDof],
+    src: &LibrarySource,
+) -> Result<Result<Example, NoExample>, SpError> {
     let Some((t0, t1)) = gap_span(gaps) else {
-        return Ok(None);
+        return Ok(Err(NoExample::Span {
+            seconds: span_seconds(gaps),
+        }));
     };
     let lib = &src.library;
-    let Ok(query) = lib.query(m, &src.skeleton, src.metres_per_unit, t0, t1) else {
-        return Ok(None);
+    if lib.clips.is_empty() {
+        return Ok(Err(NoExample::LibraryEmpty));
+    }
+    let query = match lib.query(m, &src.skeleton, src.metres_per_unit, t0, t1) {
+        Ok(q) => q,
+        Err(e) => return Ok(Err(NoExample::NoFeatures(e.to_string()))),
     };
-    let Ok(my_keys) = KeyJoints::find(&src.skeleton) else {
-        return Ok(None);
+    let my_keys = match KeyJoints::find(&src.skeleton) {
+        Ok(k) => k,
+        Err(e) => return Ok(Err(NoExample::NoFeatures(e.to_string()))),
     };
     let Some(Some(mine)) =
         key_positions(m, &src.skeleton, src.metres_per_unit, &my_keys, &[t0]).pop()
     else {
-        return Ok(None);
+        return Ok(Err(NoExample::NoFeatures(format!(
+            "the key joints are undefined at the gap's start ({t0:.3} s)"
+        ))));
     };
-    let Some(gap) = LibraryGap::new(m, names, rotation, joints, gaps, (t0, t1), mine) else {
-        return Ok(None);
+    let gap = match LibraryGap::new(m, names, rotation, joints, gaps, (t0, t1), mine) {
+        Ok(g) => g,
+        Err(why) => return Ok(Err(why)),
     };
     let mut best: Option<Example> = None;
+    let mut best_rho = f64::INFINITY;
     for cand in lib.match_gap(&query, LIBRARY_CANDIDATES) {
         let bar = best.as_ref().map(|b| b.mismatch);
-        if let Some(ex) = gap.try_stretch(lib, &cand, bar)? {
-            best = Some(ex);
+        match gap.try_stretch(lib, &cand, bar)? {
+            Ok(ex) => best = Some(ex),
+            Err(rho) => best_rho = best_rho.min(rho),
         }
     }
-    Ok(best)
+    Ok(
+        best.ok_or(if best_rho.is_finite() && best_rho > MAX_MISMATCH {
+            NoExample::NoMatch {
+                best: best_rho,
+                threshold: MAX_MISMATCH,
+            }
+        } else {
+            NoExample::NoStretch
+        }),
+    )
 }
 
 /// What every library candidate of one group of gaps is scored against.
@@ -148,8 +181,8 @@ struct LibraryGap<'a> {
 }
 
 impl<'a> LibraryGap<'a> {
-    /// `None` when no gap coordinate is an angle, the context is too short,
-    /// or it does not move.
+    /// Why not when no gap coordinate is an angle, the context is too
+    /// short, or it does not move.
     fn new(
         m: &'a Mu,
         names: &'a [String],
@@ -158,11 +191,11 @@ impl<'a> LibraryGap<'a> {
         gaps: &[GapDof],
         (t0, t1): (f64, f64),
         mine: [Vector3<f64>; 6],
-    ) -> Option<Self> {
+    ) -> Result<Self, NoExample> {
         let coords = gap_coords(gaps);
         let angles: Vec<usize> = coords.iter().copied().filter(|&c| rotation(c)).collect();
         if angles.is_empty() {
-            return None;
+            return Err(NoExample::NoAngles);
         }
         let reach = (CONTEXT / STEP).round() as i64;
         let value = |n: &str, t: f64| m.sample_value(n, t).ok().flatten();
@@ -172,7 +205,7 @@ impl<'a> LibraryGap<'a> {
             .filter(|&t| angles.iter().all(|&c| value(&names[c], t).is_some()))
             .collect();
         if context.len() < MIN_CONTEXT_SAMPLES {
-            return None;
+            return Err(NoExample::NoContext);
         }
         let mut total = 0.0;
         for &c in &angles {
@@ -183,9 +216,9 @@ impl<'a> LibraryGap<'a> {
             total += spread(&values);
         }
         if total <= 0.0 {
-            return None;
+            return Err(NoExample::NoContext);
         }
-        Some(LibraryGap {
+        Ok(LibraryGap {
             m,
             names,
             rotation,
@@ -206,13 +239,13 @@ impl<'a> LibraryGap<'a> {
 
     /// The example of candidate `cand` if it matches within
     /// [`MAX_MISMATCH`], better than `bar` (the best ρ so far), and some
-    /// whole joint follows it.
+    /// whole joint follows it; else its ρ (∞ when it has none).
     fn try_stretch(
         &self,
         lib: &Library,
         cand: &Match,
         bar: Option<f64>,
-    ) -> Result<Option<Example>, SpError> {
+    ) -> Result<Result<Example, f64>, SpError> {
         let entry = &lib.clips[cand.clip];
         let clip = entry.motion()?;
         let Some(Some(theirs)) = key_positions(
@@ -223,7 +256,7 @@ impl<'a> LibraryGap<'a> {
             &[cand.time],
         )
         .pop() else {
-            return Ok(None);
+            return Ok(Err(f64::INFINITY));
         };
         let map = FloorMap::between(&theirs, &self.mine);
         let names = self.names;
@@ -253,7 +286,7 @@ impl<'a> LibraryGap<'a> {
         // (a NaN ρ is refused too)
         let acceptable = rho <= MAX_MISMATCH;
         if !acceptable || bar.is_some_and(|b| b <= rho) {
-            return Ok(None);
+            return Ok(Err(if rho.is_nan() { f64::INFINITY } else { rho }));
         }
         let (t0, t1) = self.span;
         let close: Vec<bool> = self
@@ -263,13 +296,10 @@ impl<'a> LibraryGap<'a> {
                 [t0, t1]
                     .iter()
                     .all(|&t| match (at(c, t), self.value(c, t)) {
+                        // translations, the root's among them, are compared
+                        // once the example is laid in the world (`lay.rs`)
                         (Some(x), Some(y)) => {
-                            let d = if (self.rotation)(c) {
-                                wrap(x - y)
-                            } else {
-                                x - y
-                            };
-                            d.abs() <= MAX_END_DIFFERENCE
+                            !(self.rotation)(c) || wrap(x - y).abs() <= MAX_END_DIFFERENCE
                         }
                         _ => false,
                     })
@@ -277,9 +307,9 @@ impl<'a> LibraryGap<'a> {
             .collect();
         let follow = self.joints.whole(&self.coords, &close);
         if follow.is_empty() {
-            return Ok(None);
+            return Ok(Err(f64::INFINITY));
         }
-        Ok(Some(Example {
+        Ok(Ok(Example {
             shift: 0.0,
             mismatch: rho,
             follow,
@@ -292,6 +322,7 @@ impl<'a> LibraryGap<'a> {
                 motion: Arc::new(motion),
                 names: self.names_arc.clone(),
             }),
+            fit: None,
         }))
     }
 }

@@ -22,12 +22,14 @@ use std::f64::consts::PI;
 
 pub mod joints;
 mod laid;
+mod lay;
 mod library;
 mod own;
 #[cfg(test)]
 mod tests;
 
 pub use joints::Joints;
+pub use lay::{EndFit, LaidExample, Lay, MAX_END_OFFSET};
 pub use library::{ClipStretch, LibrarySource, from_library, from_library_with};
 pub use own::{find, find_with};
 
@@ -90,6 +92,140 @@ pub struct Example {
     pub of: usize,
     /// A library stretch (`example: lib`) instead of the motion `shift` away.
     pub clip: Option<ClipStretch>,
+    /// How far its laid poses are from the gap's end states (set when it is
+    /// laid, [`Lay::lay`]).
+    pub fit: Option<EndFit>,
+}
+
+/// Why a group of gaps follows no example: what `sp_report` says instead
+/// of naming one.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoExample {
+    /// `example: "none"` and no library.
+    NotAsked,
+    /// The gap has no length, or is longer than [`MAX_GAP`] (no cycle
+    /// copied from elsewhere tells anything over it).
+    Span { seconds: f64 },
+    /// No gap DOF is an angle (only angles are compared).
+    NoAngles,
+    /// Fewer than [`MIN_CONTEXT_SAMPLES`] frames around the gap where every
+    /// gap DOF is defined, or a context that does not move (nothing to match).
+    NoContext,
+    /// The motion holds no stretch of the gap's length, with its context,
+    /// away from the gap (too short, or undefined or wrapping elsewhere).
+    NoStretch,
+    /// The library holds no clip.
+    LibraryEmpty,
+    /// The library's features cannot be read off the motion (its skeleton
+    /// lacks the key joints, or the context is undefined where they look).
+    NoFeatures(String),
+    /// The best stretch matched no better than the threshold.
+    NoMatch { best: f64, threshold: f64 },
+    /// The best stretch is too far from the motion at the gap's ends on every
+    /// joint (its [`EndFit`]).
+    FarAtEnds { start: f64, end: f64, angle: f64 },
+    /// The example is undefined over the gap on every DOF (this one first).
+    Undefined { dof: String },
+}
+
+impl std::fmt::Display for NoExample {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            NoExample::NotAsked => write!(f, "none asked (example: \"none\")"),
+            NoExample::Span { seconds } => write!(
+                f,
+                "the gap of {seconds:.3} s is no example's (0 or over {MAX_GAP} s)"
+            ),
+            NoExample::NoAngles => write!(f, "no gap DOF is an angle to match"),
+            NoExample::NoContext => write!(
+                f,
+                "too little moving context around the gap to match (fewer than {MIN_CONTEXT_SAMPLES} frames where every gap DOF is defined, or a still one)"
+            ),
+            NoExample::NoStretch => write!(
+                f,
+                "no stretch of the gap's length with its context elsewhere in the motion"
+            ),
+            NoExample::LibraryEmpty => write!(f, "the library is empty"),
+            NoExample::NoFeatures(why) => write!(f, "the library cannot match it: {why}"),
+            NoExample::NoMatch { best, threshold } => write!(
+                f,
+                "no match under the threshold (best mismatch {best:.3}, at most {threshold})"
+            ),
+            NoExample::FarAtEnds { start, end, angle } => write!(
+                f,
+                "the best match is too far from the gap's ends on every joint ({:.1} / {:.1} cm mean joint distance at start / end, {angle:.2} rad at worst)",
+                100.0 * start,
+                100.0 * end
+            ),
+            NoExample::Undefined { dof } => {
+                write!(f, "the example is undefined over the gap ({dof} first)")
+            }
+        }
+    }
+}
+
+/// Where an example came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// The motion itself (`"self"`).
+    Own,
+    /// A clip library (`example: lib`).
+    Library,
+}
+
+impl Origin {
+    pub fn label(self) -> &'static str {
+        match self {
+            Origin::Own => "self",
+            Origin::Library => "library",
+        }
+    }
+}
+
+/// One example source asked for a group of gaps: its best example's match
+/// cost ρ, or why it gave none.
+pub type Tried = (Origin, Result<f64, NoExample>);
+
+/// Why a group of gaps follows no example, from each source `tried`
+/// (`None` when it follows one, `followed`, or no source was asked).
+pub fn why_none(tried: &[Tried], followed: bool) -> Option<String> {
+    if followed || tried.is_empty() {
+        return None;
+    }
+    let parts: Vec<String> = tried
+        .iter()
+        .map(|(o, r)| match r {
+            Err(why) => format!("{}: {why}", o.label()),
+            Ok(rho) => format!("{}: mismatch {rho:.3}, not followed", o.label()),
+        })
+        .collect();
+    Some(parts.join("; "))
+}
+
+/// The example a group of gaps follows, laid over it, or why none is:
+/// each source asked, with its best match cost or why it had none.
+#[derive(Clone, Debug, Default)]
+pub struct ExampleChoice {
+    pub laid: Option<LaidExample>,
+    /// Per source asked (`"self"`, the library), its example's ρ or why it
+    /// gave none; the laid one is the lower ρ.
+    pub tried: Vec<Tried>,
+}
+
+impl ExampleChoice {
+    /// The example followed, if any.
+    pub fn example(&self) -> Option<&Example> {
+        self.laid.as_ref().map(|l| &l.example)
+    }
+
+    /// Why none is followed (`None` when one is): every source's reason,
+    /// or [`NoExample::NotAsked`] when none was asked.
+    pub fn why_none(&self) -> Option<String> {
+        if self.laid.is_none() && self.tried.is_empty() {
+            return Some(NoExample::NotAsked.to_string());
+        }
+        why_none(&self.tried, self.laid.is_some())
+    }
 }
 
 impl Example {
@@ -128,19 +264,79 @@ pub fn choose_with(
     own: bool,
     library: Option<&LibrarySource>,
 ) -> Result<Option<Example>, SpError> {
-    let mine = if own {
-        find_with(m, names, rotation, joints, gaps)?
-    } else {
-        None
-    };
-    let theirs = match library {
-        Some(l) => from_library_with(m, names, rotation, joints, gaps, l)?,
-        None => None,
-    };
-    Ok(match (mine, theirs) {
-        (Some(a), Some(b)) => Some(if b.mismatch < a.mismatch { b } else { a }),
-        (a, b) => a.or(b),
-    })
+    let mut found = searched(m, names, rotation, joints, gaps, own, library)?;
+    found.sort_by(|a, b| rank(a).total_cmp(&rank(b)));
+    Ok(found.into_iter().find_map(|(_, r)| r.ok()))
+}
+
+/// A source and its best example or why it has none.
+type Found = (Origin, Result<Example, NoExample>);
+
+/// Each source asked (`own`: the motion itself; the library), with its best
+/// example or why it has none.
+fn searched(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    joints: &Joints,
+    gaps: &[GapDof],
+    own: bool,
+    library: Option<&LibrarySource>,
+) -> Result<Vec<Found>, SpError> {
+    let mut found = vec![];
+    if own {
+        found.push((Origin::Own, own::search(m, names, rotation, joints, gaps)?));
+    }
+    if let Some(l) = library {
+        found.push((
+            Origin::Library,
+            library::search(m, names, rotation, joints, gaps, l)?,
+        ));
+    }
+    Ok(found)
+}
+
+/// A source's match cost, for choosing between them (none: last).
+fn rank(found: &Found) -> f64 {
+    found.1.as_ref().map_or(f64::INFINITY, |e| e.mismatch)
+}
+
+/// The example a group of gaps follows, laid over it by `lay`: of the
+/// sources asked (`own`: the motion itself, `"self"`; `library`), the one
+/// of lower match cost ρ that can be laid (`[lib, "self"]` so picks per
+/// gap), with every source's ρ or why it had none.
+pub fn choose(
+    lay: &Lay,
+    gaps: &[GapDof],
+    own: bool,
+    library: Option<&LibrarySource>,
+) -> Result<ExampleChoice, SpError> {
+    let mut found = searched(
+        lay.motion,
+        lay.names,
+        lay.rotation,
+        lay.joints,
+        gaps,
+        own,
+        library,
+    )?;
+    found.sort_by(|a, b| rank(a).total_cmp(&rank(b)));
+    let mut choice = ExampleChoice::default();
+    for (origin, found) in found {
+        let entry = match found {
+            Ok(ex) if choice.laid.is_none() => match lay.lay(&ex, gaps)? {
+                Ok(laid) => {
+                    choice.laid = Some(laid);
+                    Ok(ex.mismatch)
+                }
+                Err(why) => Err(why),
+            },
+            Ok(ex) => Ok(ex.mismatch),
+            Err(why) => Err(why),
+        };
+        choice.tried.push((origin, entry));
+    }
+    Ok(choice)
 }
 
 /// The span (t0, t1) of a group of gaps an example is looked for: none for
@@ -150,6 +346,13 @@ fn gap_span(gaps: &[GapDof]) -> Option<(f64, f64)> {
     let t0 = gaps.iter().map(|g| g.t0).reduce(f64::min)?;
     let t1 = gaps.iter().map(|g| g.t1).reduce(f64::max)?;
     (t1 - t0 > 1e-9 && t1 - t0 <= MAX_GAP).then_some((t0, t1))
+}
+
+/// The length (s) of a group of gaps' span (0 for none).
+fn span_seconds(gaps: &[GapDof]) -> f64 {
+    let t0 = gaps.iter().map(|g| g.t0).fold(f64::INFINITY, f64::min);
+    let t1 = gaps.iter().map(|g| g.t1).fold(f64::NEG_INFINITY, f64::max);
+    if t1 >= t0 { t1 - t0 } else { 0.0 }
 }
 
 /// The sorted, distinct coordinates of a group of gaps.

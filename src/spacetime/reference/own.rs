@@ -3,7 +3,8 @@
 
 use super::{
     CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MAX_TURN_PER_STEP,
-    MIN_CONTEXT_SAMPLES, SEARCH_SPAN, STEP, gap_coords, gap_span, spread, wrap,
+    MIN_CONTEXT_SAMPLES, NoExample, SEARCH_SPAN, STEP, gap_coords, gap_span, span_seconds, spread,
+    wrap,
 };
 use crate::motion::Mu;
 use crate::spacetime::error::SpError;
@@ -35,11 +36,23 @@ pub fn find_with(
     joints: &Joints,
     gaps: &[GapDof],
 ) -> Result<Option<Example>, SpError> {
-    let Some(grid) = Grid::sample(m, names, rotation, gaps)? else {
-        return Ok(None);
+    Ok(search(m, names, rotation, joints, gaps)?.ok())
+}
+
+/// [`find_with`], saying why there is none.
+pub(super) fn search(
+    m: &Mu,
+    names: &[String],
+    rotation: &dyn Fn(usize) -> bool,
+    joints: &Joints,
+    gaps: &[GapDof],
+) -> Result<Result<Example, NoExample>, SpError> {
+    let grid = match Grid::sample(m, names, rotation, gaps)? {
+        Ok(g) => g,
+        Err(why) => return Ok(Err(why)),
     };
     let Some(context) = grid.context() else {
-        return Ok(None);
+        return Ok(Err(NoExample::NoContext));
     };
     // the context's spread about its mean pose
     let mut total = 0.0;
@@ -48,34 +61,47 @@ pub fn find_with(
         total += spread(&values);
     }
     if total <= 0.0 {
-        return Ok(None);
+        return Ok(Err(NoExample::NoContext));
     }
-    let Some((s, rho)) = grid
-        .best_shift(&context, total)
-        .filter(|(_, rho)| *rho <= MAX_MISMATCH)
-    else {
-        return Ok(None);
+    let Some((s, rho)) = grid.best_shift(&context, total) else {
+        return Ok(Err(NoExample::NoStretch));
     };
-    // which channels are close to the example at both gap ends
+    // (a NaN ρ is refused too)
+    if rho.is_nan() || rho > MAX_MISMATCH {
+        return Ok(Err(NoExample::NoMatch {
+            best: rho,
+            threshold: MAX_MISMATCH,
+        }));
+    }
+    // which channels are close to the example at both gap ends (angles:
+    // translations, the root's among them, are compared once the example is
+    // laid in the world, `lay.rs`)
     let close: Vec<bool> = grid
         .x
         .iter()
-        .map(|row| {
-            [0, grid.n]
-                .iter()
-                .all(|&k| wrap(row[grid.at(k + s)] - row[grid.at(k)]).abs() <= MAX_END_DIFFERENCE)
+        .zip(&grid.angles)
+        .map(|(row, &angle)| {
+            !angle
+                || [0, grid.n].iter().all(|&k| {
+                    wrap(row[grid.at(k + s)] - row[grid.at(k)]).abs() <= MAX_END_DIFFERENCE
+                })
         })
         .collect();
     let follow = joints.whole(&grid.coords, &close);
     if follow.is_empty() {
-        return Ok(None);
+        return Ok(Err(NoExample::FarAtEnds {
+            start: f64::NAN,
+            end: f64::NAN,
+            angle: f64::NAN,
+        }));
     }
-    Ok(Some(Example {
+    Ok(Ok(Example {
         shift: s as f64 * grid.h,
         mismatch: rho,
         follow,
         of: grid.coords.len(),
         clip: None,
+        fit: None,
     }))
 }
 
@@ -105,19 +131,21 @@ struct Context {
 }
 
 impl Grid {
-    /// `None` when the span is no example's, the motion cannot hold a
+    /// Why not when the span is no example's, the motion cannot hold a
     /// shifted copy of it, or no gap coordinate is an angle.
     fn sample(
         m: &Mu,
         names: &[String],
         rotation: &dyn Fn(usize) -> bool,
         gaps: &[GapDof],
-    ) -> Result<Option<Grid>, SpError> {
+    ) -> Result<Result<Grid, NoExample>, SpError> {
         let Some((t0, t1)) = gap_span(gaps) else {
-            return Ok(None);
+            return Ok(Err(NoExample::Span {
+                seconds: span_seconds(gaps),
+            }));
         };
         let Some((start, stop)) = m.span() else {
-            return Ok(None);
+            return Ok(Err(NoExample::NoStretch));
         };
         let (start, stop) = (start.max(t0 - SEARCH_SPAN), stop.min(t1 + SEARCH_SPAN));
         let n = ((t1 - t0) / STEP).round().max(1.0) as i64;
@@ -125,12 +153,12 @@ impl Grid {
         let k_lo = ((start - t0) / h).ceil() as i64;
         let k_hi = ((stop - t0) / h).floor() as i64;
         if k_hi - k_lo < 2 * n {
-            return Ok(None);
+            return Ok(Err(NoExample::NoStretch));
         }
         let coords = gap_coords(gaps);
         let angles: Vec<bool> = coords.iter().map(|&c| rotation(c)).collect();
         if !angles.iter().any(|&a| a) {
-            return Ok(None);
+            return Ok(Err(NoExample::NoAngles));
         }
         let len = (k_hi - k_lo + 1) as usize;
         let mut x = vec![vec![f64::NAN; len]; coords.len()];
@@ -145,7 +173,7 @@ impl Grid {
         let everywhere = (0..len)
             .map(|j| x.iter().all(|row| row[j].is_finite()))
             .collect();
-        Ok(Some(Grid {
+        Ok(Ok(Grid {
             n,
             h,
             k_lo,

@@ -6,9 +6,11 @@ use super::problem::{PriorTerm, Problem};
 use super::report::{GapReport, GroupSolution, Outcome, RunStats, Work};
 use super::run::run;
 use crate::spacetime::error::SpError;
-use crate::spacetime::objective::{GapDof, Objective, Scratch, TransitionSettings};
+use crate::spacetime::objective::{
+    ExampleTerm, GapDof, Inputs, Objective, Scratch, TransitionSettings, position_weight,
+};
 use crate::spacetime::progress::ProgressEvent;
-use crate::spacetime::reference::Example;
+use crate::spacetime::reference::{Example, LaidExample, Tried};
 use crate::spacetime::torque::TorqueModel;
 use crate::spacetime::transition::TransitionCurve;
 
@@ -81,6 +83,21 @@ pub(super) fn solve_group_in<M: TorqueModel>(
             report,
         });
     };
+    if let Some(lay) = prior.laid {
+        // issue 36: an example anchors the poses; none: the plain prior's continuation
+        let choice = lay(&dofs)?;
+        if let Some(laid) = &choice.laid
+            && let Some(done) = anchored(problem, prior, &dofs, laid)?
+        {
+            return Ok(done
+                .tried(choice.tried)
+                .solution(problem.names, Work::default()));
+        }
+        let plain = continuation(problem, prior, &dofs, None)?;
+        return Ok(plain
+            .tried(choice.tried)
+            .solution(problem.names, Work::default()));
+    }
     let example = (prior.example)(&dofs)?;
     let had_example = example.is_some();
     let first = continuation(problem, prior, &dofs, example)?;
@@ -119,6 +136,12 @@ struct Continued {
 }
 
 impl Continued {
+    /// The example sources asked, for the report.
+    fn tried(mut self, tried: Vec<Tried>) -> Self {
+        self.outcome.tried = tried;
+        self
+    }
+
     /// The group's solution, its report adding the work `before` it.
     fn solution(self, names: &[String], before: Work) -> GroupSolution {
         let mut work = self.work;
@@ -199,6 +222,82 @@ pub(super) fn step_objective<'p, M: TorqueModel>(
     Ok(obj)
 }
 
+/// With an example laid in the world (issue 36): one solve of ∫Στ², the
+/// prior at its full weight following the laid example's q̇, q̈, and the
+/// example term ([`ExampleTerm`]) pulling the poses to it, its weight per
+/// DOF by [`position_weight`]. No effort check and no lowering: a person's
+/// motion usually costs more ∫Στ² than Hermite's curves, and lowering the
+/// prior until it does not traded the example away for that (the ground
+/// terms, not ∫Στ², are what keep it physical); ∫Στ² is only the
+/// regulariser that breaks ties. `None` when the prior cannot follow it
+/// (its derivatives undefined at a node).
+fn anchored<M: TorqueModel>(
+    problem: &Problem<'_, M>,
+    prior: &PriorTerm<'_>,
+    dofs: &[GapDof],
+    laid: &LaidExample,
+) -> Result<Option<Continued>, SpError> {
+    let mut check = EffortCheck::new(problem, prior, dofs)?;
+    let example_fn = laid.inputs();
+    let example: &Inputs = &example_fn;
+    let follow: Vec<usize> = laid.coords().collect();
+    let trust = laid.example.trust();
+    let mut obj = problem
+        .objective(dofs.to_vec(), problem.settings)?
+        .with_prior(&prior.weights)?;
+    if !obj.with_example(example, 0.0, &follow, trust)? {
+        return Ok(None);
+    }
+    let mut per_coord = vec![0.0; prior.weights.len()];
+    for g in dofs.iter().filter(|g| follow.contains(&g.coord)) {
+        let c_a = prior.weights.get(g.coord).map_or(0.0, |w| w[1]);
+        per_coord[g.coord] = position_weight(c_a, g.t1 - g.t0, trust);
+    }
+    let term = ExampleTerm::new(obj.layout(), per_coord.len(), example, &per_coord)?;
+    let obj = obj.with_term(Box::new(term.clone()));
+    step(problem, 0, 2);
+    let hermite = check.hermite.clone();
+    let mut work = Work::default();
+    // the anchor alone first (prior and example term, no torque: quadratic,
+    // so its Gauss–Newton steps are exact), so the full solve starts on the
+    // example rather than on Hermite's curves far from it (a dance's fast
+    // limbs stopped short of the example from there)
+    let zeros = vec![0.0; problem.weights.len()];
+    let mut anchor = Objective::new(
+        problem.model,
+        dofs.to_vec(),
+        problem.settings,
+        zeros,
+        problem.inputs,
+    )?
+    .with_prior(&prior.weights)?;
+    anchor.with_example(example, 0.0, &follow, trust)?;
+    let anchor = anchor.with_term(Box::new(term));
+    let (x_anchor, first) = run(&anchor, hermite.clone(), problem.opts)?;
+    work.add(&first);
+    step(problem, 1, 2);
+    let (x, last) = run(&obj, x_anchor, problem.opts)?;
+    work.add(&last);
+    let energy = check.energy(&x)?;
+    let outcome = Outcome {
+        initial_energy: check.energy(&hermite)?,
+        energy,
+        prior_scale: 1.0,
+        example: Some(laid.example.clone()),
+        tried: vec![],
+    };
+    Ok(Some(Continued {
+        coefficients: obj.coefficients(&x),
+        curves: obj.curves().to_vec(),
+        dofs: obj.dofs().to_vec(),
+        x,
+        last,
+        work,
+        outcome,
+        undercut: energy <= check.target,
+    }))
+}
+
 /// [`solve_group_in`]'s continuation with the prior following `example`
 /// (or the plain prior).
 fn continuation<M: TorqueModel>(
@@ -239,6 +338,7 @@ fn continuation<M: TorqueModel>(
                 energy,
                 prior_scale: scale,
                 example,
+                tried: vec![],
             };
             return Ok(Continued {
                 coefficients: obj.coefficients(&x_k),

@@ -54,6 +54,6 @@ mod stall;
 pub use grounded::{GroundModel, GroundSchedule};
 pub use groups::{group_overlapping, solve_all};
 pub use options::SolveOptions;
-pub use problem::{FindExample, PriorTerm, Problem};
+pub use problem::{FindExample, LayExample, PriorTerm, Problem};
 pub use report::{GapReport, GroupSolution, StopReason};
 pub use run::{solve_group, solve_group_from};

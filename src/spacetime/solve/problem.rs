@@ -6,11 +6,15 @@ use super::grounded::{GroundModel, GroundSchedule};
 use super::options::SolveOptions;
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs, Objective, TransitionSettings};
-use crate::spacetime::reference::Example;
+use crate::spacetime::reference::{Example, ExampleChoice};
 use crate::spacetime::torque::TorqueModel;
 
 /// Finds the example a group of gaps follows ([`crate::spacetime::reference::find`]).
 pub type FindExample<'a> = dyn Fn(&[GapDof]) -> Result<Option<Example>, SpError> + Sync + 'a;
+
+/// Chooses and lays the example a group of gaps follows, saying why none
+/// when none ([`crate::spacetime::reference::choose`]).
+pub type LayExample<'a> = dyn Fn(&[GapDof]) -> Result<ExampleChoice, SpError> + Sync + 'a;
 
 /// SP's kinematic prior (see `sp::prior_weights`) and what it is held to.
 pub struct PriorTerm<'a> {
@@ -22,6 +26,10 @@ pub struct PriorTerm<'a> {
     /// The stretch of the motion a group's prior follows, if any
     /// ([`crate::spacetime::reference::find`]).
     pub example: &'a FindExample<'a>,
+    /// When set, the example is laid in the world and anchors the
+    /// transition's poses (`objective::ExampleTerm`) in one solve
+    /// (`continuation.rs`); `example` is then not asked.
+    pub laid: Option<&'a LayExample<'a>>,
 }
 
 impl PriorTerm<'_> {

@@ -4,7 +4,7 @@
 //! continuation.
 
 use crate::spacetime::objective::GapDof;
-use crate::spacetime::reference::Example;
+use crate::spacetime::reference::{Example, Tried};
 use crate::spacetime::transition::TransitionCurve;
 
 /// What one quasi-Newton solve (one step of the continuation) did.
@@ -70,6 +70,9 @@ pub struct Outcome {
     pub energy: f64,
     pub prior_scale: f64,
     pub example: Option<Example>,
+    /// Each example source asked, with its match cost or why it had none
+    /// (empty when none was asked, or before issue 36's anchor).
+    pub tried: Vec<Tried>,
 }
 
 impl GapReport {
@@ -87,6 +90,7 @@ impl GapReport {
             energy: s.energy,
             prior_scale: 1.0,
             example: None,
+            tried: vec![],
         };
         GapReport::new(dofs, names, s, work, outcome)
     }
@@ -121,6 +125,7 @@ impl GapReport {
             prior_scale: outcome.prior_scale,
             solves: work.solves,
             example: outcome.example,
+            tried: outcome.tried,
         }
     }
 }
@@ -155,9 +160,18 @@ pub struct GapReport {
     /// The stretch of the motion the prior followed (`None`: the plain prior;
     /// see [`crate::spacetime::reference`]).
     pub example: Option<Example>,
+    /// Each example source asked (`"self"`, the library), with its match
+    /// cost ρ or why it had none: why no example is followed, when none is.
+    pub tried: Vec<Tried>,
 }
 
 impl GapReport {
+    /// Why the group follows no example (`None` when it follows one, or
+    /// when no source was asked).
+    pub fn why_no_example(&self) -> Option<String> {
+        crate::spacetime::reference::why_none(&self.tried, self.example.is_some())
+    }
+
     /// Whether the solve ended by one of its stopping rules (not by the
     /// iteration limit or a failed step): a result, not a flagged stop.
     pub fn converged(&self) -> bool {

@@ -253,6 +253,13 @@ pub struct Prior {
     /// Follow the motion's own example where it repeats (`example: "self"`,
     /// the default; `"none"`: the plain prior). See [`crate::spacetime::reference`].
     pub example: bool,
+    /// With an example (the motion's own or a library's): anchor the
+    /// transition on the example's poses laid in the world
+    /// (`objective::ExampleTerm`) in one solve at the prior's full weight
+    /// (the default), instead of the prior on its derivatives lowered until
+    /// the transition costs less ∫Στ² than Hermite (`false`: SP before
+    /// issue 36, the bench's "today's SP").
+    pub anchor: bool,
 }
 
 /// τ₀ of the default time constant T = τ₀²/d: the longer a gap, the sooner
@@ -278,6 +285,7 @@ impl Default for Prior {
             smoothness: DEFAULT_SMOOTHNESS,
             time_constant: None,
             example: true,
+            anchor: true,
         }
     }
 }
@@ -312,6 +320,7 @@ impl Prior {
             smoothness: 0.0,
             time_constant: None,
             example: false,
+            anchor: true,
         }
     }
 

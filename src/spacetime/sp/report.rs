@@ -255,28 +255,51 @@ fn write_group(f: &mut fmt::Formatter<'_>, i: usize, g: &GapReport) -> fmt::Resu
         } else {
             String::new()
         },
-        match &g.example {
-            Some(ex @ Example { clip: Some(c), .. }) => format!(
-                "; prior follows clip `{}` from {:.3} s (warp {}) on {} of {} DOFs (mismatch {:.3}, features {:.3})",
-                c.name,
-                c.time,
-                c.warp,
-                ex.follow.len(),
-                ex.of,
-                ex.mismatch,
-                c.features
-            ),
-            Some(ex) => format!(
-                "; prior follows the motion {:+.3} s away on {} of {} DOFs (mismatch {:.3})",
-                ex.shift,
-                ex.follow.len(),
-                ex.of,
-                ex.mismatch
-            ),
-            None => String::new(),
-        },
+        example_clause(g),
         g.seconds * 1e3
     )
+}
+
+/// What the group's prior followed, or why no example.
+fn example_clause(g: &GapReport) -> String {
+    let fit = |ex: &Example| {
+        ex.fit.map_or(String::new(), |f| {
+            format!(
+                ", laid {:.1} / {:.1} cm from the end states",
+                100.0 * f.start,
+                100.0 * f.end
+            )
+        })
+    };
+    let how = if g.tried.is_empty() {
+        "prior follows"
+    } else {
+        "anchored on"
+    };
+    match &g.example {
+        Some(ex @ Example { clip: Some(c), .. }) => format!(
+            "; {how} clip `{}` from {:.3} s (warp {}) on {} of {} DOFs (mismatch {:.3}, features {:.3}{})",
+            c.name,
+            c.time,
+            c.warp,
+            ex.follow.len(),
+            ex.of,
+            ex.mismatch,
+            c.features,
+            fit(ex)
+        ),
+        Some(ex) => format!(
+            "; {how} the motion {:+.3} s away on {} of {} DOFs (mismatch {:.3}{})",
+            ex.shift,
+            ex.follow.len(),
+            ex.of,
+            ex.mismatch,
+            fit(ex)
+        ),
+        None => g
+            .why_no_example()
+            .map_or(String::new(), |why| format!("; no example ({why})")),
+    }
 }
 
 fn abbreviate(names: &[String]) -> String {

@@ -13,9 +13,9 @@ use super::prior_weights::prior_weights;
 use crate::motion::{Curve, Mu};
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs};
-use crate::spacetime::reference::{self, Example};
+use crate::spacetime::reference::{self, Example, ExampleChoice};
 use crate::spacetime::solve::{GroundModel, GroundSchedule};
-use crate::spacetime::solve::{GroupSolution, PriorTerm, Problem, solve_all};
+use crate::spacetime::solve::{GroupSolution, LayExample, PriorTerm, Problem, solve_all};
 use crate::spacetime::torque::BodyDynamics;
 
 /// Solves `gaps` and writes their curves into the motion, one report entry
@@ -48,10 +48,25 @@ pub(super) fn solve_transitions(
                 opts.library.as_ref(),
             )
         };
+        let joints = reference::Joints::of_model(model, names);
+        let up = (gravity.norm() > 0.0).then(|| -gravity.normalize());
+        let lay = reference::Lay {
+            model,
+            names,
+            up,
+            root,
+            motion,
+            rotation: &rotation,
+            joints: &joints,
+        };
+        let laid = |group: &[GapDof]| -> Result<ExampleChoice, SpError> {
+            reference::choose(&lay, group, opts.prior.example, opts.library.as_ref())
+        };
         let prior = PriorTerm {
             weights: prior_weights(model, motion, &gaps, &opts.prior)?,
             baseline: &baseline,
             example: &example,
+            laid: opts.prior.anchor.then_some(&laid as &LayExample),
         };
         let body = BodyDynamics { model, gravity };
         let root = f.root.clone();
