@@ -898,6 +898,7 @@ pub fn todays_sp() -> SpOptions {
             smoothness: 1e6,
             time_constant: None,
             example: true,
+            anchor: false,
         },
         ..Default::default()
     }

@@ -157,6 +157,9 @@ pub(super) fn solve_grounded<M: TorqueModel>(
         energy: net_energy(&mut torque_only, ground, &x)?,
         prior_scale: schedule.prior_scale,
         example,
+        // the grounded solve follows the example through the prior only; the
+        // laid example's choice (and its reasons) is the anchored solve's
+        tried: Vec::new(),
     };
     Ok(GroupSolution {
         report: GapReport::new(&dofs, problem.names, last, work, outcome),

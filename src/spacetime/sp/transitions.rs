@@ -54,7 +54,7 @@ pub(super) fn solve_transitions(
             model,
             names,
             up,
-            root,
+            root: &f.root,
             motion,
             rotation: &rotation,
             joints: &joints,
