@@ -25,7 +25,7 @@
 //! hold IK ([`crate::spacetime::hold::HoldObjective::planned`]), which also
 //! keeps every contact point at or above the floor.
 
-use super::plan::{GapPlan, PointPlan, Stance};
+use super::plan::{GapPlan, PointPlan, Source, Stance};
 use crate::ground::{
     CONTACT_HEIGHT, CONTACT_SPEED, FloorPlane, GROUND_BAND, horizontal, in_stance,
 };
@@ -186,6 +186,7 @@ impl<'a> Context<'a> {
                     t1: b,
                     p0: p,
                     p1: q,
+                    source: Source::Context,
                 };
                 let lift = (t0 + (stance - a0).max(0.0)).min(t1);
                 let touch = (t1 - (stance - b1).max(0.0)).max(t0);
@@ -217,6 +218,7 @@ impl<'a> Context<'a> {
                 PointPlan {
                     name: self.model.link(link).name.clone(),
                     link,
+                    stand: self.lowest[k],
                     stances: out,
                 }
             })

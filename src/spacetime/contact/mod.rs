@@ -7,7 +7,7 @@ pub mod context;
 pub mod plan;
 
 pub use context::Context;
-pub use plan::{ContactPlan, GapPlan, PointPlan, Stance};
+pub use plan::{ContactPlan, GapPlan, PointPlan, Source, Stance};
 
 /// `SP(…, contact: …)`.
 #[derive(Clone, Debug, Default, PartialEq)]
