@@ -3,9 +3,11 @@
 //! each gap (`context.rs`). Floor, "up", contact points and the stance test
 //! are `ground`'s.
 
+pub mod capture;
 pub mod context;
 pub mod plan;
 
+pub use capture::capture_plan;
 pub use context::Context;
 pub use plan::{ContactPlan, GapPlan, PointPlan, Source, Stance};
 
