@@ -13,7 +13,7 @@ use super::options::SpOptions;
 use crate::ground::{self, FloorPlane, GroundOptions, up_of};
 use crate::model::Model;
 use crate::motion::Mu;
-use crate::spacetime::contact::{Contact, ContactPlan, Context};
+use crate::spacetime::contact::{Contact, ContactPlan, Context, plan_given};
 use crate::spacetime::error::SpError;
 use crate::spacetime::hold::{self, HoldObjective};
 use crate::spacetime::objective::GapDof;
@@ -25,6 +25,12 @@ use nalgebra::Vector3;
 fn contact_links(model: &Model, contact: &Contact) -> Result<(Vec<usize>, bool), SpError> {
     Ok(match contact {
         Contact::Named(n) => (hold::named(model, n, "contact")?, true),
+        Contact::Given(g) => {
+            let mut names: Vec<String> = g.iter().map(|s| s.point.clone()).collect();
+            names.sort();
+            names.dedup();
+            (hold::named(model, &names, "contact")?, true)
+        }
         _ => (
             ground::default_contact_points(model)
                 .into_iter()
@@ -107,7 +113,13 @@ fn hold_group(
         let sampler = f.sampler();
         let configuration = |t: f64| sampler.positions(t).map_err(motion_err);
         let ctx = Context::new(model, floor, links, named, (t0, t1), &configuration)?;
-        let plan = ctx.plan();
+        let plan = match &opts.contact {
+            Contact::Given(given) => {
+                let points: Vec<(usize, f64)> = ctx.points().collect();
+                plan_given(model, given, &points, (t0, t1), &configuration)?
+            }
+            _ => ctx.plan(),
+        };
         // the chains of the planted points are solved by IK
         let on_chain = |c: usize| {
             plan.points
