@@ -16,8 +16,8 @@
 use mx::ground::{self, FloorPlane};
 use mx::mocap::{self, bvh::Units};
 use mx::motion::JointSampler;
-use mx::spacetime::contact::{Context, GapPlan, capture_plan};
 use mx::spacetime::SpError;
+use mx::spacetime::contact::{Context, GapPlan, capture_plan};
 use nalgebra::Vector3;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -22,13 +22,13 @@ use crate::library::Library;
 use crate::model::Model;
 use crate::motion::Mu;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
-use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::contact::GivenStance;
-use nalgebra::Vector3;
+use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::{
     Contact, Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
     Tally, fill_hermite, sp, torque_energy,
 };
+use nalgebra::Vector3;
 
 /// Methods `fill(m, method)` knows.
 const FILL_METHODS: [&str; 3] = ["hermite", "slerp", "linear"];
@@ -136,19 +136,20 @@ fn given_stances(a: &Args, arg: &ArgValue) -> MxResult<Vec<GivenStance>> {
             .and_then(Value::as_number)
             .ok_or_else(|| bad(format!("{what} needs a number `{k}:` (s)")))
     };
-    let at = |r: &indexmap::IndexMap<String, Value>, what: &str| -> MxResult<Option<Vector3<f64>>> {
-        let Some(v) = r.get("at") else {
-            return Ok(None);
+    let at =
+        |r: &indexmap::IndexMap<String, Value>, what: &str| -> MxResult<Option<Vector3<f64>>> {
+            let Some(v) = r.get("at") else {
+                return Ok(None);
+            };
+            let xs: Option<Vec<f64>> = match v {
+                Value::List(items) => items.iter().map(Value::as_number).collect(),
+                _ => None,
+            };
+            match xs.as_deref() {
+                Some([x, y, z]) => Ok(Some(Vector3::new(*x, *y, *z))),
+                _ => Err(bad(format!("{what}: `at:` needs a position [x, y, z] (m)"))),
+            }
         };
-        let xs: Option<Vec<f64>> = match v {
-            Value::List(items) => items.iter().map(Value::as_number).collect(),
-            _ => None,
-        };
-        match xs.as_deref() {
-            Some([x, y, z]) => Ok(Some(Vector3::new(*x, *y, *z))),
-            _ => Err(bad(format!("{what}: `at:` needs a position [x, y, z] (m)"))),
-        }
-    };
     match &arg.value {
         Value::List(items) => items
             .iter()
@@ -182,9 +183,9 @@ fn given_stances(a: &Args, arg: &ArgValue) -> MxResult<Vec<GivenStance>> {
                 };
                 for iv in ivs.iter() {
                     let what = format!("points.{name}");
-                    let r = iv
-                        .as_record()
-                        .ok_or_else(|| bad(format!("{what}: an interval is a record {{start, stop}}")))?;
+                    let r = iv.as_record().ok_or_else(|| {
+                        bad(format!("{what}: an interval is a record {{start, stop}}"))
+                    })?;
                     out.push(GivenStance {
                         point: name.clone(),
                         from: num(r, "start", &what)?,

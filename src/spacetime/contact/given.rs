@@ -73,9 +73,7 @@ pub fn plan_given(
                     )));
                 }
             };
-            stances.push(
-                Stance::planted(g.from.max(t0), g.to.min(t1), anchor).by(Source::Given),
-            );
+            stances.push(Stance::planted(g.from.max(t0), g.to.min(t1), anchor).by(Source::Given));
         }
         stances.sort_by(|a, b| a.t0.total_cmp(&b.t0));
         out.push(PointPlan {
