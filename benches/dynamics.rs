@@ -113,13 +113,14 @@ fn instructions_driver(args: &[String]) {
         eprintln!("usage: instructions-driver URDF ALGORITHM N");
         std::process::exit(2);
     };
+    // (a message is all this binary prints)
     let result = Model::from_urdf_file(Path::new(urdf))
         .map_err(|e| e.to_string())
         .and_then(|m| {
             let n = n
                 .parse()
                 .map_err(|_| format!("N must be a count, got `{n}`"))?;
-            mx::report::perf::drive(&m, algorithm, n)
+            mx::report::perf::drive(&m, algorithm, n).map_err(|e| e.to_string())
         });
     if let Err(e) = result {
         eprintln!("{e}");

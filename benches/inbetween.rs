@@ -139,7 +139,9 @@ fn main() {
             .find(|m| m.label() == sp_label)
             .expect("SP defaults runs");
         let fill = |m: &Method| {
-            inbetween::fill_window(case, &p, w.start, w.gap, w.root, m).map(|f| f.motion)
+            inbetween::fill_window(case, &p, w.start, w.gap, w.root, m)
+                .map(|f| f.motion)
+                .map_err(|e| e.to_string())
         };
         let (sp_m, h_m) = (
             fill(sp).unwrap_or_else(|e| panic!("{e}")),

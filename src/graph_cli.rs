@@ -141,15 +141,12 @@ pub fn run(cmd: GraphCommand) -> ExitCode {
                 to.display()
             );
             if let Some(h) = html {
-                let r = (|| -> Result<(), String> {
-                    let clip = mx::mocap::from_bvh(&w.file, mx::mocap::bvh::Units::Auto)
-                        .map_err(|e| e.to_string())?;
+                let r = (|| -> Result<(), Box<dyn std::error::Error>> {
+                    let clip = mx::mocap::from_bvh(&w.file, mx::mocap::bvh::Units::Auto)?;
                     let (body, _) =
-                        mx::mocap::body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit)
-                            .map_err(|e| e.to_string())?;
-                    let data = mx::io::viewer::from_motion(&clip.mu, &body, "graph walk", &[])
-                        .map_err(|e| e.to_string())?;
-                    mx::io::viewer::write_html(&data, &h).map_err(|e| e.to_string())
+                        mx::mocap::body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit)?;
+                    let data = mx::io::viewer::from_motion(&clip.mu, &body, "graph walk", &[])?;
+                    Ok(mx::io::viewer::write_html(&data, &h)?)
                 })();
                 if let Err(e) = r {
                     return fail(e);

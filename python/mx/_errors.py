@@ -5,7 +5,7 @@ subclasses also derive from the matching built-in exception, so ``except
 ValueError`` catches a wrong array shape and ``except OSError`` a missing file.
 """
 
-from typing import Optional
+from typing import Optional, Tuple
 
 
 class MxError(Exception):
@@ -18,7 +18,11 @@ class MxError(Exception):
     - ``diagnostic``: the rendered diagnostic (same as ``str(e)``)
     - ``kind``: ``"syntax"``, ``"type"``, ``"value"``, ``"motion"``, ``"io"``…
     - ``file``, ``line``, ``column``: where in the source (``None`` when the
-      error concerns no mx source, e.g. a bad array passed from Python)
+      error concerns no mx source, e.g. a bad array passed from Python);
+      lines and columns count from 1, columns in characters
+    - ``end_line``, ``end_column``: where the offending part ends
+    - ``span``: ``(start, end)``, the offending part as character offsets
+      into the source text (``source[start:end]``)
     - ``help``: the advice line, if any
     """
 
@@ -31,6 +35,9 @@ class MxError(Exception):
         line: Optional[int] = None,
         column: Optional[int] = None,
         help: Optional[str] = None,
+        end_line: Optional[int] = None,
+        end_column: Optional[int] = None,
+        span: Optional[Tuple[int, int]] = None,
     ):
         super().__init__(diagnostic)
         self.diagnostic = diagnostic
@@ -40,6 +47,9 @@ class MxError(Exception):
         self.line = line
         self.column = column
         self.help = help
+        self.end_line = end_line
+        self.end_column = end_column
+        self.span = span
 
 
 class MxSyntaxError(MxError, SyntaxError):
@@ -94,7 +104,11 @@ _BY_KIND = {
 }
 
 
-def _make(kind, diagnostic, message, file, line, column, help):
-    """Called from Rust: the exception object for an mx diagnostic."""
+def _make(kind, diagnostic, message, at, help):
+    """Called from Rust: the exception object for an mx diagnostic; ``at`` is
+    ``(file, line, column, end_line, end_column, (start, end))`` or ``None``."""
     cls = _BY_KIND.get(kind, MxError)
-    return cls(diagnostic, message, kind, file, line, column, help)
+    if at is None:
+        return cls(diagnostic, message, kind, help=help)
+    file, line, column, end_line, end_column, span = at
+    return cls(diagnostic, message, kind, file, line, column, help, end_line, end_column, tuple(span))

@@ -194,3 +194,24 @@ def test_keyboard_interrupt_cancels_sp(walk_path):
     assert time.monotonic() - t < 30
     # nothing is left cancelled: the next call works
     assert mx.Interpreter().eval("2") == 2.0
+
+
+def test_an_errors_place_is_data():
+    # a name with colons and " (", which a rendered `file:line:col` cannot
+    # carry unambiguously, and a non-ASCII character before the error
+    name = "C:/takes (draft):2.mx"
+    src = 'let s = "é—"\nlet x = 1 + "two"'
+    with pytest.raises(mx.MxError) as e:
+        mx.Interpreter().eval(src, name=name)
+    err = e.value
+    assert err.file == name and err.line == 2 and err.end_line == 2
+    start, end = err.span
+    bad = src[start:end]
+    assert '"two"' in bad, bad
+    line2 = src.split("\n")[1]
+    assert err.column == line2.index(bad) + 1
+    assert err.end_column == err.column + len(bad)
+    # an error about values given from Python has no place
+    with pytest.raises(mx.MxError) as e:
+        mx.Motion.from_array(["a", "b"], [0.0, 1.0], [[1.0], [2.0]])
+    assert e.value.span is None and e.value.line is None

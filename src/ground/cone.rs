@@ -16,7 +16,7 @@
 //! per point), in units scaled by the wrench's own size so that a 700 N body
 //! and a 1 N test case are conditioned alike.
 
-use super::{GroundError, invalid};
+use super::{GroundError, invalid, invalid_option};
 use crate::lie::Wrench;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -57,9 +57,10 @@ pub fn best_contact_forces(
     length: f64,
 ) -> Result<ConeSolution, GroundError> {
     if !(friction.is_finite() && friction >= 0.0) {
-        return Err(invalid(format!(
-            "friction must be a finite coefficient ≥ 0, got {friction}"
-        )));
+        return Err(invalid_option(
+            "friction",
+            format!("friction must be a finite coefficient ≥ 0, got {friction}"),
+        ));
     }
     if !(length.is_finite() && length > 0.0) {
         return Err(invalid(format!(

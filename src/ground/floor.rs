@@ -7,7 +7,7 @@
 //! (`points.rs`: over a whole motion, or where it is recorded — never a
 //! massless root link's origin, only contact points count).
 
-use super::{GroundError, invalid};
+use super::{GroundError, invalid, invalid_option};
 use nalgebra::Vector3;
 
 /// Unit vector against `gravity`; `None` for zero or non-finite gravity
@@ -20,10 +20,13 @@ pub fn up_of(gravity: &Vector3<f64>) -> Option<Vector3<f64>> {
 /// Unit vector against `gravity`; `Err` for zero or non-finite gravity.
 pub fn up_direction(gravity: &Vector3<f64>) -> Result<Vector3<f64>, GroundError> {
     up_of(gravity).ok_or_else(|| {
-        invalid(format!(
-            "gravity [{}, {}, {}] gives no \"up\": ground measures need a nonzero, finite gravity",
-            gravity.x, gravity.y, gravity.z
-        ))
+        invalid_option(
+            "gravity",
+            format!(
+                "gravity [{}, {}, {}] gives no \"up\": ground measures need a nonzero, finite gravity",
+                gravity.x, gravity.y, gravity.z
+            ),
+        )
     })
 }
 

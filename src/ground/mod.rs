@@ -49,6 +49,13 @@ pub use stance::{
 pub enum GroundError {
     #[error("{0}")]
     Invalid(String),
+    /// An option out of its range or naming what the body lacks: `option` is
+    /// its name as the language spells it (`height`, `points`).
+    #[error("{message}")]
+    InvalidOption {
+        option: &'static str,
+        message: String,
+    },
     #[error(transparent)]
     Motion(#[from] crate::motion::MotionError),
     #[error(transparent)]
@@ -59,4 +66,22 @@ pub enum GroundError {
 
 pub(crate) fn invalid(msg: impl Into<String>) -> GroundError {
     GroundError::Invalid(msg.into())
+}
+
+/// A [`GroundError::InvalidOption`] of `option`.
+pub(crate) fn invalid_option(option: &'static str, message: impl Into<String>) -> GroundError {
+    GroundError::InvalidOption {
+        option,
+        message: message.into(),
+    }
+}
+
+impl GroundError {
+    /// The option at fault, when the error is about one.
+    pub fn option(&self) -> Option<&'static str> {
+        match self {
+            GroundError::InvalidOption { option, .. } => Some(option),
+            _ => None,
+        }
+    }
 }

@@ -13,7 +13,7 @@
 
 use super::floor::{horizontal, up_direction};
 use super::stance::{CONTACT_HEIGHT, CONTACT_SPEED};
-use super::{GroundError, invalid};
+use super::{GroundError, invalid, invalid_option};
 use crate::model::Model;
 use crate::model::topology::joint_points;
 use crate::motion::{Mu, grid_times, sample_period};
@@ -75,30 +75,38 @@ impl GroundOptions {
     /// `Err` naming the first option out of range.
     pub fn check(&self) -> Result<(), GroundError> {
         if !(self.height.is_finite() && self.height >= 0.0) {
-            return Err(invalid(format!(
-                "height must be a finite distance ≥ 0 (m), got {}",
-                self.height
-            )));
+            return Err(invalid_option(
+                "height",
+                format!(
+                    "height must be a finite distance ≥ 0 (m), got {}",
+                    self.height
+                ),
+            ));
         }
         if self.speed.is_nan() || self.speed < 0.0 {
-            return Err(invalid(format!(
-                "speed must be ≥ 0 (m/s; inf turns the speed test off), got {}",
-                self.speed
-            )));
+            return Err(invalid_option(
+                "speed",
+                format!(
+                    "speed must be ≥ 0 (m/s; inf turns the speed test off), got {}",
+                    self.speed
+                ),
+            ));
         }
         if let Floor::At(f) = self.floor
             && !f.is_finite()
         {
-            return Err(invalid(format!(
-                "floor must be a finite height (m), got {f}"
-            )));
+            return Err(invalid_option(
+                "floor",
+                format!("floor must be a finite height (m), got {f}"),
+            ));
         }
         if let Some(r) = self.rate
             && !(r.is_finite() && r > 0.0)
         {
-            return Err(invalid(format!(
-                "rate must be a positive number (Hz), got {r}"
-            )));
+            return Err(invalid_option(
+                "rate",
+                format!("rate must be a positive number (Hz), got {r}"),
+            ));
         }
         Ok(())
     }
@@ -140,15 +148,19 @@ pub fn contact_points(
     let Some(names) = names else {
         let found = default_contact_points(body);
         if found.is_empty() {
-            return Err(invalid(format!(
-                "the body `{}` has no foot contact points (no joint named like Foot, Toe, Ankle, Heel or calcn); name its contact links with `points: [\"…\"]`",
-                body.name
-            )));
+            return Err(invalid_option(
+                "points",
+                format!(
+                    "the body `{}` has no foot contact points (no joint named like Foot, Toe, Ankle, Heel or calcn); name its contact links with `points: [\"…\"]`",
+                    body.name
+                ),
+            ));
         }
         return Ok(found);
     };
     if names.is_empty() {
-        return Err(invalid(
+        return Err(invalid_option(
+            "points",
             "points: [] names no contact point; leave it out for the feet",
         ));
     }
@@ -179,18 +191,21 @@ pub fn contact_points(
                     .filter(|(s, _)| *s > 0.3)
                     .map(|(_, c)| *c)
                     .collect();
-                invalid(if hint.is_empty() {
-                    format!("the body `{}` has no link `{n}`", body.name)
-                } else {
-                    format!(
-                        "the body `{}` has no link `{n}`; did you mean {}?",
-                        body.name,
-                        hint.iter()
-                            .map(|h| format!("`{h}`"))
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    )
-                })
+                invalid_option(
+                    "points",
+                    if hint.is_empty() {
+                        format!("the body `{}` has no link `{n}`", body.name)
+                    } else {
+                        format!(
+                            "the body `{}` has no link `{n}`; did you mean {}?",
+                            body.name,
+                            hint.iter()
+                                .map(|h| format!("`{h}`"))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
+                    },
+                )
             })?;
         if !out.iter().any(|p| p.link == link) {
             out.push(ContactPoint {

@@ -19,7 +19,7 @@ use super::floor::up_direction;
 use super::points::{
     GroundOptions, check_coordinates, contact_points, frame_times, sample_state, tracks,
 };
-use super::{GroundError, invalid};
+use super::{GroundError, invalid, invalid_option};
 use crate::dynamics::{Workspace, inverse_dynamics, root_wrench};
 use crate::lie::Se3;
 use crate::model::topology::joint_points;
@@ -111,9 +111,10 @@ pub fn ground_residual(
 ) -> Result<GroundResidual, GroundError> {
     opts.check()?;
     if !(friction.is_finite() && friction >= 0.0) {
-        return Err(invalid(format!(
-            "friction must be a finite coefficient ≥ 0, got {friction}"
-        )));
+        return Err(invalid_option(
+            "friction",
+            format!("friction must be a finite coefficient ≥ 0, got {friction}"),
+        ));
     }
     check_coordinates(m, body)?;
     check_floating(body, &up_direction(&opts.gravity_of(body))?)?;

@@ -19,14 +19,33 @@ pub use over_time::{IkOptions, IkReport, Target, TargetReport, ik};
 /// Why IK could not run: bad input, with a message naming what and where.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum IkError {
-    #[error("ik: {0}")]
-    Invalid(String),
+    /// `argument`: what is at fault, as the language names `ik`'s parameters
+    /// (`targets`, `m`, `tolerance`, …), when one input is.
+    #[error("ik: {message}")]
+    Invalid {
+        argument: Option<&'static str>,
+        message: String,
+    },
     #[error(transparent)]
     Motion(#[from] crate::motion::MotionError),
     #[error(transparent)]
     Model(#[from] crate::model::ModelError),
 }
 
-pub(crate) fn invalid(msg: impl Into<String>) -> IkError {
-    IkError::Invalid(msg.into())
+/// An [`IkError::Invalid`] about the input `argument`.
+pub(crate) fn invalid(argument: &'static str, msg: impl Into<String>) -> IkError {
+    IkError::Invalid {
+        argument: Some(argument),
+        message: msg.into(),
+    }
+}
+
+impl IkError {
+    /// The input at fault, when one is.
+    pub fn argument(&self) -> Option<&'static str> {
+        match self {
+            IkError::Invalid { argument, .. } => *argument,
+            _ => None,
+        }
+    }
 }

@@ -95,10 +95,13 @@ fn link_index(body: &Model, name: &str) -> Result<usize, IkError> {
             .collect();
         near.sort_by(|a, b| b.0.total_cmp(&a.0));
         let list: Vec<&str> = near.iter().take(5).map(|(_, s)| *s).collect();
-        invalid(format!(
-            "the body has no link named '{name}'; the nearest names are {}",
-            list.join(", ")
-        ))
+        invalid(
+            "targets",
+            format!(
+                "the body has no link named '{name}'; the nearest names are {}",
+                list.join(", ")
+            ),
+        )
     })
 }
 
@@ -123,23 +126,34 @@ fn allowed(body: &Model, m: &Mu, only: &Option<Vec<String>>) -> Result<Vec<bool>
 /// Intersection of the spans of the motion's body coordinates and the targets.
 fn common_span(m: &Mu, names: &[String], targets: &[Target]) -> Result<(f64, f64), IkError> {
     let mut span = (f64::NEG_INFINITY, f64::INFINITY);
-    let mut cut = |s: Option<(f64, f64)>, what: &str| -> Result<(), IkError> {
-        let s = s.ok_or_else(|| invalid(format!("{what} is not defined anywhere")))?;
-        span = (span.0.max(s.0), span.1.min(s.1));
-        Ok(())
-    };
+    let mut cut =
+        |s: Option<(f64, f64)>, what: &str, argument: &'static str| -> Result<(), IkError> {
+            let s =
+                s.ok_or_else(|| invalid(argument, format!("{what} is not defined anywhere")))?;
+            span = (span.0.max(s.0), span.1.min(s.1));
+            Ok(())
+        };
     for n in names {
         cut(
             m.get(n).and_then(Dof::span),
             &format!("the motion's DOF `{n}`"),
+            "m",
         )?;
     }
     for t in targets {
         for (d, axis) in t.position.iter().zip(["x", "y", "z"]) {
-            cut(d.span(), &format!("the target {}.{axis}", t.link))?;
+            cut(
+                d.span(),
+                &format!("the target {}.{axis}", t.link),
+                "targets",
+            )?;
         }
         for (d, axis) in t.orientation.iter().flatten().zip(["rx", "ry", "rz"]) {
-            cut(d.span(), &format!("the target {}.{axis}", t.link))?;
+            cut(
+                d.span(),
+                &format!("the target {}.{axis}", t.link),
+                "targets",
+            )?;
         }
     }
     if span
@@ -147,10 +161,13 @@ fn common_span(m: &Mu, names: &[String], targets: &[Target]) -> Result<(f64, f64
         .partial_cmp(&span.1)
         .is_none_or(|o| o == std::cmp::Ordering::Greater)
     {
-        return Err(invalid(format!(
-            "the motion and the targets are never defined at the same time (common span [{}, {}] is empty)",
-            span.0, span.1
-        )));
+        return Err(invalid(
+            "targets",
+            format!(
+                "the motion and the targets are never defined at the same time (common span [{}, {}] is empty)",
+                span.0, span.1
+            ),
+        ));
     }
     Ok(span)
 }
@@ -165,13 +182,17 @@ fn target_at(
     let mut out = Vector3::zeros();
     for (k, (d, axis)) in dofs.iter().zip(axes).enumerate() {
         let name = format!("{link}.{axis}");
-        let v = d
-            .sample_value(&name, t)?
-            .ok_or_else(|| invalid(format!("the target {name} is undefined at t = {t:.4} s")))?;
+        let v = d.sample_value(&name, t)?.ok_or_else(|| {
+            invalid(
+                "targets",
+                format!("the target {name} is undefined at t = {t:.4} s"),
+            )
+        })?;
         if !v.is_finite() {
-            return Err(invalid(format!(
-                "the target {name} is {v} at t = {t:.4} s; targets must be finite"
-            )));
+            return Err(invalid(
+                "targets",
+                format!("the target {name} is {v} at t = {t:.4} s; targets must be finite"),
+            ));
         }
         out[k] = v;
     }
@@ -188,36 +209,52 @@ pub fn ik(
 ) -> Result<(Mu, IkReport), IkError> {
     if targets.is_empty() {
         return Err(invalid(
+            "targets",
             "no targets: give at least one link and its position",
         ));
     }
     let s = options.settings;
     if !(s.tolerance.is_finite() && s.tolerance > 0.0) {
-        return Err(invalid(format!(
-            "the tolerance must be a positive number of metres, got {}",
-            s.tolerance
-        )));
+        return Err(invalid(
+            "tolerance",
+            format!(
+                "the tolerance must be a positive number of metres, got {}",
+                s.tolerance
+            ),
+        ));
     }
     if s.max_iterations == 0 {
-        return Err(invalid("the iteration limit must be at least 1"));
+        return Err(invalid(
+            "iterations",
+            "the iteration limit must be at least 1",
+        ));
     }
     let names = body.coordinate_names().to_vec();
     if let Some(missing) = names.iter().find(|n| m.get(n).is_none()) {
-        return Err(invalid(format!(
-            "the motion has no DOF `{missing}` for the body's coordinate of that name; use a body built for this motion"
-        )));
+        return Err(invalid(
+            "m",
+            format!(
+                "the motion has no DOF `{missing}` for the body's coordinate of that name; use a body built for this motion"
+            ),
+        ));
     }
     let mut links = Vec::with_capacity(targets.len());
     for t in targets {
         if !(t.weight.is_finite() && t.weight > 0.0) {
-            return Err(invalid(format!(
-                "the weight of target {} must be a positive number, got {}",
-                t.link, t.weight
-            )));
+            return Err(invalid(
+                "weights",
+                format!(
+                    "the weight of target {} must be a positive number, got {}",
+                    t.link, t.weight
+                ),
+            ));
         }
         let l = link_index(body, &t.link)?;
         if links.contains(&l) {
-            return Err(invalid(format!("link {} has two targets", t.link)));
+            return Err(invalid(
+                "targets",
+                format!("link {} has two targets", t.link),
+            ));
         }
         links.push(l);
     }
@@ -225,6 +262,7 @@ pub fn ik(
     let mut solver = Solver::new(body, &links, &allowed)?;
     if solver.free().is_empty() {
         return Err(invalid(
+            "targets",
             "no coordinate IK may move lies on a target link's chain; widen `only:` or pick other links",
         ));
     }
@@ -236,17 +274,18 @@ pub fn ik(
     if times.is_empty() {
         times.push(span.0);
     }
-    let sample_q = |t: f64, q: &mut [f64]| -> Result<(), IkError> {
-        for (k, n) in names.iter().enumerate() {
-            let v = m.dof(n)?.sample_value(n, t)?.ok_or_else(|| {
-                invalid(format!(
+    let sample_q =
+        |t: f64, q: &mut [f64]| -> Result<(), IkError> {
+            for (k, n) in names.iter().enumerate() {
+                let v = m.dof(n)?.sample_value(n, t)?.ok_or_else(|| {
+                invalid("m", format!(
                     "the motion's DOF `{n}` is undefined at t = {t:.4} s; fill the gap first"
                 ))
             })?;
-            q[k] = v;
-        }
-        Ok(())
-    };
+                q[k] = v;
+            }
+            Ok(())
+        };
     let nf = solver.free().to_vec();
     let mut goals: Vec<Goal> = links
         .iter()

@@ -5,8 +5,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::FileError;
 use super::atomic::write_atomic;
+use super::{ContentError, FileError};
 use crate::cancel::CancelToken;
 use crate::fmt_num::Shortest;
 use crate::motion::{MotionError, Mu, sample_grid};
@@ -77,21 +77,23 @@ pub fn load_csv(path: impl AsRef<Path>) -> Result<Mu, FileError> {
         path: path.to_path_buf(),
         source,
     })?;
-    from_csv_str(&text).map_err(|m| FileError::format(path, m))
+    from_csv_str(&text).map_err(|m| FileError::content(path, m))
 }
 
 /// Parse motion CSV text; the error says which line and what is wrong.
-pub fn from_csv_str(text: &str) -> Result<Mu, String> {
+pub fn from_csv_str(text: &str) -> Result<Mu, ContentError> {
     let mut lines = text
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
-        .next()
-        .ok_or("the file is empty; a motion CSV starts with a header `t,<DOF names>`")?;
+    let (_, header) = lines.next().ok_or_else(|| {
+        ContentError::new("the file is empty; a motion CSV starts with a header `t,<DOF names>`")
+    })?;
     let names = split_header(header.trim_end_matches('\r'))?;
     if names.first().map(String::as_str) != Some("t") {
-        return Err("the first column must be `t` (time in seconds)".into());
+        return Err(ContentError::new(
+            "the first column must be `t` (time in seconds)",
+        ));
     }
     let names = &names[1..];
     let mut times: Vec<f64> = Vec::new();
@@ -99,19 +101,17 @@ pub fn from_csv_str(text: &str) -> Result<Mu, String> {
     for (ln, line) in lines {
         let cells: Vec<&str> = line.trim_end_matches('\r').split(',').collect();
         if cells.len() != names.len() + 1 {
-            return Err(format!(
-                "line {}: {} cells, expected {}",
+            return Err(ContentError::at(
                 ln + 1,
-                cells.len(),
-                names.len() + 1
+                format!("{} cells, expected {}", cells.len(), names.len() + 1),
             ));
         }
-        let num = |s: &str, what: &str| -> Result<f64, String> {
+        let num = |s: &str, what: &str| -> Result<f64, ContentError> {
             match s.trim().parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
-                _ => Err(format!(
-                    "line {}: {what} `{s}` is not a finite number",
-                    ln + 1
+                _ => Err(ContentError::at(
+                    ln + 1,
+                    format!("{what} `{s}` is not a finite number"),
                 )),
             }
         };
@@ -135,19 +135,22 @@ pub fn mu_from_grid(
     names: &[String],
     times: &[f64],
     cols: &[Vec<Option<f64>>],
-) -> Result<Mu, String> {
+) -> Result<Mu, ContentError> {
     use crate::motion::{Curve, Dof, Interval};
 
     if let Some(k) = times.iter().position(|t| !t.is_finite()) {
-        return Err(format!("time {k} is {}, not a finite number", times[k]));
+        return Err(ContentError::new(format!(
+            "time {k} is {}, not a finite number",
+            times[k]
+        )));
     }
     if cols.len() != names.len() || cols.iter().any(|c| c.len() != times.len()) {
-        return Err(format!(
+        return Err(ContentError::new(format!(
             "{} names and {} columns of {} times do not match",
             names.len(),
             cols.len(),
             times.len()
-        ));
+        )));
     }
     // Uniform time grid (as saved: k/R).
     let dt = match times.len() {
@@ -155,21 +158,23 @@ pub fn mu_from_grid(
         n => (times[n - 1] - times[0]) / (n - 1) as f64,
     };
     if !(dt.is_finite() && dt > 0.0) {
-        return Err("times must increase".into());
+        return Err(ContentError::new("times must increase"));
     }
     for (k, t) in times.iter().enumerate() {
         let want = times[0] + k as f64 * dt;
         if (t - want).abs() > 1e-6 * dt {
-            return Err(format!(
+            return Err(ContentError::new(format!(
                 "row {}: time {t} is off the uniform grid (step {dt}); resample the data first",
                 k + 1
-            ));
+            )));
         }
     }
     let mut mu = Mu::new();
     for (c, name) in names.iter().enumerate() {
         if mu.get(name).is_some() {
-            return Err(format!("DOF '{name}' appears twice in the header"));
+            return Err(ContentError::new(format!(
+                "DOF '{name}' appears twice in the header"
+            )));
         }
         let mut intervals = Vec::new();
         let col = &cols[c];
@@ -184,16 +189,16 @@ pub fn mu_from_grid(
                 k += 1;
             }
             if k - first < 2 {
-                return Err(format!(
+                return Err(ContentError::new(format!(
                     "DOF '{name}' has a single isolated value at t = {}; an interval needs at least two samples",
                     times[first]
-                ));
+                )));
             }
             let values: Vec<f64> = col[first..k].iter().flatten().copied().collect();
             let curve = Curve::samples(times[first], dt, values)
-                .map_err(|e| format!("DOF '{name}': {e}"))?;
+                .map_err(|e| ContentError::new(format!("DOF '{name}': {e}")))?;
             let iv = Interval::curve(curve, times[first], times[k - 1])
-                .map_err(|e| format!("DOF '{name}': {e}"))?;
+                .map_err(|e| ContentError::new(format!("DOF '{name}': {e}")))?;
             intervals.push(iv);
         }
         mu.insert(name.clone(), Dof { intervals });
@@ -202,7 +207,7 @@ pub fn mu_from_grid(
 }
 
 /// Split a header line, honouring RFC 4180 quotes (`"a,x"`, `""` for a quote).
-fn split_header(line: &str) -> Result<Vec<String>, String> {
+fn split_header(line: &str) -> Result<Vec<String>, ContentError> {
     let mut out = Vec::new();
     let mut cur = String::new();
     let mut chars = line.chars().peekable();
@@ -220,7 +225,7 @@ fn split_header(line: &str) -> Result<Vec<String>, String> {
         }
     }
     if quoted {
-        return Err("the header has an unclosed quote".into());
+        return Err(ContentError::new("the header has an unclosed quote"));
     }
     out.push(cur);
     Ok(out)

@@ -21,8 +21,8 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::FileError;
 use super::atomic::write_atomic;
+use super::{ContentError, FileError};
 use crate::motion::{
     Curve, Dof, Func, HermiteCurve, Interval, Mu, SampledCurve, TimeFunction, time_tol,
 };
@@ -31,7 +31,7 @@ pub const FORMAT: &str = "mx-motion";
 pub const VERSION: u32 = 1;
 
 /// Compiles the mx source of a function of time back into a function.
-pub type CompileFn<'a> = &'a dyn Fn(&str) -> Result<Arc<dyn TimeFunction>, String>;
+pub type CompileFn<'a> = &'a dyn Fn(&str) -> Result<Arc<dyn TimeFunction>, ContentError>;
 
 #[derive(Serialize, Deserialize)]
 struct File {
@@ -79,7 +79,7 @@ struct FuncJson {
 /// time has no mx source, e.g. a host function.
 pub fn save_json(mu: &Mu, path: impl AsRef<Path>) -> Result<(), FileError> {
     let path = path.as_ref();
-    let text = to_json_string(mu).map_err(|m| FileError::format(path, m))?;
+    let text = to_json_string(mu).map_err(|m| FileError::content(path, m))?;
     write_atomic(path, text.as_bytes())
 }
 
@@ -90,11 +90,11 @@ pub fn load_json(path: impl AsRef<Path>, compile_fn: CompileFn) -> Result<Mu, Fi
         path: path.to_path_buf(),
         source,
     })?;
-    from_json_str(&text, compile_fn).map_err(|m| FileError::format(path, m))
+    from_json_str(&text, compile_fn).map_err(|m| FileError::content(path, m))
 }
 
 /// The JSON text (compact: sample arrays stay one line).
-pub fn to_json_string(mu: &Mu) -> Result<String, String> {
+pub fn to_json_string(mu: &Mu) -> Result<String, ContentError> {
     let mut curves: Vec<CurveJson> = Vec::new();
     let mut index: HashMap<*const Curve, usize> = HashMap::new();
     let mut dofs = Vec::with_capacity(mu.len());
@@ -136,10 +136,11 @@ pub fn to_json_string(mu: &Mu) -> Result<String, String> {
         curves,
         dofs,
     };
-    serde_json::to_string(&file).map_err(|e| format!("cannot encode the motion as JSON: {e}"))
+    serde_json::to_string(&file)
+        .map_err(|e| ContentError::new(format!("cannot encode the motion as JSON: {e}")))
 }
 
-fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, String> {
+fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, ContentError> {
     Ok(match c {
         Curve::Constant(v) => CurveJson::Constant { value: *v },
         Curve::Samples(s) => CurveJson::Samples(s.clone()),
@@ -147,58 +148,67 @@ fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, String> {
         Curve::Spline(c) => CurveJson::Spline(c.clone()),
         Curve::Function(f) => CurveJson::Function {
             source: f.source().ok_or_else(|| {
-                format!(
+                ContentError::new(format!(
                     "DOF '{dof}' uses a function of time that has no mx source (a host function?), so it cannot be saved as JSON; sample it first (save as CSV) or define it in mx"
-                )
+                ))
             })?,
         },
     })
 }
 
 /// Parse and validate a motion from JSON text.
-pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, String> {
-    let file: File =
-        serde_json::from_str(text).map_err(|e| format!("not an mx motion JSON file: {e}"))?;
+pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, ContentError> {
+    let file: File = serde_json::from_str(text)
+        .map_err(|e| ContentError::new(format!("not an mx motion JSON file: {e}")))?;
     if file.format != FORMAT {
-        return Err(format!("format is '{}', expected '{FORMAT}'", file.format));
+        return Err(ContentError::new(format!(
+            "format is '{}', expected '{FORMAT}'",
+            file.format
+        )));
     }
     if file.version != VERSION {
-        return Err(format!(
+        return Err(ContentError::new(format!(
             "motion file version {} is not supported (this mx reads version {VERSION})",
             file.version
-        ));
+        )));
     }
     let mut curves: Vec<Arc<Curve>> = Vec::with_capacity(file.curves.len());
     for (k, c) in file.curves.into_iter().enumerate() {
         let curve = match c {
             CurveJson::Constant { value } => {
-                Curve::constant(value).map_err(|e| format!("curve {k}: {e}"))?
+                Curve::constant(value).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
             }
             CurveJson::Samples(s) => Curve::Samples(s),
             CurveJson::Hermite(h) => Curve::Hermite(
                 HermiteCurve::new(h.t0, h.q0, h.v0, h.t1, h.q1, h.v1)
-                    .map_err(|e| format!("curve {k}: {e}"))?,
+                    .map_err(|e| ContentError::new(format!("curve {k}: {e}")))?,
             ),
-            CurveJson::Spline(c) => Curve::spline(c).map_err(|e| format!("curve {k}: {e}"))?,
-            CurveJson::Function { source } => Curve::Function(
-                compile_fn(&source)
-                    .map_err(|e| format!("curve {k}: cannot compile `{source}`: {e}"))?,
-            ),
+            CurveJson::Spline(c) => {
+                Curve::spline(c).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
+            }
+            CurveJson::Function { source } => {
+                Curve::Function(compile_fn(&source).map_err(|e| {
+                    ContentError::new(format!("curve {k}: cannot compile `{source}`: {e}"))
+                })?)
+            }
         };
         curves.push(Arc::new(curve));
     }
     let mut mu = Mu::new();
     for d in file.dofs {
         if mu.get(&d.name).is_some() {
-            return Err(format!("DOF '{}' appears twice", d.name));
+            return Err(ContentError::new(format!("DOF '{}' appears twice", d.name)));
         }
         let mut intervals: Vec<Interval> = Vec::with_capacity(d.intervals.len());
         for iv in d.intervals {
             let mut funcs = Vec::with_capacity(iv.funcs.len());
             for f in iv.funcs {
-                let curve = curves
-                    .get(f.curve)
-                    .ok_or_else(|| format!("DOF '{}': curve {} does not exist", d.name, f.curve))?;
+                let curve = curves.get(f.curve).ok_or_else(|| {
+                    ContentError::new(format!(
+                        "DOF '{}': curve {} does not exist",
+                        d.name, f.curve
+                    ))
+                })?;
                 funcs.push(Func {
                     curve: curve.clone(),
                     shift: f.shift,
@@ -207,14 +217,14 @@ pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, String> {
                 });
             }
             let iv = Interval::with_funcs(funcs, iv.start, iv.stop)
-                .map_err(|e| format!("DOF '{}': {e}", d.name))?;
+                .map_err(|e| ContentError::new(format!("DOF '{}': {e}", d.name)))?;
             if let Some(prev) = intervals.last()
                 && iv.start < prev.stop - time_tol(prev.stop)
             {
-                return Err(format!(
+                return Err(ContentError::new(format!(
                     "DOF '{}': interval [{}, {}] starts before the previous one stops ({}); intervals must be sorted and disjoint",
                     d.name, iv.start, iv.stop, prev.stop
-                ));
+                )));
             }
             intervals.push(iv);
         }

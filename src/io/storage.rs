@@ -13,8 +13,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::FileError;
 use super::atomic::write_atomic;
+use super::{ContentError, FileError};
 use crate::fmt_num::Shortest;
 use crate::motion::{MotionError, Mu, sample_grid};
 
@@ -37,7 +37,7 @@ pub struct Storage {
 /// Parses Storage text; errors name the line.
 // Long (about 160 lines): one line-by-line pass (header keys, `endheader`, labels,
 // rows) whose every error names its line, which a split would have to thread through.
-pub fn parse_storage(text: &str) -> Result<Storage, String> {
+pub fn parse_storage(text: &str) -> Result<Storage, ContentError> {
     let mut lines = text
         .lines()
         .enumerate()
@@ -61,13 +61,14 @@ pub fn parse_storage(text: &str) -> Result<Storage, String> {
             Some((k, v)) => {
                 let (k, v) = (k.trim(), v.trim());
                 let count = |v: &str| {
-                    v.parse::<usize>()
-                        .map_err(|_| format!("line {ln}: `{k}={v}` is not a whole number"))
+                    v.parse::<usize>().map_err(|_| {
+                        ContentError::at(ln, format!("`{k}={v}` is not a whole number"))
+                    })
                 };
                 match k {
                     "version" => {
                         version = v.parse().map_err(|_| {
-                            format!("line {ln}: `version={v}` is not a whole number")
+                            ContentError::at(ln, format!("`version={v}` is not a whole number"))
                         })?
                     }
                     "inDegrees" => {
@@ -75,8 +76,9 @@ pub fn parse_storage(text: &str) -> Result<Storage, String> {
                             "yes" | "true" => true,
                             "no" | "false" => false,
                             _ => {
-                                return Err(format!(
-                                    "line {ln}: `inDegrees={v}`; expected yes or no"
+                                return Err(ContentError::at(
+                                    ln,
+                                    format!("`inDegrees={v}`; expected yes or no"),
                                 ));
                             }
                         }
@@ -88,23 +90,23 @@ pub fn parse_storage(text: &str) -> Result<Storage, String> {
             }
             None if ln == 1 => name = Some(l.to_string()),
             None => {
-                return Err(format!(
-                    "line {ln}: `{l}` in the header is neither `key=value` nor `endheader`"
+                return Err(ContentError::at(
+                    ln,
+                    format!("`{l}` in the header is neither `key=value` nor `endheader`"),
                 ));
             }
         }
     }
     if !ended {
-        return Err(
+        return Err(ContentError::new(
             "the header has no `endheader` line: an OpenSim Storage file (.mot/.sto) starts with \
-             `key=value` lines (inDegrees=yes, …) closed by `endheader`"
-                .into(),
-        );
+             `key=value` lines (inDegrees=yes, …) closed by `endheader`",
+        ));
     }
     if version > 3 {
-        return Err(format!(
+        return Err(ContentError::new(format!(
             "Storage version {version} is not one mx reads (1 and 3 are)"
-        ));
+        )));
     }
     let split = |l: &str| -> Vec<String> {
         if l.contains('\t') {
@@ -124,26 +126,38 @@ pub fn parse_storage(text: &str) -> Result<Storage, String> {
         .first()
         .is_some_and(|t| t.eq_ignore_ascii_case("time"))
     {
-        return Err(format!(
-            "line {label_ln}: the first column is `{}`, not `time`",
-            labels.first().map_or("", String::as_str)
+        return Err(ContentError::at(
+            label_ln,
+            format!(
+                "the first column is `{}`, not `time`",
+                labels.first().map_or("", String::as_str)
+            ),
         ));
     }
     if let Some(nc) = n_columns
         && nc != labels.len()
     {
-        return Err(format!(
-            "line {label_ln}: {} column labels, but the header says nColumns={nc}",
-            labels.len()
+        return Err(ContentError::at(
+            label_ln,
+            format!(
+                "{} column labels, but the header says nColumns={nc}",
+                labels.len()
+            ),
         ));
     }
     let labels: Vec<String> = labels[1..].to_vec();
     for (i, l) in labels.iter().enumerate() {
         if l.is_empty() {
-            return Err(format!("line {label_ln}: column {} has no label", i + 2));
+            return Err(ContentError::at(
+                label_ln,
+                format!("column {} has no label", i + 2),
+            ));
         }
         if labels[..i].contains(l) {
-            return Err(format!("line {label_ln}: column `{l}` appears twice"));
+            return Err(ContentError::at(
+                label_ln,
+                format!("column `{l}` appears twice"),
+            ));
         }
     }
     let mut time = Vec::new();
@@ -154,18 +168,21 @@ pub fn parse_storage(text: &str) -> Result<Storage, String> {
         }
         let cells: Vec<&str> = line.split_whitespace().collect();
         if cells.len() != labels.len() + 1 {
-            return Err(format!(
-                "line {ln}: {} numbers, expected {} (time and {} columns)",
-                cells.len(),
-                labels.len() + 1,
-                labels.len()
+            return Err(ContentError::at(
+                ln,
+                format!(
+                    "{} numbers, expected {} (time and {} columns)",
+                    cells.len(),
+                    labels.len() + 1,
+                    labels.len()
+                ),
             ));
         }
         let mut row = cells.iter().map(|c| {
             c.parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("line {ln}: `{c}` is not a finite number"))
+                .ok_or_else(|| ContentError::at(ln, format!("`{c}` is not a finite number")))
         });
         time.push(row.next().expect("a time cell")?);
         for (c, v) in row.enumerate() {
@@ -175,16 +192,16 @@ pub fn parse_storage(text: &str) -> Result<Storage, String> {
     if let Some(nr) = n_rows
         && nr != time.len()
     {
-        return Err(format!(
+        return Err(ContentError::new(format!(
             "{} rows of data, but the header says nRows={nr}",
             time.len()
-        ));
+        )));
     }
     if time.len() < 2 {
-        return Err(format!(
+        return Err(ContentError::new(format!(
             "{} rows of data; a motion needs at least two",
             time.len()
-        ));
+        )));
     }
     Ok(Storage {
         name,
@@ -212,7 +229,7 @@ fn path_coordinate(label: &str) -> Option<&str> {
 
 /// The motion in a Storage: one DOF per column, in radians and metres.
 /// Returns the motion and notes for the user (how units were decided).
-pub fn storage_to_mu(st: &Storage, columns: Columns) -> Result<(Mu, Vec<String>), String> {
+pub fn storage_to_mu(st: &Storage, columns: Columns) -> Result<(Mu, Vec<String>), ContentError> {
     let mut names = Vec::with_capacity(st.labels.len());
     let mut rotational = Vec::with_capacity(st.labels.len());
     let mut notes = Vec::new();
@@ -226,7 +243,9 @@ pub fn storage_to_mu(st: &Storage, columns: Columns) -> Result<(Mu, Vec<String>)
                 match name {
                     Some((c, rot)) => {
                         if names.contains(c) {
-                            return Err(format!("coordinate `{c}` has two columns"));
+                            return Err(ContentError::new(format!(
+                                "coordinate `{c}` has two columns"
+                            )));
                         }
                         names.push(c.clone());
                         rotational.push(*rot);
@@ -236,7 +255,7 @@ pub fn storage_to_mu(st: &Storage, columns: Columns) -> Result<(Mu, Vec<String>)
             }
             if !unknown.is_empty() {
                 let all: Vec<&str> = coords.iter().map(|c| c.0.as_str()).take(12).collect();
-                return Err(format!(
+                return Err(ContentError::new(format!(
                     "column(s) {} name no coordinate of the body (its coordinates: {}{}); load without `body:` to read every column",
                     unknown
                         .iter()
@@ -245,7 +264,7 @@ pub fn storage_to_mu(st: &Storage, columns: Columns) -> Result<(Mu, Vec<String>)
                         .join(", "),
                     all.join(", "),
                     if coords.len() > 12 { ", …" } else { "" }
-                ));
+                )));
             }
         }
         Columns::ByName => {
@@ -295,8 +314,8 @@ pub fn load_storage(
         path: path.to_path_buf(),
         source,
     })?;
-    let st = parse_storage(&text).map_err(|m| FileError::format(path, m))?;
-    storage_to_mu(&st, columns).map_err(|m| FileError::format(path, m))
+    let st = parse_storage(&text).map_err(|m| FileError::content(path, m))?;
+    storage_to_mu(&st, columns).map_err(|m| FileError::content(path, m))
 }
 
 /// Storage text of `mu` sampled at `rate` Hz: rotational DOFs (per
@@ -390,7 +409,9 @@ mod tests {
     fn body_columns_must_name_coordinates() {
         let st = parse_storage(V1).unwrap();
         let coords = vec![("knee_angle_r".to_string(), true)];
-        let e = storage_to_mu(&st, Columns::Body(&coords)).unwrap_err();
+        let e = storage_to_mu(&st, Columns::Body(&coords))
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("`pelvis_tx`") && e.contains("name no coordinate"),
             "{e}"
@@ -406,13 +427,21 @@ mod tests {
 
     #[test]
     fn bad_headers_are_clear_errors() {
-        let e = parse_storage("version=1\ntime\ta\n0\t1\n").unwrap_err();
+        let e = parse_storage("version=1\ntime\ta\n0\t1\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("endheader"), "{e}");
-        let e = parse_storage("version=1\nendheader\nt\ta\n0\t1\n1\t2\n").unwrap_err();
+        let e = parse_storage("version=1\nendheader\nt\ta\n0\t1\n1\t2\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not `time`"), "{e}");
-        let e = parse_storage("nRows=5\nendheader\ntime\ta\n0\t1\n1\t2\n").unwrap_err();
+        let e = parse_storage("nRows=5\nendheader\ntime\ta\n0\t1\n1\t2\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("nRows=5"), "{e}");
-        let e = parse_storage("endheader\ntime\ta\n0\t1\n1\tx\n").unwrap_err();
+        let e = parse_storage("endheader\ntime\ta\n0\t1\n1\tx\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("line 4") && e.contains("`x`"), "{e}");
     }
 

@@ -128,17 +128,50 @@ struct DiagnosticInner {
     source: Option<NamedSource<Arc<str>>>,
     /// `file:line:col` of the span, for one-line renderings.
     location: Option<String>,
+    /// The same place as data.
+    place: Option<Location>,
+}
+
+/// Where in the source a diagnostic points, as data (so an embedder, such
+/// as the Python bindings, never parses the rendered text): lines and
+/// columns are 1-based, columns and `span` count characters, `span` is
+/// `[start, end)` in the whole source text.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Location {
+    /// The source's name: a file path, `<input>`, `<repl:3>`.
+    pub file: String,
+    pub line: usize,
+    pub column: usize,
+    pub end_line: usize,
+    pub end_column: usize,
+    pub span: (usize, usize),
 }
 
 impl Diagnostic {
     pub fn new(error: MxError, source: Option<&Source>) -> Self {
         let mut location = None;
+        let mut place = None;
         let mut too_wide = false;
         let source = source.and_then(|s| {
             if let Some(span) = error.span {
-                let (line, col) = line_col(&s.text, span.start as usize);
+                let (start, end) = (span.start as usize, span.end as usize);
+                let (line, col) = line_col(&s.text, start);
+                let (end_line, end_col) = line_col(&s.text, end);
                 location = Some(format!("{}:{}:{}", s.name, line, col));
-                too_wide = col.max(line_col(&s.text, span.end as usize).1) > MAX_SNIPPET_COLUMN;
+                too_wide = col.max(end_col) > MAX_SNIPPET_COLUMN;
+                let chars = |o: usize| {
+                    s.text
+                        .get(..o.min(s.text.len()))
+                        .map_or(0, |b| b.chars().count())
+                };
+                place = Some(Location {
+                    file: s.name.clone(),
+                    line,
+                    column: col,
+                    end_line,
+                    end_column: end_col,
+                    span: (chars(start), chars(end)),
+                });
             }
             // miette pads to the column with a format width, which panics
             // beyond u16::MAX: such lines are named, not drawn.
@@ -147,6 +180,7 @@ impl Diagnostic {
         Diagnostic(Box::new(DiagnosticInner {
             error,
             source,
+            place,
             location: location.map(|l| {
                 if too_wide {
                     format!("{l} (line too long to show)")
@@ -165,6 +199,10 @@ impl Diagnostic {
     /// `file:line:col` of the error's span, if it has one.
     pub fn location(&self) -> Option<&str> {
         self.0.location.as_deref()
+    }
+    /// The error's place in its source as data, if it points into one.
+    pub fn place(&self) -> Option<&Location> {
+        self.0.place.as_ref()
     }
 
     fn add_location_if_not_drawn(&self, out: &mut String) {

@@ -25,7 +25,7 @@ pub mod topic;
 pub mod value;
 
 pub use args::Args;
-pub use diagnostics::{Diagnostic, ErrorKind, MxError, MxResult};
+pub use diagnostics::{Diagnostic, ErrorKind, Location, MxError, MxResult};
 pub use eval::{Context, Evaluator};
 pub use interpreter::Interpreter;
 pub use registry::Registry;

@@ -61,7 +61,7 @@ pub fn index_clip(input: ClipInput, settings: &Settings) -> Result<IndexedClip, 
         clip: input.name.clone(),
         reason,
     };
-    let keys = KeyJoints::find(&input.file.skeleton).map_err(skip)?;
+    let keys = KeyJoints::find(&input.file.skeleton).map_err(|e| skip(e.to_string()))?;
     let clip = mocap::from_bvh(&input.file, Units::MetresPerUnit(input.metres_per_unit))
         .map_err(|e| skip(e.to_string()))?;
     let (start, before, after) = clip_features(&clip, &keys, settings);
@@ -96,20 +96,19 @@ pub fn index_clip(input: ClipInput, settings: &Settings) -> Result<IndexedClip, 
 
 /// Reads a `.bvh` file as a clip named after it, its stamp taken.
 pub fn read_clip(path: &std::path::Path) -> Result<ClipInput, Skipped> {
-    let name = clip_name(path);
-    let read = std::fs::read(path)
-        .map_err(|e| e.to_string())
-        .and_then(|bytes| {
-            let file = bvh::parse(&String::from_utf8_lossy(&bytes)).map_err(|e| e.to_string())?;
-            let units = bvh::resolve_units(Units::Auto, &file.skeleton)?;
-            Ok(ClipInput {
-                name: name.clone(),
-                file,
-                metres_per_unit: units.metres_per_unit,
-                source: Some(Source::of(path, &bytes)),
-            })
-        });
-    read.map_err(|reason| Skipped { clip: name, reason })
+    let skip = |reason: String| Skipped {
+        clip: clip_name(path),
+        reason,
+    };
+    let bytes = std::fs::read(path).map_err(|e| skip(e.to_string()))?;
+    let file = bvh::parse(&String::from_utf8_lossy(&bytes)).map_err(|e| skip(e.to_string()))?;
+    let units = bvh::resolve_units(Units::Auto, &file.skeleton).map_err(|e| skip(e.to_string()))?;
+    Ok(ClipInput {
+        name: clip_name(path),
+        file,
+        metres_per_unit: units.metres_per_unit,
+        source: Some(Source::of(path, &bytes)),
+    })
 }
 
 /// Indexes `.bvh` files in parallel, each read, indexed and let go (only its

@@ -139,16 +139,19 @@ impl ClipData {
             ClipData::Memory(_) => Ok(None),
             ClipData::File(s) => {
                 let bytes = std::fs::read(&s.path).map_err(|e| {
-                    LibraryError::new(format!(
+                    LibraryError::file(&s.path, format!(
                         "the clip `{name}` cannot be read from {}: {e} (the library refers to its file: keep it, or save the library while it is there)",
                         s.path.display()
                     ))
                 })?;
                 if fingerprint(&bytes) != s.fingerprint {
-                    return Err(LibraryError::new(format!(
-                        "stale: the clip `{name}` ({}) changed since the library was built: rebuild it with library(…)",
-                        s.path.display()
-                    )));
+                    return Err(LibraryError::file(
+                        &s.path,
+                        format!(
+                            "stale: the clip `{name}` ({}) changed since the library was built: rebuild it with library(…)",
+                            s.path.display()
+                        ),
+                    ));
                 }
                 Ok(Some(bytes))
             }
@@ -159,10 +162,13 @@ impl ClipData {
                 fingerprint: fp,
             } => {
                 let damaged = || {
-                    LibraryError::new(format!(
-                        "{}: damaged (the clip `{name}` does not match its checksum): rebuild it with library(…)",
-                        file.path.display()
-                    ))
+                    LibraryError::file(
+                        &file.path,
+                        format!(
+                            "{}: damaged (the clip `{name}` does not match its checksum): rebuild it with library(…)",
+                            file.path.display()
+                        ),
+                    )
                 };
                 let bytes = file.read(*offset, *len).map_err(|_| damaged())?;
                 if fingerprint(&bytes) != *fp {

@@ -86,11 +86,26 @@ fn is_part(name: &str, words: &[&str]) -> bool {
             .any(|x| l.contains(x))
 }
 
+/// Why a skeleton has no key joints to read features from.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum KeyJointsError {
+    /// What was not found (`left foot`, `right hand`, …).
+    #[error(
+        "no joint for the {} (looked for names with foot/ankle and hand/wrist and a side: Left…, …_L, L…)",
+        .0.join(", ")
+    )]
+    Missing(Vec<String>),
+    #[error("the foot `{0}` has no thigh above it")]
+    NoThigh(String),
+    #[error("both feet hang from one joint: no hip line to face by")]
+    OneHip,
+}
+
 impl KeyJoints {
     /// Finds feet (`foot`, `ankle`), hands (`hand`, `wrist`) and the hips by
     /// name, the one nearest the root where several match (`LeftHand`, not
     /// `LeftHandIndex1`). The error names what is missing.
-    pub fn find(sk: &Skeleton) -> Result<KeyJoints, String> {
+    pub fn find(sk: &Skeleton) -> Result<KeyJoints, KeyJointsError> {
         let find = |words: &[&str], s: Side| {
             sk.joints
                 .iter()
@@ -115,20 +130,17 @@ impl KeyJoints {
             get(&hand, Side::Right, "right hand"),
         ];
         if !missing.is_empty() {
-            return Err(format!(
-                "no joint for the {} (looked for names with foot/ankle and hand/wrist and a side: Left…, …_L, L…)",
-                missing.join(", ")
-            ));
+            return Err(KeyJointsError::Missing(missing));
         }
         let grandparent = |j: usize| {
             sk.joints[j]
                 .parent
                 .and_then(|p| sk.joints[p].parent)
-                .ok_or_else(|| format!("the foot `{}` has no thigh above it", sk.joints[j].name))
+                .ok_or_else(|| KeyJointsError::NoThigh(sk.joints[j].name.clone()))
         };
         let hips = [grandparent(feet[0])?, grandparent(feet[1])?];
         if hips[0] == hips[1] {
-            return Err("both feet hang from one joint: no hip line to face by".into());
+            return Err(KeyJointsError::OneHip);
         }
         Ok(KeyJoints { feet, hands, hips })
     }

@@ -237,10 +237,10 @@ pub fn save(lib: &Library, path: &Path) -> Result<(), LibraryError> {
     });
     match (r, failed) {
         (_, Some(e)) => Err(e),
-        (Err(e), None) => Err(LibraryError::new(format!(
-            "cannot write {}: {e}",
-            path.display()
-        ))),
+        (Err(e), None) => Err(LibraryError::file(
+            path,
+            format!("cannot write {}: {e}", path.display()),
+        )),
         (Ok(()), None) => Ok(()),
     }
 }
@@ -248,7 +248,8 @@ pub fn save(lib: &Library, path: &Path) -> Result<(), LibraryError> {
 /// Reads an index, all but its clips' texts; `expect`: the settings the
 /// caller asks for (refused when it was built with others).
 pub fn load(path: &Path, expect: Option<&Settings>) -> Result<Library, LibraryError> {
-    let cannot = |e: io::Error| LibraryError::new(format!("cannot read {}: {e}", path.display()));
+    let cannot =
+        |e: io::Error| LibraryError::file(path, format!("cannot read {}: {e}", path.display()));
     let file = File::open(path).map_err(cannot)?;
     let total = file.metadata().map_err(cannot)?.len();
     // a second handle reads the index; the first stays open for the clips
@@ -256,7 +257,7 @@ pub fn load(path: &Path, expect: Option<&Settings>) -> Result<Library, LibraryEr
     let reader = file.try_clone().map_err(cannot)?;
     let section = Arc::new(SectionFile::new(path, file));
     read(reader, total, &section, expect)
-        .map_err(|e| LibraryError::new(format!("{}: {}", path.display(), e.0)))
+        .map_err(|e| LibraryError::file(path, format!("{}: {e}", path.display())))
 }
 
 /// The library of an open file of `total` bytes, its clips' texts left in

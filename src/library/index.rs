@@ -43,10 +43,10 @@ impl Default for Settings {
 impl Settings {
     pub fn check(&self) -> Result<(), LibraryError> {
         if !(self.rate.is_finite() && self.rate >= 1.0 && self.rate <= 1000.0) {
-            return Err(LibraryError::new(format!(
-                "rate must be between 1 and 1000 Hz, found {}",
-                self.rate
-            )));
+            return Err(LibraryError::InvalidOption {
+                option: "rate",
+                message: format!("rate must be between 1 and 1000 Hz, found {}", self.rate),
+            });
         }
         if self.warps.is_empty()
             || self
@@ -54,10 +54,13 @@ impl Settings {
                 .iter()
                 .any(|w| !(w.is_finite() && (0.25..=4.0).contains(w)))
         {
-            return Err(LibraryError::new(format!(
-                "warps must be a non-empty list of factors between 0.25 and 4, found {:?}",
-                self.warps
-            )));
+            return Err(LibraryError::InvalidOption {
+                option: "warps",
+                message: format!(
+                    "warps must be a non-empty list of factors between 0.25 and 4, found {:?}",
+                    self.warps
+                ),
+            });
         }
         Ok(())
     }

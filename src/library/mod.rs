@@ -30,14 +30,47 @@ pub use index::{Library, Match, Query, Settings, Skipped};
 
 use std::path::{Path, PathBuf};
 
-/// A library error: a sentence for the user.
+/// Why a library could not be built, searched, read or written; each
+/// message is a sentence for the user.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct LibraryError(pub String);
+pub enum LibraryError {
+    /// A setting out of its range: `option` as the language spells it
+    /// (`rate`, `warps`), so a diagnostic can point at the argument.
+    #[error("{message}")]
+    InvalidOption {
+        option: &'static str,
+        message: String,
+    },
+    /// A skeleton without the joints the features are read from.
+    #[error(transparent)]
+    Keys(#[from] features::KeyJointsError),
+    /// A file or folder that cannot be read or written, or is no library.
+    #[error("{message}")]
+    File { path: PathBuf, message: String },
+    /// The clips, the motion or the gap cannot be indexed or matched.
+    #[error("{0}")]
+    Invalid(String),
+}
 
 impl LibraryError {
     pub fn new(s: impl Into<String>) -> Self {
-        LibraryError(s.into())
+        LibraryError::Invalid(s.into())
+    }
+
+    /// A [`LibraryError::File`] about `path`.
+    pub fn file(path: &Path, message: impl Into<String>) -> Self {
+        LibraryError::File {
+            path: path.to_path_buf(),
+            message: message.into(),
+        }
+    }
+
+    /// The option at fault, when the error is about one.
+    pub fn option(&self) -> Option<&'static str> {
+        match self {
+            LibraryError::InvalidOption { option, .. } => Some(option),
+            _ => None,
+        }
     }
 }
 
@@ -119,10 +152,10 @@ pub fn clip_name(path: &Path) -> String {
 /// there is none.
 pub fn bvh_files(dir: &Path) -> Result<Vec<PathBuf>, LibraryError> {
     let entries = std::fs::read_dir(dir).map_err(|e| {
-        LibraryError::new(format!(
-            "cannot read the clip folder {}: {e}",
-            dir.display()
-        ))
+        LibraryError::file(
+            dir,
+            format!("cannot read the clip folder {}: {e}", dir.display()),
+        )
     })?;
     let mut paths: Vec<_> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -130,10 +163,13 @@ pub fn bvh_files(dir: &Path) -> Result<Vec<PathBuf>, LibraryError> {
         .collect();
     paths.sort();
     if paths.is_empty() {
-        return Err(LibraryError::new(format!(
-            "no .bvh clips in {}: a library needs at least one clip",
-            dir.display()
-        )));
+        return Err(LibraryError::file(
+            dir,
+            format!(
+                "no .bvh clips in {}: a library needs at least one clip",
+                dir.display()
+            ),
+        ));
     }
     Ok(paths)
 }

@@ -179,8 +179,9 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, LibraryError> {
             frames,
         };
         let dir = parts_dir(&o.out);
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| LibraryError::new(format!("cannot create {}: {e}", dir.display())))?;
+        std::fs::create_dir_all(&dir).map_err(|e| {
+            LibraryError::file(&dir, format!("cannot create {}: {e}", dir.display()))
+        })?;
         let path = dir.join(format!("{}.part", o.shard.dir_name()));
         let cs: Vec<&IndexedClip> = clips.iter().map(|(_, c)| c).collect();
         write_part(&path, &header, &cs)?;
@@ -218,7 +219,7 @@ fn write_part(
         w.write_all(&sum.to_le_bytes())?;
         w.flush()
     })
-    .map_err(|e| LibraryError::new(format!("cannot write {}: {e}", path.display())))
+    .map_err(|e| LibraryError::file(path, format!("cannot write {}: {e}", path.display())))
 }
 
 /// A part read back: its header and clips.
@@ -229,13 +230,16 @@ struct Part {
 
 fn read_part(path: &Path) -> Result<Part, LibraryError> {
     let damaged = || {
-        LibraryError::new(format!(
-            "{}: damaged (truncated, or changed since it was written): build that shard again",
-            path.display()
-        ))
+        LibraryError::file(
+            path,
+            format!(
+                "{}: damaged (truncated, or changed since it was written): build that shard again",
+                path.display()
+            ),
+        )
     };
     let f = std::fs::File::open(path)
-        .map_err(|e| LibraryError::new(format!("cannot read {}: {e}", path.display())))?;
+        .map_err(|e| LibraryError::file(path, format!("cannot read {}: {e}", path.display())))?;
     let mut r = HashReader {
         inner: BufReader::with_capacity(1 << 20, f),
         hash: Fingerprint::default(),
@@ -245,11 +249,14 @@ fn read_part(path: &Path) -> Result<Part, LibraryError> {
     let mut word = [0u8; 4];
     r.read_exact(&mut word).map_err(|_| damaged())?;
     if &magic != MAGIC || u32::from_le_bytes(word) != file::VERSION {
-        return Err(LibraryError::new(format!(
-            "{}: not a part of this mx's library build (format version {}): build that shard again",
-            path.display(),
-            file::VERSION
-        )));
+        return Err(LibraryError::file(
+            path,
+            format!(
+                "{}: not a part of this mx's library build (format version {}): build that shard again",
+                path.display(),
+                file::VERSION
+            ),
+        ));
     }
     let mut long = [0u8; 8];
     r.read_exact(&mut long).map_err(|_| damaged())?;
@@ -312,22 +319,28 @@ pub fn merge(out: &Path) -> Result<BuildSummary, LibraryError> {
     let dir = parts_dir(out);
     let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
         .map_err(|e| {
-            LibraryError::new(format!(
-                "no shard parts at {}: {e} (build them with mx library build … --out {} --shard i/n)",
-                dir.display(),
-                out.display()
-            ))
+            LibraryError::file(
+                &dir,
+                format!(
+                    "no shard parts at {}: {e} (build them with mx library build … --out {} --shard i/n)",
+                    dir.display(),
+                    out.display()
+                ),
+            )
         })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "part"))
         .collect();
     names.sort();
     if names.is_empty() {
-        return Err(LibraryError::new(format!(
-            "no shard parts in {}: build them with mx library build … --out {} --shard i/n",
-            dir.display(),
-            out.display()
-        )));
+        return Err(LibraryError::file(
+            &dir,
+            format!(
+                "no shard parts in {}: build them with mx library build … --out {} --shard i/n",
+                dir.display(),
+                out.display()
+            ),
+        ));
     }
     let mut parts = vec![];
     for p in &names {
@@ -342,12 +355,15 @@ pub fn merge(out: &Path) -> Result<BuildSummary, LibraryError> {
             || h.folder != first.folder
             || (h.files, h.listing) != (first.files, first.listing)
         {
-            return Err(LibraryError::new(format!(
-                "the parts in {} come from different builds (shards of {} and {}, or other clips or settings): remove them and build again",
-                dir.display(),
-                n,
-                h.shard.1
-            )));
+            return Err(LibraryError::file(
+                &dir,
+                format!(
+                    "the parts in {} come from different builds (shards of {} and {}, or other clips or settings): remove them and build again",
+                    dir.display(),
+                    n,
+                    h.shard.1
+                ),
+            ));
         }
     }
     let missing: Vec<String> = (0..n)
@@ -355,14 +371,17 @@ pub fn merge(out: &Path) -> Result<BuildSummary, LibraryError> {
         .map(|i| format!("{i}/{n}"))
         .collect();
     if !missing.is_empty() {
-        return Err(LibraryError::new(format!(
-            "shard {} of {} not built yet: run mx library build {} --out {} --shard {}",
-            missing.join(", "),
-            dir.display(),
-            first.folder.display(),
-            out.display(),
-            missing[0]
-        )));
+        return Err(LibraryError::file(
+            &dir,
+            format!(
+                "shard {} of {} not built yet: run mx library build {} --out {} --shard {}",
+                missing.join(", "),
+                dir.display(),
+                first.folder.display(),
+                out.display(),
+                missing[0]
+            ),
+        ));
     }
     let settings = first.settings.clone();
     let files = first.files;

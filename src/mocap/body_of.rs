@@ -70,14 +70,14 @@ pub(crate) fn segment_inertia(
     let l = d.norm();
     let com = d * com_frac;
     if m == 0.0 || l < 1e-9 {
-        return Inertia::point(m, com).map_err(MocapError::Invalid);
+        return Inertia::point(m, com).map_err(MocapError::from);
     }
     let u = d / l;
     let (il, it) = (m * (r_long * l).powi(2), m * (r_trans * l).powi(2));
     // I = it·(1 − u uᵀ) + il·u uᵀ
     let uu = u * u.transpose();
     let i = (Matrix3::identity() - uu) * it + uu * il;
-    Inertia::from_com(m, com, i).map_err(MocapError::Invalid)
+    Inertia::from_com(m, com, i).map_err(MocapError::from)
 }
 
 /// How `body_of` distributed the mass (for the user and tests).
@@ -96,9 +96,12 @@ pub fn body_of(
     metres_per_unit: f64,
 ) -> Result<(Model, MassReport), MocapError> {
     if !(mass.is_finite() && mass > 0.0) {
-        return Err(MocapError::invalid(format!(
-            "body mass must be a positive number of kg, got {mass} (e.g. body_of(clip, mass: 70))"
-        )));
+        return Err(MocapError::invalid_option(
+            "mass",
+            format!(
+                "body mass must be a positive number of kg, got {mass} (e.g. body_of(clip, mass: 70))"
+            ),
+        ));
     }
     if !(metres_per_unit.is_finite() && metres_per_unit > 0.0) {
         return Err(MocapError::invalid(format!(

@@ -172,9 +172,10 @@ fn chain(
 /// Builds the 44-DOF model with the clip skeleton's limb lengths and total `mass` kg.
 pub fn human(sk: &Skeleton, metres_per_unit: f64, mass: f64) -> Result<Human, MocapError> {
     if !(mass.is_finite() && mass > 0.0) {
-        return Err(MocapError::invalid(format!(
-            "body mass must be a positive number of kg, got {mass}"
-        )));
+        return Err(MocapError::invalid_option(
+            "mass",
+            format!("body mass must be a positive number of kg, got {mass}"),
+        ));
     }
     let mut b = Build {
         sk,
@@ -438,7 +439,7 @@ impl Build<'_> {
                 if l.mass > 0.0 {
                     let k = self.mass / total;
                     let scaled = Inertia::from_com(l.mass * k, l.com(), l.inertia_com() * k)
-                        .map_err(MocapError::Invalid)?;
+                        .map_err(MocapError::from)?;
                     self.m.set_inertia(i, scaled)?;
                 }
             }

@@ -53,7 +53,7 @@ pub fn load(path: &Path, units: Units) -> Result<Clip, MocapError> {
 
 /// Converts parsed BVH data into a [`Clip`].
 pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
-    let units = bvh::resolve_units(units, &file.skeleton).map_err(MocapError::Invalid)?;
+    let units = bvh::resolve_units(units, &file.skeleton)?;
     let frames = file.frame_count();
     if frames == 0 {
         return Err(MocapError::invalid(

@@ -8,6 +8,31 @@
 use crate::lie::{Se3, Twist, Wrench, skew};
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
+/// Why mass, centre of mass and rotational inertia make no rigid body: each
+/// names the quantity at fault ([`InertiaError::quantity`]).
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum InertiaError {
+    #[error("mass must be a finite number ≥ 0, got {0}")]
+    Mass(f64),
+    /// `com` says whether the centre of mass (else the inertia) is not finite.
+    #[error("centre of mass and inertia must be finite numbers")]
+    NotFinite { com: bool },
+    /// The largest off-diagonal mismatch.
+    #[error("rotational inertia must be symmetric (off-diagonal mismatch {0:e})")]
+    Asymmetric(f64),
+}
+
+impl InertiaError {
+    /// The quantity at fault: `"mass"`, `"com"` or `"inertia"`.
+    pub fn quantity(&self) -> &'static str {
+        match self {
+            InertiaError::Mass(_) => "mass",
+            InertiaError::NotFinite { com: true } => "com",
+            InertiaError::NotFinite { com: false } | InertiaError::Asymmetric(_) => "inertia",
+        }
+    }
+}
+
 /// The spatial inertia of a rigid body in its own frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inertia {
@@ -38,18 +63,21 @@ impl Inertia {
     /// From mass, centre of mass `com` and rotational inertia `i_com` about the
     /// centre of mass (body axes). Errors on a negative or non-finite mass or a
     /// non-symmetric / non-finite inertia.
-    pub fn from_com(mass: f64, com: Vector3<f64>, i_com: Matrix3<f64>) -> Result<Self, String> {
+    pub fn from_com(
+        mass: f64,
+        com: Vector3<f64>,
+        i_com: Matrix3<f64>,
+    ) -> Result<Self, InertiaError> {
         if !mass.is_finite() || mass < 0.0 {
-            return Err(format!("mass must be a finite number ≥ 0, got {mass}"));
+            return Err(InertiaError::Mass(mass));
         }
-        if !com.iter().chain(i_com.iter()).all(|x| x.is_finite()) {
-            return Err("centre of mass and inertia must be finite numbers".into());
+        let com_finite = com.iter().all(|x| x.is_finite());
+        if !com_finite || !i_com.iter().all(|x| x.is_finite()) {
+            return Err(InertiaError::NotFinite { com: !com_finite });
         }
         let asym = (i_com - i_com.transpose()).abs().max();
         if asym > 1e-9 * (1.0 + i_com.abs().max()) {
-            return Err(format!(
-                "rotational inertia must be symmetric (off-diagonal mismatch {asym:e})"
-            ));
+            return Err(InertiaError::Asymmetric(asym));
         }
         let c = skew(&com);
         Ok(Inertia {
@@ -60,7 +88,7 @@ impl Inertia {
     }
 
     /// A point mass at `com`.
-    pub fn point(mass: f64, com: Vector3<f64>) -> Result<Self, String> {
+    pub fn point(mass: f64, com: Vector3<f64>) -> Result<Self, InertiaError> {
         Self::from_com(mass, com, Matrix3::zeros())
     }
 

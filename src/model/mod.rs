@@ -9,6 +9,7 @@ pub mod body;
 pub mod coupling;
 pub mod files;
 pub mod kinematics;
+pub mod link_tree;
 pub mod root;
 pub mod topology;
 pub mod tree;
@@ -16,7 +17,7 @@ pub mod tree;
 // the readers, at the paths they have always had (`model::urdf::load_urdf`, …)
 pub use files::{osim, urdf};
 
-pub use body::Inertia;
+pub use body::{Inertia, InertiaError};
 pub use coupling::{Coupling, Follower};
 pub use root::RootCoords;
 pub use topology::joint_points;

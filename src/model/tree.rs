@@ -20,6 +20,21 @@ pub enum ModelError {
     Invalid(String),
     #[error("URDF: {0}")]
     Urdf(String),
+    /// A URDF file that cannot be read (the message names it).
+    #[error("URDF: {0}")]
+    UrdfUnreadable(String),
+    /// A URDF document that is not well-formed XML with a `<robot>` root.
+    #[error("URDF: {0}")]
+    UrdfMalformed(String),
+    /// A URDF whose links and joints are not a tree (`path`: the file's).
+    #[error("URDF: {}{error}", path.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
+    UrdfTree {
+        path: Option<std::path::PathBuf>,
+        error: crate::model::link_tree::TreeError,
+    },
+    /// Links that do not form a tree (the language's `body([...])`).
+    #[error(transparent)]
+    Tree(#[from] crate::model::link_tree::TreeError),
 }
 
 /// One link and the joint that carries it.

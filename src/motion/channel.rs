@@ -94,6 +94,44 @@ impl<'a> Channel<'a> {
     }
 }
 
+/// Which of a motion's channels stands for one suffix of one joint
+/// ([`channel_for`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Found<'a> {
+    One(&'a str),
+    /// No name has that suffix.
+    Missing,
+    /// Several names end in it and none is the joint's own: these.
+    Several(Vec<&'a str>),
+}
+
+/// The channel of `names` for `suffix` of `joint`: the bare name `suffix`,
+/// else `joint.suffix`, else the one name whose suffix (after its last `.`)
+/// is `suffix`. How a motion of IK targets is read: its DOFs `x`, `y`, `z`,
+/// `LeftFoot.x`, or the one `….x` a single-link motion has.
+pub fn channel_for<'a>(names: &[&'a str], joint: &str, suffix: &str) -> Found<'a> {
+    let own = |n: &str| n.strip_suffix(suffix).and_then(|j| j.strip_suffix('.')) == Some(joint);
+    // the bare name first, then the joint's own
+    let mut all = names.iter().copied();
+    if let Some(n) = all
+        .clone()
+        .find(|n| *n == suffix)
+        .or_else(|| all.find(|n| own(n)))
+    {
+        return Found::One(n);
+    }
+    let found: Vec<&str> = names
+        .iter()
+        .copied()
+        .filter(|n| Channel::parse(n).suffix == Some(suffix))
+        .collect();
+    match found.as_slice() {
+        [] => Found::Missing,
+        [one] => Found::One(one),
+        _ => Found::Several(found),
+    }
+}
+
 fn kind_of(suffix: &str) -> (Kind, Style) {
     let b = suffix.as_bytes();
     let lower = suffix.to_ascii_lowercase();
@@ -302,6 +340,30 @@ impl MotionChannels {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_joints_channel_is_found_by_its_suffix() {
+        let names = ["LeftFoot.x", "RightFoot.x", "LeftFoot.y", "z", "Hips.rx"];
+        assert_eq!(
+            channel_for(&names, "RightFoot", "x"),
+            Found::One("RightFoot.x")
+        );
+        assert_eq!(channel_for(&names, "Any", "z"), Found::One("z"));
+        // not the joint's own, but the only one
+        assert_eq!(channel_for(&names, "Any", "y"), Found::One("LeftFoot.y"));
+        assert_eq!(channel_for(&names, "Any", "rx"), Found::One("Hips.rx"));
+        assert_eq!(
+            channel_for(&names, "Hand", "x"),
+            Found::Several(vec!["LeftFoot.x", "RightFoot.x"])
+        );
+        assert_eq!(channel_for(&names, "LeftFoot", "ry"), Found::Missing);
+        // a suffix is the part after the last dot, not any ending
+        assert_eq!(channel_for(&["a.bx"], "a", "x"), Found::Missing);
+        assert_eq!(
+            channel_for(&["Arm.L.x"], "Arm.L", "x"),
+            Found::One("Arm.L.x")
+        );
+    }
 
     #[test]
     fn bvh_names_parse() {

@@ -8,6 +8,7 @@ use crate::mocap::bvh::Units;
 use crate::motion::Mu;
 use crate::motion::cyclify::floor_drift;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, loop_motion};
+use crate::report::error::ReportError;
 use std::path::Path;
 
 /// The marks given to `cyclify` (s): about one stride of `examples/data/walk.bvh`.
@@ -32,12 +33,12 @@ pub struct Outcome {
 
 /// Largest jumps where consecutive intervals touch (a drifting DOF's advance
 /// is part of its curve, not a jump).
-fn seam_jumps(m: &Mu) -> Result<[f64; 3], String> {
+fn seam_jumps(m: &Mu) -> Result<[f64; 3], ReportError> {
     let mut j = [0.0f64; 3];
     for d in m.dofs.values() {
         for w in d.intervals.windows(2) {
-            let a = w[0].funcs[0].eval(w[0].stop).map_err(|e| e.to_string())?;
-            let b = w[1].funcs[0].eval(w[1].start).map_err(|e| e.to_string())?;
+            let a = w[0].funcs[0].eval(w[0].stop)?;
+            let b = w[1].funcs[0].eval(w[1].start)?;
             j[0] = j[0].max((a[0] - b[0]).abs() / (1.0 + a[0].abs()));
             j[1] = j[1].max((a[1] - b[1]).abs());
             j[2] = j[2].max((a[2] - b[2]).abs());
@@ -48,7 +49,7 @@ fn seam_jumps(m: &Mu) -> Result<[f64; 3], String> {
 
 pub const DEFAULT_SPACING: f64 = 1.0 / 30.0;
 
-pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let clip = crate::mocap::load(clip_path, Units::Auto)
         .map_err(|e| format!("{}: {e}", clip_path.display()))?;
     let drift = floor_drift(&clip.mu);
@@ -79,9 +80,9 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
             ..Default::default()
         };
         let (r, secs) = timed(|| cyclify(&clip.mu, MARKS.0, MARKS.1, &opts));
-        let (cyc, rep) = r.map_err(|e| e.to_string())?;
+        let (cyc, rep) = r?;
         cycle = (rep.t1, rep.t2);
-        let looped = loop_motion(&cyc, 2).map_err(|e| e.to_string())?;
+        let looped = loop_motion(&cyc, 2)?;
         let seam = seam_jumps(&looped)?;
         // departure from the clip, on a 240 Hz grid over the cycle
         let n = ((rep.t2 - rep.t1) * 240.0).round().max(1.0) as usize;
@@ -89,8 +90,8 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
         for name in &rotations {
             for k in 0..=n {
                 let t = rep.t1 + (rep.t2 - rep.t1) * k as f64 / n as f64;
-                let a = cyc.sample_value(name, t).map_err(|e| e.to_string())?;
-                let b = clip.mu.sample_value(name, t).map_err(|e| e.to_string())?;
+                let a = cyc.sample_value(name, t)?;
+                let b = clip.mu.sample_value(name, t)?;
                 if let (Some(a), Some(b)) = (a, b) {
                     let e = (a - b).abs();
                     max = max.max(e);

@@ -6,6 +6,7 @@ use super::plot::{Figure, Series};
 use super::timed;
 use crate::model::joint_fit::{FitOptions, fit_spline_joint, hessian_energy};
 use crate::model::joints::{JointSamples, joint_error};
+use crate::report::error::ReportError;
 use std::path::Path;
 
 pub struct FrameRow {
@@ -40,7 +41,7 @@ pub const NOISE_SEED: u64 = 2024;
 
 pub const DEFAULT_FRAMES: usize = 8;
 
-pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let path = shared.join("data/opensim/knee_r_gait2392_samples.json");
     let clean = JointSamples::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let (a, b) = clean.range();
@@ -57,7 +58,7 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
         };
         let (r, secs) = timed(|| fit_spline_joint(&clean, &opt));
         let r = r.map_err(|e| format!("fit with {n} frames: {e}"))?;
-        let e = joint_error(&r.joint, &clean).map_err(|e| e.to_string())?;
+        let e = joint_error(&r.joint, &clean)?;
         frames.push(FrameRow {
             frames: n,
             max_mm: e.max_mm,
@@ -84,7 +85,7 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
         };
         let (r, secs) = timed(|| fit_spline_joint(&dirty, &opt));
         let r = r.map_err(|e| format!("smoothing weight {w}: {e}"))?;
-        let e = joint_error(&r.joint, &clean).map_err(|e| e.to_string())?;
+        let e = joint_error(&r.joint, &clean)?;
         smoothing.push(SmoothRow {
             weight: w,
             energy: hessian_energy(&r.joint, a, b, if smoke { 200 } else { 2000 }),

@@ -15,6 +15,7 @@ use crate::model::joint_fit::{FitOptions, fit_spline_joint};
 use crate::model::joints::{EulerOrder, JointSamples, Revolute, Spherical};
 use crate::model::{Inertia, Model};
 use crate::motion::{Dof, Interval, Mu};
+use crate::report::error::ReportError;
 use crate::spacetime::planar2::TwoLinkArm;
 use crate::spacetime::{
     Continuity, EndState, GapDof, Objective, SolveOptions, TransitionCurve, TransitionSettings,
@@ -32,12 +33,13 @@ use std::sync::Arc;
 fn expect_err<T>(
     name: &'static str,
     area: &'static str,
-    r: Result<T, String>,
+    r: Result<T, ReportError>,
     want: &[&str],
 ) -> HardCase {
     match r {
         Ok(_) => case(name, area, "accepted (expected an error)".into(), 1.0, 0.5),
-        Err(msg) => {
+        Err(e) => {
+            let msg = e.to_string();
             let ok = want
                 .iter()
                 .all(|w| msg.to_lowercase().contains(&w.to_lowercase()));
@@ -124,12 +126,11 @@ pub fn se3_log_near_pi() -> HardCase {
 }
 
 pub fn coincident_knots() -> HardCase {
-    let r = (|| -> Result<f64, String> {
+    let r = (|| -> Result<f64, ReportError> {
         let b = BSplineBasis::new(
             3,
             vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0],
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         let mut worst = 0.0f64;
         let mut out = [[0.0; 6]; 3];
         for k in 0..=200 {
@@ -155,7 +156,7 @@ pub fn coincident_knots() -> HardCase {
         Err(e) => case(
             "coincident knots (triple interior knot)",
             "spline",
-            e,
+            e.to_string(),
             1.0,
             0.0,
         ),
@@ -169,8 +170,8 @@ pub fn frames_near_pi_apart() -> HardCase {
         .map(|&x| exp_se3(&Twist::new(0.0, 0.0, x * 10.0 * PI, 0.0, 0.0, 0.0)))
         .collect();
     let r = JointSamples::new(q, t)
-        .map_err(|e| e.to_string())
-        .and_then(|s| fit_spline_joint(&s, &FitOptions::default()).map_err(|e| e.to_string()));
+        .map_err(ReportError::from)
+        .and_then(|s| fit_spline_joint(&s, &FitOptions::default()).map_err(ReportError::from));
     expect_err("control frames a half-turn apart", "joints", r, &["π"])
 }
 
@@ -195,7 +196,7 @@ pub fn vanishing_jacobian() -> HardCase {
 
 /// Revolute chain, alternating axes, link masses cycling through `masses`
 /// (the chain of `tests/it/dynamics.rs`).
-pub fn chain(n: usize, masses: &[f64]) -> Result<Model, String> {
+pub fn chain(n: usize, masses: &[f64]) -> Result<Model, ReportError> {
     if masses.is_empty() {
         return Err("chain needs at least one link mass".into());
     }
@@ -211,8 +212,7 @@ pub fn chain(n: usize, masses: &[f64]) -> Result<Model, String> {
             mass,
             Vector3::new(0.05, 0.0, 0.0),
             Matrix3::from_diagonal(&Vector3::new(1e-4, 4e-4, 4e-4)) * mass,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         let off = Se3::from_translation(Vector3::new(if i == 0 { 0.0 } else { 0.1 }, 0.0, 0.0));
         m.add_link(
             &format!("l{i}"),
@@ -221,15 +221,14 @@ pub fn chain(n: usize, masses: &[f64]) -> Result<Model, String> {
             Arc::new(Revolute::new(axis).ok_or("zero revolute axis")?),
             off,
             inertia,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
     }
     Ok(m)
 }
 
 /// |RNEA(q, q̇, ABA(q, q̇, τ)) − τ| / max(|τ|, 1): a residual that does not
 /// depend on the conditioning of the mass matrix.
-pub fn aba_residual(m: &Model, seed: u64) -> Result<f64, String> {
+pub fn aba_residual(m: &Model, seed: u64) -> Result<f64, ReportError> {
     let mut s = seed.max(1);
     let mut r = |lo: f64, hi: f64| {
         s ^= s << 13;
@@ -244,12 +243,12 @@ pub fn aba_residual(m: &Model, seed: u64) -> Result<f64, String> {
     let g = Vector3::new(0.0, 0.0, -9.81);
     let mut ws = Workspace::new(m);
     let mut qdd = vec![0.0; n];
-    forward_dynamics(m, &mut ws, &q, &v, &tau, &g, &mut qdd).map_err(|e| e.to_string())?;
+    forward_dynamics(m, &mut ws, &q, &v, &tau, &g, &mut qdd)?;
     if qdd.iter().any(|x| !x.is_finite()) {
         return Ok(f64::INFINITY);
     }
     let mut t2 = vec![0.0; n];
-    inverse_dynamics(m, &mut ws, &q, &v, &qdd, &g, &mut t2).map_err(|e| e.to_string())?;
+    inverse_dynamics(m, &mut ws, &q, &v, &qdd, &g, &mut t2)?;
     let scale = tau.iter().fold(1.0f64, |a, b| a.max(b.abs()));
     Ok(t2
         .iter()
@@ -297,22 +296,21 @@ pub fn massless_tip() -> HardCase {
             &Vector3::zeros(),
             &mut qdd,
         )
-        .map_err(|e| e.to_string())
+        .map_err(ReportError::from)
     });
     expect_err("massless tip link", "dynamics", r, &["j2"])
 }
 
 pub fn euler_100ms() -> HardCase {
     let name = "explicit Euler at 100 ms steps (3-link pendulum, 20 s)";
-    let r = (|| -> Result<HardCase, String> {
+    let r = (|| -> Result<HardCase, ReportError> {
         let mut m = Model::new("pendulum");
         for i in 0..3 {
             let inertia = Inertia::from_com(
                 1.0,
                 Vector3::new(0.0, -0.25, 0.0),
                 Matrix3::from_diagonal(&Vector3::new(0.02, 0.001, 0.02)),
-            )
-            .map_err(|e| e.to_string())?;
+            )?;
             m.add_link(
                 &format!("rod{i}"),
                 if i == 0 { None } else { Some(i - 1) },
@@ -320,12 +318,9 @@ pub fn euler_100ms() -> HardCase {
                 Arc::new(Revolute::new(Vector3::z()).ok_or("zero revolute axis")?),
                 Se3::from_translation(Vector3::new(0.0, if i == 0 { 0.0 } else { -0.5 }, 0.0)),
                 inertia,
-            )
-            .map_err(|e| e.to_string())?;
+            )?;
         }
-        let scene = Scene::new(Arc::new(m))
-            .with_gravity(Vector3::new(0.0, -9.81, 0.0))
-            .map_err(|e| e.to_string())?;
+        let scene = Scene::new(Arc::new(m)).with_gravity(Vector3::new(0.0, -9.81, 0.0))?;
         let init = State {
             q: vec![1.2, -0.5, 0.8],
             v: vec![0.0; 3],
@@ -368,8 +363,8 @@ pub fn euler_100ms() -> HardCase {
 }
 
 pub fn zero_length_gap() -> HardCase {
-    let a = TransitionCurve::new(1.0, 1.0, 4, Continuity::C1).map_err(|e| e.to_string());
-    let b = Interval::constant(0.0, 2.0, 2.0).map_err(|e| e.to_string());
+    let a = TransitionCurve::new(1.0, 1.0, 4, Continuity::C1).map_err(ReportError::from);
+    let b = Interval::constant(0.0, 2.0, 2.0).map_err(ReportError::from);
     let mut c = expect_err("zero-length gap", "spacetime", a, &[]);
     let d = expect_err("zero-length interval", "motion", b, &[]);
     c.returned = format!("transition: {}; interval: {}", c.returned, d.returned);
@@ -388,7 +383,7 @@ pub fn arm_gap(
     settings: &TransitionSettings,
     start: [EndState; 2],
     end: [EndState; 2],
-) -> Result<(f64, f64, f64), String> {
+) -> Result<(f64, f64, f64), ReportError> {
     let arm = TwoLinkArm::default();
     let dofs: Vec<GapDof> = (0..2)
         .map(|c| GapDof {
@@ -400,9 +395,8 @@ pub fn arm_gap(
         })
         .collect();
     let inputs = |_: f64, _: &mut [f64], _: &mut [f64], _: &mut [f64]| Ok(());
-    let obj =
-        Objective::new(&arm, dofs, settings, vec![1.0, 1.0], &inputs).map_err(|e| e.to_string())?;
-    let sol = solve_group(&obj, &SolveOptions::default()).map_err(|e| e.to_string())?;
+    let obj = Objective::new(&arm, dofs, settings, vec![1.0, 1.0], &inputs)?;
+    let sol = solve_group(&obj, &SolveOptions::default())?;
     if sol.coefficients.iter().flatten().any(|c| !c.is_finite()) {
         return Ok((f64::INFINITY, sol.report.initial_energy, f64::INFINITY));
     }
@@ -418,7 +412,7 @@ pub fn arm_gap(
 
 /// An [`arm_gap`] result as a case: the worst of the end jump and how far the
 /// energy rose above the Hermite start must stay ≤ 1e-9.
-fn arm_gap_case(name: &'static str, r: Result<(f64, f64, f64), String>) -> HardCase {
+fn arm_gap_case(name: &'static str, r: Result<(f64, f64, f64), ReportError>) -> HardCase {
     match r {
         Ok((e, h, j)) => {
             let w = j.max(((e - h) / h.abs().max(1e-300)).max(0.0));
@@ -471,18 +465,16 @@ pub fn wrapped_euler_angles() -> HardCase {
     for v in vals {
         text += &format!("{v} 0 0\n");
     }
-    let r = (|| -> Result<(usize, f64), String> {
-        let f = crate::mocap::bvh::parse(&text).map_err(|e| e.to_string())?;
-        let clip = crate::mocap::from_bvh(&f, crate::mocap::bvh::Units::MetresPerUnit(0.01))
-            .map_err(|e| e.to_string())?;
+    let r = (|| -> Result<(usize, f64), ReportError> {
+        let f = crate::mocap::bvh::parse(&text)?;
+        let clip = crate::mocap::from_bvh(&f, crate::mocap::bvh::Units::MetresPerUnit(0.01))?;
         let name = f.skeleton.channel_names()[0].clone();
-        let dof = clip.mu.dof(&name).map_err(|e| e.to_string())?;
+        let dof = clip.mu.dof(&name)?;
         let mut prev: Option<f64> = None;
         let mut worst = 0.0f64;
         for k in 0..vals.len() {
             let y = dof
-                .sample(&name, k as f64 * clip.frame_time)
-                .map_err(|e| e.to_string())?
+                .sample(&name, k as f64 * clip.frame_time)?
                 .ok_or("undefined frame")?[0]
                 .to_degrees();
             if let Some(p) = prev {
@@ -506,20 +498,12 @@ pub fn wrapped_euler_angles() -> HardCase {
 }
 
 pub fn conflicting_dofs() -> HardCase {
-    let r = (|| -> Result<Option<[f64; 3]>, String> {
-        let d = Dof::new(vec![
-            Interval::constant(1.0, 0.0, 2.0).map_err(|e| e.to_string())?,
-        ])
-        .map_err(|e| e.to_string())?
-        .plus(
-            &Dof::new(vec![
-                Interval::constant(2.0, 1.0, 3.0).map_err(|e| e.to_string())?,
-            ])
-            .map_err(|e| e.to_string())?,
-        );
+    let r = (|| -> Result<Option<[f64; 3]>, ReportError> {
+        let d = Dof::new(vec![Interval::constant(1.0, 0.0, 2.0)?])?
+            .plus(&Dof::new(vec![Interval::constant(2.0, 1.0, 3.0)?])?);
         let mut m = Mu::new();
         m.insert("Hips.Xposition", d);
-        m.sample("Hips.Xposition", 1.5).map_err(|e| e.to_string())
+        m.sample("Hips.Xposition", 1.5).map_err(ReportError::from)
     })();
     expect_err(
         "conflicting DOFs (sampled inside the overlap)",
@@ -566,17 +550,16 @@ pub fn malformed_bvh() -> HardCase {
 
 pub fn malformed_urdf() -> HardCase {
     let dir = std::env::temp_dir().join(format!("mx-hard-case-{}", std::process::id()));
-    let r = (|| -> Result<(), String> {
-        std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let r = (|| -> Result<(), ReportError> {
+        std::fs::create_dir_all(&dir)?;
         let p = dir.join("broken.urdf");
         std::fs::write(
             &p,
             "<robot name=\"r\"><link name=\"a\"><inertial><mass value=\"oops\"/></inertial></link>",
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         Model::from_urdf_file(&p)
             .map(|_| ())
-            .map_err(|e| e.to_string())
+            .map_err(ReportError::from)
     })();
     let _ = std::fs::remove_dir_all(&dir);
     expect_err("malformed URDF", "model", r, &[])

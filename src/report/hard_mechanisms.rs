@@ -8,6 +8,7 @@ use crate::dynamics::{Integrator, LimitPenalty, Scene, State, simulate};
 use crate::lie::{Se3, exp_so3};
 use crate::model::joints::{EulerOrder, FrameGrid, Revolute, SplineLoopJoint, SplineSurfaceJoint};
 use crate::model::{Inertia, Model};
+use crate::report::error::ReportError;
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -31,7 +32,7 @@ fn flower(petals: f64, r: f64) -> Vec<Se3> {
 /// viscous friction, explicit Euler at 100 ms for 30 s: speeds stay bounded.
 pub fn beads_euler_100ms() -> HardCase {
     let name = "beads on spinning closed spline wires, explicit Euler at 100 ms (30 s)";
-    let r = (|| -> Result<HardCase, String> {
+    let r = (|| -> Result<HardCase, ReportError> {
         let mut m = Model::new("beads");
         let frame = Inertia::from_com(
             2.0,
@@ -45,13 +46,12 @@ pub fn beads_euler_100ms() -> HardCase {
             Arc::new(Revolute::new(Vector3::y()).ok_or("zero axis")?),
             Se3::identity(),
             frame,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         for (k, (petals, r, z)) in [(4.0, 0.5, -0.2), (5.0, 0.6, 0.0), (6.0, 0.5, 0.2)]
             .into_iter()
             .enumerate()
         {
-            let j = SplineLoopJoint::new(flower(petals, r), TAU).map_err(|e| e.to_string())?;
+            let j = SplineLoopJoint::new(flower(petals, r), TAU)?;
             let bead = Inertia::from_com(0.05, Vector3::zeros(), Matrix3::identity() * 2e-6)?;
             let n = format!("bead{k}");
             m.add_link(
@@ -61,14 +61,12 @@ pub fn beads_euler_100ms() -> HardCase {
                 Arc::new(j),
                 Se3::from_translation(Vector3::new(0.0, 0.0, z)),
                 bead,
-            )
-            .map_err(|e| e.to_string())?;
+            )?;
         }
         let scene = Scene::new(Arc::new(m))
             .with_gravity(Vector3::new(0.0, -9.81, 0.0))
             .and_then(|s| s.with_damping(&[0.1]))
-            .and_then(|s| s.with_driven(0, 1.5))
-            .map_err(|e| e.to_string())?;
+            .and_then(|s| s.with_driven(0, 1.5))?;
         let mut init = State {
             q: vec![0.0, 0.3, 1.0, -0.5],
             v: vec![0.0; 4],
@@ -82,8 +80,7 @@ pub fn beads_euler_100ms() -> HardCase {
             &init,
             &CancelToken::new(),
             &mut |_| {},
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         let fastest =
             tr.v.iter()
                 .flat_map(|v| v[1..].iter().map(|x| x.abs()))
@@ -104,7 +101,7 @@ pub fn beads_euler_100ms() -> HardCase {
 /// the limit penalty must turn it back before it leaves the range by 5 %.
 pub fn spline_surface_range_end() -> HardCase {
     let name = "spline surface joint driven past its range end (limits hold it)";
-    let r = (|| -> Result<HardCase, String> {
+    let r = (|| -> Result<HardCase, ReportError> {
         let grid = FrameGrid {
             dims: vec![5],
             ranges: vec![(0.0, 1.0)],
@@ -114,7 +111,7 @@ pub fn spline_surface_range_end() -> HardCase {
             names: vec!["u".into()],
             unlimited: vec![false],
         };
-        let j = SplineSurfaceJoint::from_grid(&grid, EulerOrder::ZYX).map_err(|e| e.to_string())?;
+        let j = SplineSurfaceJoint::from_grid(&grid, EulerOrder::ZYX)?;
         let mut m = Model::new("rail");
         m.add_link(
             "ball",
@@ -123,14 +120,11 @@ pub fn spline_surface_range_end() -> HardCase {
             Arc::new(j),
             Se3::identity(),
             Inertia::point(1.0, Vector3::zeros())?,
-        )
-        .map_err(|e| e.to_string())?;
-        let scene = Scene::new(Arc::new(m))
-            .with_limits(LimitPenalty {
-                stiffness: 1e4,
-                damping: 200.0,
-            })
-            .map_err(|e| e.to_string())?;
+        )?;
+        let scene = Scene::new(Arc::new(m)).with_limits(LimitPenalty {
+            stiffness: 1e4,
+            damping: 200.0,
+        })?;
         let init = State {
             q: vec![0.9],
             v: vec![1.0],
@@ -143,8 +137,7 @@ pub fn spline_surface_range_end() -> HardCase {
             &init,
             &CancelToken::new(),
             &mut |_| {},
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         let worst =
             tr.q.iter()
                 .map(|q| (q[0] - 1.0).max(-q[0]).max(0.0))

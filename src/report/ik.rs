@@ -6,6 +6,7 @@
 use super::timed;
 use crate::ik::{IkOptions, Settings, Target, ik};
 use crate::motion::{Curve, Dof, Interval, affine, grid_times};
+use crate::report::error::ReportError;
 
 pub struct Row {
     pub tolerance: f64,
@@ -22,27 +23,24 @@ pub struct Outcome {
     pub rows: Vec<Row>,
 }
 
-pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
-    let (model, walk) = crate::spacetime::fig8::example_walk().map_err(|e| e.to_string())?;
-    let later = affine(-0.3, 1.0, &walk).map_err(|e| e.to_string())?;
+pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
+    let (model, walk) = crate::spacetime::fig8::example_walk()?;
+    let later = affine(-0.3, 1.0, &walk)?;
     let (s, e) = later.span().ok_or("empty walk")?;
     let e = e.min(walk.span().ok_or("empty walk")?.1);
-    let ts = grid_times((s.max(0.0), e), 60.0).map_err(|e| e.to_string())?;
-    let p = crate::mocap::positions_at(&later, &model, ts.clone(), crate::mocap::Missing::Error)
-        .map_err(|e| e.to_string())?;
-    let target = |link: &str| -> Result<Target, String> {
+    let ts = grid_times((s.max(0.0), e), 60.0)?;
+    let p = crate::mocap::positions_at(&later, &model, ts.clone(), crate::mocap::Missing::Error)?;
+    let target = |link: &str| -> Result<Target, ReportError> {
         let j = p
             .names
             .iter()
             .position(|n| n == link)
             .ok_or(format!("no link {link}"))?;
-        let axis = |k: usize| -> Result<Dof, String> {
+        let axis = |k: usize| -> Result<Dof, ReportError> {
             let v: Vec<f64> = p.points.iter().map(|f| f[j][k]).collect();
-            let c = Curve::samples(ts[0], ts[1] - ts[0], v).map_err(|e| e.to_string())?;
+            let c = Curve::samples(ts[0], ts[1] - ts[0], v)?;
             let stop = *ts.last().ok_or("no frames")?;
-            Ok(Dof::from(
-                Interval::curve(c, ts[0], stop).map_err(|e| e.to_string())?,
-            ))
+            Ok(Dof::from(Interval::curve(c, ts[0], stop)?))
         };
         Ok(Target {
             link: link.into(),
@@ -69,7 +67,7 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
             ..Default::default()
         };
         let (r, secs) = timed(|| ik(&model, &walk, &targets, &opts));
-        let (_, rep) = r.map_err(|e| e.to_string())?;
+        let (_, rep) = r?;
         frames = rep.frames;
         rows.push(Row {
             tolerance,

@@ -36,6 +36,7 @@ use crate::mocap::{self, positions::joint_points};
 use crate::model::Model;
 use crate::motion::channel::Channel;
 use crate::motion::{Curve, Dof, Interval, Mu};
+use crate::report::error::ReportError;
 use crate::spacetime::{SpOptions, sp, torque_energy};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
@@ -132,7 +133,7 @@ pub struct Case {
 pub const BODY_MASS: f64 = 70.0;
 
 impl Case {
-    pub fn load(path: &Path) -> Result<Case, String> {
+    pub fn load(path: &Path) -> Result<Case, ReportError> {
         let clip =
             mocap::load(path, Units::Auto).map_err(|e| format!("{}: {e}", path.display()))?;
         let (body, _) = mocap::body_of(&clip.skeleton, BODY_MASS, clip.units.metres_per_unit)
@@ -189,7 +190,7 @@ impl Case {
     }
 
     /// Every `.bvh` file in `dir`, sorted by name.
-    pub fn load_dir(dir: &Path) -> Result<Vec<Case>, String> {
+    pub fn load_dir(dir: &Path) -> Result<Vec<Case>, ReportError> {
         let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
             .map_err(|e| format!("{}: {e}", dir.display()))?
             .filter_map(|e| e.ok().map(|e| e.path()))
@@ -228,12 +229,12 @@ impl Case {
         context: usize,
         gap: usize,
         root: RootMode,
-    ) -> Result<Mu, String> {
+    ) -> Result<Mu, ReportError> {
         if context == 0 || gap == 0 || start + 2 * context + gap > self.frames {
-            return Err(format!(
+            return Err(ReportError::Check(format!(
                 "{}: no window of {context} context frames and a {gap}-frame gap at frame {start} in {} frames",
                 self.name, self.frames
-            ));
+            )));
         }
         let a = start;
         let b = start + context; // first gap frame
@@ -241,31 +242,30 @@ impl Case {
         let end = self.frames;
         let mut out = Mu::new();
         for (name, _) in &self.capture.dofs {
-            let values = |from: usize, to: usize| -> Result<Vec<f64>, String> {
+            let values = |from: usize, to: usize| -> Result<Vec<f64>, ReportError> {
                 (from..to)
                     .map(|k| {
                         self.capture
-                            .sample(name, self.time(k))
-                            .map_err(|e| e.to_string())?
+                            .sample(name, self.time(k))?
                             .map(|s| s[0])
-                            .ok_or_else(|| format!("{name} undefined at frame {k}"))
+                            .ok_or_else(|| {
+                                ReportError::Check(format!("{name} undefined at frame {k}"))
+                            })
                     })
                     .collect()
             };
-            let piece = |from: usize, to: usize| -> Result<Interval, String> {
+            let piece = |from: usize, to: usize| -> Result<Interval, ReportError> {
                 let v = values(from, to)?;
-                let curve = Curve::samples(self.time(from), self.frame_time, v)
-                    .map_err(|e| e.to_string())?;
+                let curve = Curve::samples(self.time(from), self.frame_time, v)?;
                 Interval::curve(curve, self.time(from), self.time(to - 1))
-                    .map_err(|e| e.to_string())
+                    .map_err(ReportError::from)
             };
             let keep_whole = root == RootMode::Given && self.root_dofs.contains(name);
             let dof = if keep_whole {
                 Dof::new(vec![piece(a, end)?])
             } else {
                 Dof::new(vec![piece(a, b)?, piece(c, end)?])
-            }
-            .map_err(|e| e.to_string())?;
+            }?;
             out.insert(name.clone(), dof);
         }
         Ok(out)
@@ -322,18 +322,16 @@ fn poses(
     t: f64,
     links: &[usize],
     buf: &mut Vec<Se3>,
-) -> Result<Vec<Se3>, String> {
+) -> Result<Vec<Se3>, ReportError> {
     let names = body.coordinate_names();
     let mut q = vec![0.0; names.len()];
     for (k, n) in names.iter().enumerate() {
         q[k] = m
-            .sample(n, t)
-            .map_err(|e| e.to_string())?
+            .sample(n, t)?
             .map(|s| s[0])
             .ok_or_else(|| format!("{n} is undefined at t = {t}"))?;
     }
-    body.forward_kinematics(&q, buf)
-        .map_err(|e| e.to_string())?;
+    body.forward_kinematics(&q, buf)?;
     Ok(links.iter().map(|&l| buf[l]).collect())
 }
 
@@ -370,7 +368,7 @@ pub fn score(
     method: &str,
     filled: &Mu,
     seconds: f64,
-) -> Result<WindowResult, String> {
+) -> Result<WindowResult, ReportError> {
     let (links, parents) = joint_points(&case.body);
     let joint_names: Vec<String> = links
         .iter()
@@ -471,8 +469,8 @@ pub fn score(
     }
     let t0 = case.time(first - 1);
     let t1 = case.time(first + gap);
-    let piece = crate::motion::clip_in_place(t0, t1, filled).map_err(|e| e.to_string())?;
-    let energy = torque_energy(&piece, &case.body, None).map_err(|e| e.to_string())?;
+    let piece = crate::motion::clip_in_place(t0, t1, filled)?;
+    let energy = torque_energy(&piece, &case.body, None)?;
     let go = ground_options(Some(case.floor), case.frame_time);
     let gerr = |e: crate::ground::GroundError| format!("{}: ground: {e}", case.name);
     let ground_skate = crate::ground::foot_skate(&piece, &case.body, &go)
@@ -529,7 +527,7 @@ pub fn fill_window(
     gap: usize,
     root: RootMode,
     method: &Method,
-) -> Result<Filled, String> {
+) -> Result<Filled, ReportError> {
     let cut = case.cut(start, p.context, gap, root)?;
     // the leave-one-out library is built (once per file) before the clock starts
     let library = match method {
@@ -541,14 +539,8 @@ pub fn fill_window(
     };
     let clock = Instant::now();
     let (motion, report) = match method {
-        Method::Hermite => (
-            crate::spacetime::fill_hermite(&cut).map_err(|e| e.to_string())?,
-            None,
-        ),
-        Method::Slerp => (
-            crate::motion::fill_slerp(&cut).map_err(|e| e.to_string())?,
-            None,
-        ),
+        Method::Hermite => (crate::spacetime::fill_hermite(&cut)?, None),
+        Method::Slerp => (crate::motion::fill_slerp(&cut)?, None),
         Method::Capture => (case.capture.clone(), None),
         Method::Sp(_, opts) | Method::SpLibrary(_, opts, _) => {
             let mut o = (**opts).clone();
@@ -577,7 +569,7 @@ pub fn run_window(
     gap: usize,
     root: RootMode,
     method: &Method,
-) -> Result<WindowResult, String> {
+) -> Result<WindowResult, ReportError> {
     let f = fill_window(case, p, start, gap, root, method)?;
     let mut r = score(
         case,
@@ -602,7 +594,7 @@ pub fn run(
     p: &Protocol,
     methods: &[Method],
     mut progress: impl FnMut(&WindowResult),
-) -> Result<Vec<WindowResult>, String> {
+) -> Result<Vec<WindowResult>, ReportError> {
     let mut out = vec![];
     for &root in &p.roots {
         for &gap in &p.gaps {
@@ -948,7 +940,7 @@ pub(super) fn section(
     let mut cases = match Case::load_dir(&dir) {
         Ok(c) if !c.is_empty() => c,
         Ok(_) => return d.pending("in-betweening", "no clips in data/inbetween"),
-        Err(e) => return d.pending("in-betweening", &e),
+        Err(e) => return d.pending("in-betweening", &e.to_string()),
     };
     let p = if smoke {
         cases.truncate(1);
@@ -967,7 +959,7 @@ pub(super) fn section(
     };
     let results = match run(&cases, &p, &methods(), |_| tick()) {
         Ok(r) => r,
-        Err(e) => return d.pending("in-betweening", &e),
+        Err(e) => return d.pending("in-betweening", &e.to_string()),
     };
     let rows = summarise(&results);
     let _ = writeln!(

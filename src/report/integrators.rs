@@ -10,6 +10,7 @@ use crate::dynamics::{Integrator, Scene, SceneWorkspace, State, simulate};
 use crate::lie::Se3;
 use crate::model::joints::{FunctionJoint, Revolute};
 use crate::model::{Inertia, Model};
+use crate::report::error::ReportError;
 use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
 use serde_json::Value;
 use std::path::Path;
@@ -30,12 +31,12 @@ fn rows(v: &Value) -> Vec<f64> {
 /// The OpenSim knee pendulum of `data/opensim` (run
 /// `shank_foot_femur_flexed_50deg`): scene, initial state and OpenSim's
 /// accuracy-1e-12 q on a 1 ms grid. Lifted from `benches/dynamics.rs`.
-pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), String> {
+pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), ReportError> {
     let dir = shared.join("data/opensim");
-    let read = |f: &str| -> Result<Value, String> {
+    let read = |f: &str| -> Result<Value, ReportError> {
         let p = dir.join(f);
         let t = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-        serde_json::from_str(&t).map_err(|e| format!("{}: {e}", p.display()))
+        serde_json::from_str(&t).map_err(|e| ReportError::Check(format!("{}: {e}", p.display())))
     };
     let samples = read("knee_r_gait2392_samples.json")?;
     let pend = read("knee_r_gait2392_pendulum.json")?;
@@ -47,8 +48,7 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), String> 
                 .find(|r| r["name"] == "shank_foot_femur_flexed_50deg")
         })
         .ok_or_else(|| bad("run shank_foot_femur_flexed_50deg"))?;
-    let joint =
-        Arc::new(FunctionJoint::from_opensim_samples_json(&samples).map_err(|e| e.to_string())?);
+    let joint = Arc::new(FunctionJoint::from_opensim_samples_json(&samples)?);
     let mut inertia = Inertia::zero();
     for b in run["setup"]["bodies"]
         .as_array()
@@ -58,14 +58,13 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), String> 
         let t = rows(&b["T_tibia_body"]);
         let c = floats(&b["com_in_body"]);
         if i.len() != 9 || t.len() != 16 || c.len() != 3 {
-            return Err(bad("body inertia / frame / com"));
+            return Err(bad("body inertia / frame / com").into());
         }
         let local = Inertia::from_com(
             b["mass"].as_f64().ok_or_else(|| bad("mass"))?,
             Vector3::from_vec(c),
             Matrix3::from_row_slice(&i),
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         inertia += local.transformed(&Se3::from_matrix(&Matrix4::from_row_slice(&t)));
     }
     let flex = run["femur_flexion_rad"]
@@ -79,11 +78,8 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), String> 
         joint,
         Se3::from_rotation(Rotation3::from_axis_angle(&Vector3::z_axis(), flex).into_inner()),
         inertia,
-    )
-    .map_err(|e| e.to_string())?;
-    let scene = Scene::new(Arc::new(m))
-        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
-        .map_err(|e| e.to_string())?;
+    )?;
+    let scene = Scene::new(Arc::new(m)).with_gravity(Vector3::new(0.0, -9.80665, 0.0))?;
     let init = State {
         q: vec![run["q0"].as_f64().ok_or_else(|| bad("q0"))?],
         v: vec![run["u0"].as_f64().ok_or_else(|| bad("u0"))?],
@@ -93,15 +89,14 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), String> 
 
 /// A frictionless double pendulum under gravity: its energy is conserved, so
 /// any change is the integrator's.
-pub fn double_pendulum() -> Result<(Scene, State), String> {
+pub fn double_pendulum() -> Result<(Scene, State), ReportError> {
     let mut m = Model::new("double_pendulum");
     for i in 0..2 {
         let inertia = Inertia::from_com(
             1.0,
             Vector3::new(0.0, -0.5, 0.0),
             Matrix3::identity() * 0.02,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
         m.add_link(
             &format!("l{i}"),
             if i == 0 { None } else { Some(0) },
@@ -109,12 +104,9 @@ pub fn double_pendulum() -> Result<(Scene, State), String> {
             Arc::new(Revolute::new(Vector3::z()).ok_or("zero revolute axis")?),
             Se3::from_translation(Vector3::new(0.0, if i == 0 { 0.0 } else { -1.0 }, 0.0)),
             inertia,
-        )
-        .map_err(|e| e.to_string())?;
+        )?;
     }
-    let scene = Scene::new(Arc::new(m))
-        .with_gravity(Vector3::new(0.0, -9.80665, 0.0))
-        .map_err(|e| e.to_string())?;
+    let scene = Scene::new(Arc::new(m)).with_gravity(Vector3::new(0.0, -9.80665, 0.0))?;
     Ok((
         scene,
         State {
@@ -200,7 +192,11 @@ fn grid_error(q: &[Vec<f64>], dt: f64, q_ref: &[f64], ref_dt: f64) -> f64 {
     if shared == 0 { f64::INFINITY } else { worst }
 }
 
-pub fn run(shared: Option<&Path>, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+pub fn run(
+    shared: Option<&Path>,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) -> Result<Outcome, ReportError> {
     let tok = CancelToken::new();
     let duration = if smoke { 0.3 } else { 1.0 };
     let (scene, init, q_ref, reference) = match shared.map(knee_pendulum) {
@@ -225,17 +221,14 @@ pub fn run(shared: Option<&Path>, smoke: bool, tick: &mut dyn FnMut()) -> Result
                 &i,
                 &tok,
                 &mut |_| {},
-            )
-            .map_err(|e| e.to_string())?;
+            )?;
             let q = r.q.iter().map(|x| x[0]).collect();
             (s, i, q, format!("self-computed Dormand–Prince tol 1e-13 reference on a double pendulum (OpenSim data unavailable: {why})"))
         }
     };
     let (dp, dp0) = double_pendulum()?;
     let mut sw = SceneWorkspace::new(&dp);
-    let e0 = dp
-        .energy(&mut sw, &dp0.q, &dp0.v)
-        .map_err(|e| e.to_string())?;
+    let e0 = dp.energy(&mut sw, &dp0.q, &dp0.v)?;
     let mut rows = Vec::new();
     for (method, setting, m, dt) in cases(smoke) {
         let (r, secs) = timed(|| simulate(&scene, duration, dt, m, &init, &tok, &mut |_| {}));
@@ -248,7 +241,7 @@ pub fn run(shared: Option<&Path>, smoke: bool, tick: &mut dyn FnMut()) -> Result
             Ok(tr) => {
                 let mut w = 0.0f64;
                 for (q, v) in tr.q.iter().zip(&tr.v) {
-                    let e = dp.energy(&mut sw, q, v).map_err(|e| e.to_string())?;
+                    let e = dp.energy(&mut sw, q, v)?;
                     w = w.max((e - e0).abs() / e0.abs().max(1e-12));
                 }
                 w

@@ -7,6 +7,7 @@ use super::plot::{Figure, Series};
 use super::timed;
 use crate::mocap::bvh::Units;
 use crate::motion::Curve;
+use crate::report::error::ReportError;
 use crate::spline::{BSplineBasis, fit_least_squares};
 use std::path::Path;
 
@@ -31,7 +32,7 @@ pub struct Outcome {
 }
 
 /// Rotation channels of the clip as (frame values in radians).
-fn rotation_channels(clip: &crate::mocap::Clip) -> Result<Vec<Vec<f64>>, String> {
+fn rotation_channels(clip: &crate::mocap::Clip) -> Result<Vec<Vec<f64>>, ReportError> {
     let names = clip.skeleton.channel_names();
     let kinds: Vec<bool> = clip
         .skeleton
@@ -44,13 +45,12 @@ fn rotation_channels(clip: &crate::mocap::Clip) -> Result<Vec<Vec<f64>>, String>
         if !rot {
             continue;
         }
-        let dof = clip.mu.dof(name).map_err(|e| e.to_string())?;
+        let dof = clip.mu.dof(name)?;
         let mut v = Vec::with_capacity(clip.frames);
         for k in 0..clip.frames {
             let t = k as f64 * clip.frame_time;
             let s = dof
-                .sample(name, t)
-                .map_err(|e| e.to_string())?
+                .sample(name, t)?
                 .ok_or_else(|| format!("{name} undefined at frame {k}"))?;
             v.push(s[0]);
         }
@@ -72,7 +72,7 @@ fn stats(errs: impl Iterator<Item = f64>) -> (f64, f64) {
 // Long (about 170 lines): the clip's rotation channels, loaded once, measured three
 // ways (clamped and periodic fits per coefficient rate, resampling against a 240 Hz
 // grid) into one list of rows, which the figures then draw.
-pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
+pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let clip = crate::mocap::load(clip_path, Units::Auto)
         .map_err(|e| format!("{}: {e}", clip_path.display()))?;
     let chans = rotation_channels(&clip)?;
@@ -88,12 +88,11 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
     for &cps in rates {
         let n = ((cps * duration).round() as usize + 3).clamp(4, clip.frames);
         // Clamped cubic through every frame.
-        let basis =
-            BSplineBasis::clamped_uniform(3, n, 0.0, duration).map_err(|e| e.to_string())?;
-        let (r, secs) = timed(|| -> Result<Vec<f64>, String> {
+        let basis = BSplineBasis::clamped_uniform(3, n, 0.0, duration)?;
+        let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
             let mut errs = Vec::new();
             for y in &chans {
-                let c = fit_least_squares(&basis, &ts, y).map_err(|e| e.to_string())?;
+                let c = fit_least_squares(&basis, &ts, y)?;
                 errs.extend(ts.iter().zip(y).map(|(t, v)| c.eval(*t)[0] - v));
             }
             Ok(errs)
@@ -109,13 +108,12 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
         });
         // Periodic (cyclified): one cycle = the whole clip; the last frame is the first again.
         let np = ((cps * duration).round() as usize).clamp(4, clip.frames - 1);
-        let pb = BSplineBasis::periodic_uniform(3, np, 0.0, duration).map_err(|e| e.to_string())?;
+        let pb = BSplineBasis::periodic_uniform(3, np, 0.0, duration)?;
         let body = &ts[..clip.frames - 1];
-        let (r, secs) = timed(|| -> Result<Vec<f64>, String> {
+        let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
             let mut errs = Vec::new();
             for y in &chans {
-                let c =
-                    fit_least_squares(&pb, body, &y[..body.len()]).map_err(|e| e.to_string())?;
+                let c = fit_least_squares(&pb, body, &y[..body.len()])?;
                 errs.extend(ts.iter().zip(y).map(|(t, v)| c.eval(*t)[0] - v));
             }
             Ok(errs)
@@ -138,7 +136,7 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
         .collect();
     let originals: Vec<Curve> = chans
         .iter()
-        .map(|y| Curve::samples(0.0, dt, y.clone()).map_err(|e| e.to_string()))
+        .map(|y| Curve::samples(0.0, dt, y.clone()).map_err(ReportError::from))
         .collect::<Result<_, _>>()?;
     let sps_list: &[f64] = if smoke {
         &[10.0, 30.0]
@@ -148,20 +146,16 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
     for &sps in sps_list {
         let n = (duration * sps).round() as usize;
         let h = duration / n as f64;
-        let (r, secs) = timed(|| -> Result<Vec<f64>, String> {
+        let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
             let mut errs = Vec::new();
             for c in &originals {
                 let vals: Vec<f64> = (0..=n)
                     .map(|k| c.value(k as f64 * h))
-                    .collect::<Result<_, _>>()
-                    .map_err(|e| e.to_string())?;
-                let re = Curve::samples(0.0, h, vals).map_err(|e| e.to_string())?;
+                    .collect::<Result<_, _>>()?;
+                let re = Curve::samples(0.0, h, vals)?;
                 for &t in &fine {
                     let t = t.min(duration);
-                    errs.push(
-                        re.value(t).map_err(|e| e.to_string())?
-                            - c.value(t).map_err(|e| e.to_string())?,
-                    );
+                    errs.push(re.value(t)? - c.value(t)?);
                 }
             }
             Ok(errs)

@@ -8,6 +8,7 @@
 
 pub mod cyclify;
 mod doc;
+pub mod error;
 pub mod fit;
 mod hard_case;
 pub mod hard_cases;
@@ -25,6 +26,7 @@ mod sections;
 pub mod spacetime;
 pub mod trees;
 
+use crate::report::error::ReportError;
 use doc::Doc;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
@@ -84,7 +86,7 @@ pub struct Summary {
 
 /// Regenerates the report. Errors only for the output folder itself; a
 /// section that cannot run is listed as pending in the report and the summary.
-pub fn generate(opts: &Options) -> Result<Summary, String> {
+pub fn generate(opts: &Options) -> Result<Summary, ReportError> {
     std::fs::create_dir_all(&opts.out)
         .map_err(|e| format!("cannot create {}: {e}", opts.out.display()))?;
     // From scratch: old figures must not survive a run that no longer makes them.

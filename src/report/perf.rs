@@ -9,6 +9,7 @@ use crate::dynamics::{
     inverse_dynamics, mass_matrix, mass_matrix_in, rnea_derivatives, torque_sq_gradient,
 };
 use crate::model::Model;
+use crate::report::error::ReportError;
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -169,18 +170,22 @@ impl<'a> Calls<'a> {
 }
 
 /// Our medians in µs: rnea, aba, crba, rnea_derivatives, adjoint Σwτ² gradient.
-pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], String> {
+pub fn per_call(model: &Model, n_states: usize) -> Result<[f64; 5], ReportError> {
     let t = per_call_of(model, n_states, &[0, 1, 2, 3, 4])?;
     Ok([t[0], t[1], t[2], t[3], t[4]])
 }
 
 /// Our medians in µs of the algorithms `which` (indices into [`TIMED`]), timed
 /// one after another on the same states.
-pub fn per_call_of(model: &Model, n_states: usize, which: &[usize]) -> Result<Vec<f64>, String> {
+pub fn per_call_of(
+    model: &Model,
+    n_states: usize,
+    which: &[usize],
+) -> Result<Vec<f64>, ReportError> {
     let mut calls = Calls::new(model, n_states);
     // Check once that every algorithm accepts the model before timing (errors, not panics).
     for &k in which {
-        calls.call(k, 0).map_err(|e| e.to_string())?;
+        calls.call(k, 0)?;
     }
     Ok(which
         .iter()
@@ -196,7 +201,7 @@ pub fn per_call_of(model: &Model, n_states: usize, which: &[usize]) -> Result<Ve
 /// cycling over 64 random states, and nothing else: the driver a process runs
 /// under callgrind, so that two runs of different lengths differ only by calls
 /// and their difference gives instructions per call.
-pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), String> {
+pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), ReportError> {
     let k = TIMED.iter().position(|a| *a == algorithm).ok_or_else(|| {
         format!(
             "unknown algorithm `{algorithm}`; one of {}",
@@ -205,7 +210,7 @@ pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), Strin
     })?;
     let mut calls = Calls::new(model, 64);
     for i in 0..n_calls {
-        calls.call(k, i % 64).map_err(|e| e.to_string())?;
+        calls.call(k, i % 64)?;
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! Log–log work-precision figures as SVG (plotters): one curve per method or
 //! setting, the library default marked with a ring and named in the legend.
 
+use crate::report::error::ReportError;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -51,7 +52,7 @@ fn positive(v: f64, floor: f64) -> f64 {
 }
 
 /// Draws `fig` to `dir/fig.file`. Errors carry the file name.
-pub fn draw(fig: &Figure, dir: &Path) -> Result<(), String> {
+pub fn draw(fig: &Figure, dir: &Path) -> Result<(), ReportError> {
     let path = dir.join(&fig.file);
     let pts: Vec<(f64, f64)> = fig
         .series
@@ -60,7 +61,10 @@ pub fn draw(fig: &Figure, dir: &Path) -> Result<(), String> {
         .filter(|(x, y)| x.is_finite() && y.is_finite())
         .collect();
     if pts.is_empty() {
-        return Err(format!("{}: no finite points to plot", fig.file));
+        return Err(ReportError::Check(format!(
+            "{}: no finite points to plot",
+            fig.file
+        )));
     }
     let floor = 1e-16;
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);

@@ -7,6 +7,7 @@ use super::hard_cases::HardCase;
 use super::{
     Options, cyclify, fit, hard_cases, ik, inbetween, integrators, mocap, perf, spacetime,
 };
+use crate::report::error::ReportError;
 use indicatif::ProgressBar;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -146,7 +147,7 @@ fn spacetime_section(d: &mut Doc, run: &mut Run<'_>) {
                 d.row(&cells);
             }
         }
-        Err(e) => d.pending("spacetime work–precision", &e),
+        Err(e) => d.pending("spacetime work–precision", &e.to_string()),
     }
 }
 
@@ -203,7 +204,7 @@ fn integrators_section(d: &mut Doc, run: &mut Run<'_>) {
                 d.row(&cells);
             }
         }
-        Err(e) => d.pending("integrator work–precision", &e),
+        Err(e) => d.pending("integrator work–precision", &e.to_string()),
     }
 }
 
@@ -258,7 +259,7 @@ fn fit_section(d: &mut Doc, run: &mut Run<'_>) {
                     d.row(&cells);
                 }
             }
-            Err(e) => d.pending("spline-joint fitting", &e),
+            Err(e) => d.pending("spline-joint fitting", &e.to_string()),
         },
         None => d.pending(
             "spline-joint fitting",
@@ -304,7 +305,7 @@ fn mocap_section(d: &mut Doc, run: &mut Run<'_>) {
                 d.row(&cells);
             }
         }
-        Err(e) => d.pending("mocap sampling", &e),
+        Err(e) => d.pending("mocap sampling", &e.to_string()),
     }
 }
 
@@ -351,7 +352,7 @@ fn cyclify_section(d: &mut Doc, run: &mut Run<'_>) {
                 d.row(&cells);
             }
         }
-        Err(e) => d.pending("cyclify", &e),
+        Err(e) => d.pending("cyclify", &e.to_string()),
     }
 }
 
@@ -385,7 +386,7 @@ fn ik_section(d: &mut Doc, run: &mut Run<'_>) {
                 d.row(&cells);
             }
         }
-        Err(e) => d.pending("ik", &e),
+        Err(e) => d.pending("ik", &e.to_string()),
     }
 }
 
@@ -443,7 +444,7 @@ fn performance_section(d: &mut Doc, run: &mut Run<'_>) {
             for (name, file) in [("human44", "human44.urdf"), ("ur5", "ur5_robot.urdf")] {
                 let urdf = sh.join("data/reference").join(file);
                 let r = crate::model::Model::from_urdf_file(&urdf)
-                    .map_err(|e| e.to_string())
+                    .map_err(ReportError::from)
                     .and_then(|m| perf::per_call(&m, n_states).map(|t| (m.nq(), t)));
                 run.pb.inc(1);
                 match r {
@@ -473,7 +474,7 @@ fn performance_section(d: &mut Doc, run: &mut Run<'_>) {
                             "| adjoint Σwτ² gradient | {adj} | — | {rel}× one RNEA |\n"
                         );
                     }
-                    Err(e) => d.pending(&format!("dynamics timings on {file}"), &e),
+                    Err(e) => d.pending(&format!("dynamics timings on {file}"), &e.to_string()),
                 }
             }
         }

@@ -5,6 +5,7 @@
 //! compare on the same scale; the gap is relative to the best of the table.
 
 use super::plot::{Figure, Series};
+use crate::report::error::ReportError;
 use crate::spacetime::{Continuity, SolveOptions, TransitionSettings, fig8, solve_group};
 
 pub struct Row {
@@ -38,10 +39,10 @@ pub fn default_tolerance() -> f64 {
 /// The table on the project's own data: `human(walk)` (44 DOFs) with the
 /// procedural walk fitted to it, every joint DOF left undefined over
 /// [`fig8::EXAMPLE_GAP`] (the case `benches/spacetime.rs` measures too).
-pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
-    let (model, walk) = fig8::example_walk().map_err(|e| e.to_string())?;
+pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
+    let (model, walk) = fig8::example_walk()?;
     let (t0, t1) = fig8::EXAMPLE_GAP;
-    let case = fig8::case(&model, walk, t0, t1).map_err(|e| e.to_string())?;
+    let case = fig8::case(&model, walk, t0, t1)?;
     let n_gap = case.gaps.len();
     let d = TransitionSettings::default();
     let (mut coefs, mut samples, mut tols): (Vec<usize>, Vec<usize>, Vec<f64>) = if smoke {
@@ -75,27 +76,22 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, String> {
                     continuity: Continuity::C1,
                 };
                 let started = std::time::Instant::now();
-                let obj = case.objective(&settings).map_err(|e| e.to_string())?;
+                let obj = case.objective(&settings)?;
                 let sol = solve_group(
                     &obj,
                     &SolveOptions {
                         tolerance: tol,
                         ..Default::default()
                     },
-                )
-                .map_err(|e| e.to_string())?;
+                )?;
                 let ms = started.elapsed().as_secs_f64() * 1e3;
-                let fine = case
-                    .objective(&TransitionSettings {
-                        samples: fine_samples,
-                        ..settings.clone()
-                    })
-                    .map_err(|e| e.to_string())?;
+                let fine = case.objective(&TransitionSettings {
+                    samples: fine_samples,
+                    ..settings.clone()
+                })?;
                 let mut s = fine.scratch();
-                let energy = fine.eval(&mut s, &sol.x, None).map_err(|e| e.to_string())?;
-                let hermite_energy = fine
-                    .eval(&mut s, &fine.hermite_start(), None)
-                    .map_err(|e| e.to_string())?;
+                let energy = fine.eval(&mut s, &sol.x, None)?;
+                let hermite_energy = fine.eval(&mut s, &fine.hermite_start(), None)?;
                 // Continuity: the worst jump of q, q̇ (scaled by the gap length) at both ends.
                 let mut jump = 0.0f64;
                 for (i, dof) in obj.dofs().iter().enumerate() {

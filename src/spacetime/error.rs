@@ -22,6 +22,10 @@ pub enum SpError {
         option: &'static str,
         message: String,
     },
+    /// `contact:` and a `support:` other than the default given together:
+    /// contact planning holds the feet itself, in place of the support limbs.
+    #[error("`contact:` plans the feet itself and replaces `support:`")]
+    ContactReplacesSupport,
     /// The motion is multiply defined where a transition needs one value:
     /// DOF `dof` on [t0, t1].
     #[error(
@@ -116,6 +120,15 @@ impl From<GroundError> for SpError {
     fn from(e: GroundError) -> Self {
         match e {
             GroundError::Invalid(m) => SpError::Invalid(m),
+            // gravity is SP's option too; ground's others are not SP's
+            GroundError::InvalidOption {
+                option: "gravity",
+                message,
+            } => SpError::InvalidOption {
+                option: "gravity",
+                message,
+            },
+            GroundError::InvalidOption { message, .. } => SpError::Invalid(message),
             GroundError::Motion(e) => SpError::Motion(e),
             GroundError::Model(e) => SpError::Kinematics(e),
             GroundError::Dynamics(e) => SpError::Dynamics(e),
@@ -128,6 +141,7 @@ impl SpError {
     pub fn option(&self) -> Option<&'static str> {
         match self {
             SpError::InvalidOption { option, .. } => Some(option),
+            SpError::ContactReplacesSupport => Some("contact"),
             _ => None,
         }
     }

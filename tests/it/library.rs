@@ -168,11 +168,11 @@ const UNRELATED: &str = "HIERARCHY\nROOT Base\n{\n OFFSET 0 0 0\n CHANNELS 3 Zro
 fn bad_input_is_a_clear_error_or_a_reported_skip() {
     let empty = tempfile::tempdir().unwrap();
     let e = library::clips_in_folder(empty.path()).unwrap_err();
-    assert!(e.0.contains("no .bvh clips"), "{e}");
+    assert!(e.to_string().contains("no .bvh clips"), "{e}");
     let e = Library::build(vec![], vec![], Settings::default())
         .err()
         .unwrap();
-    assert!(e.0.contains("no clips"), "{e}");
+    assert!(e.to_string().contains("no clips"), "{e}");
     // an unrelated skeleton alone: nothing to index, and it says why
     let d = folder(&[
         ("arm.bvh", UNRELATED.into()),
@@ -183,8 +183,11 @@ fn bad_input_is_a_clear_error_or_a_reported_skip() {
     let e = Library::build(clips, skipped, Settings::default())
         .err()
         .unwrap();
-    assert!(e.0.contains("`arm`") && e.0.contains("left foot"), "{e}");
-    assert!(e.0.contains("`junk`"), "{e}");
+    assert!(
+        e.to_string().contains("`arm`") && e.to_string().contains("left foot"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("`junk`"), "{e}");
     // beside a real clip: indexed, the others reported
     let Some(t) = template() else { return };
     let real = bvh::to_string(&t).unwrap();
@@ -209,16 +212,16 @@ fn bad_input_is_a_clear_error_or_a_reported_skip() {
     let e = lib
         .query(&arm_clip.mu, &arm.skeleton, 0.01, 0.01, 0.02)
         .unwrap_err();
-    assert!(e.0.contains("skeleton cannot be matched"), "{e}");
+    assert!(e.to_string().contains("skeleton cannot be matched"), "{e}");
     let clip = lib.clips[0].motion().unwrap();
     let e = lib
         .query(&clip.mu, &clip.skeleton, 0.01, 0.1, 0.5)
         .unwrap_err();
-    assert!(e.0.contains("not defined over"), "{e}");
+    assert!(e.to_string().contains("not defined over"), "{e}");
     let e = lib
         .query(&clip.mu, &clip.skeleton, 0.01, 1.0, 1.0)
         .unwrap_err();
-    assert!(e.0.contains("t1 > t0"), "{e}");
+    assert!(e.to_string().contains("t1 > t0"), "{e}");
 }
 
 fn saved(lib: &Library, dir: &Path) -> PathBuf {
@@ -264,7 +267,10 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
     let good = std::fs::read(&p).unwrap();
     let load_bytes = |b: &[u8]| {
         std::fs::write(&p, b).unwrap();
-        file::load(&p, None).err().map(|e| e.0).unwrap_or_default()
+        file::load(&p, None)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
     };
     // one byte changed in the header or the features, or the file cut
     // short: refused on load
@@ -283,7 +289,7 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
             Err(e) => e,
             Ok(lib) => lib.clips[0].motion().unwrap_err(),
         };
-        assert!(e.0.contains("damaged"), "byte {at}: {e}");
+        assert!(e.to_string().contains("damaged"), "byte {at}: {e}");
     }
     assert!(load_bytes(&good[..good.len() - 100]).contains("damaged"));
     assert!(load_bytes(b"MXLIB\n").contains("damaged"));
@@ -297,14 +303,17 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
         warps: vec![1.0],
     };
     let e = file::load(&p, Some(&other)).err().unwrap();
-    assert!(e.0.contains("other settings"), "{e}");
+    assert!(e.to_string().contains("other settings"), "{e}");
     assert!(file::load(&p, Some(&Settings::default())).is_ok());
     // the source changed since: stale; gone: the index stands alone
     let mut changed = t.clone();
     changed.values[5] += 1.0;
     std::fs::write(&clip_path, bvh::to_string(&changed).unwrap()).unwrap();
     let e = file::load(&p, None).err().unwrap();
-    assert!(e.0.contains("stale") && e.0.contains("`walk`"), "{e}");
+    assert!(
+        e.to_string().contains("stale") && e.to_string().contains("`walk`"),
+        "{e}"
+    );
     std::fs::remove_file(&clip_path).unwrap();
     let alone = file::load(&p, None).unwrap();
     assert_eq!(alone.clips.len(), 1);

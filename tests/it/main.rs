@@ -75,5 +75,6 @@ mod spacetime_lang;
 mod spacetime_motion;
 mod spacetime_support;
 mod spline;
+mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;

@@ -203,7 +203,7 @@ fn bad_bodies_are_clear_errors() {
     let cases = [
         (
             r#"body([link("a", parent: "b", joint: revolute([0, 0, 1]), mass: 1)])"#,
-            "no link has that name",
+            "names parent link `b`, which is not defined",
         ),
         (
             r#"body([link("a", parent: "b", joint: revolute([0, 0, 1]), mass: 1),

@@ -2,6 +2,7 @@
 
 use std::sync::Arc;
 
+use mx::io::ContentError;
 use mx::io::csv::{save_csv, to_csv_string};
 use mx::io::motion_json::{from_json_str, load_json, save_json, to_json_string};
 use mx::motion::*;
@@ -22,10 +23,11 @@ impl TimeFunction for Slope {
     }
 }
 
-fn compile(src: &str) -> Result<Arc<dyn TimeFunction>, String> {
+fn compile(src: &str) -> Result<Arc<dyn TimeFunction>, ContentError> {
     let k = src.strip_suffix("*t").ok_or("not k*t")?;
     Ok(Arc::new(Slope(
-        k.parse::<f64>().map_err(|e| e.to_string())?,
+        k.parse::<f64>()
+            .map_err(|e| ContentError::new(e.to_string()))?,
     )))
 }
 
@@ -179,7 +181,7 @@ fn json_refuses_host_functions_and_bad_files() {
     )]
     .into_iter()
     .collect();
-    let e = to_json_string(&m).unwrap_err();
+    let e = to_json_string(&m).unwrap_err().to_string();
     assert!(e.contains("'x'") && e.contains("no mx source"), "{e}");
 
     for (bad, why) in [
@@ -217,7 +219,7 @@ fn json_refuses_host_functions_and_bad_files() {
             "curve 0",
         ),
     ] {
-        let e = from_json_str(bad, &compile).unwrap_err();
+        let e = from_json_str(bad, &compile).unwrap_err().to_string();
         assert!(e.contains(why), "{bad}: {e}");
     }
     let e = load_json("/no/such/file.json", &compile)
@@ -229,7 +231,7 @@ fn json_refuses_host_functions_and_bad_files() {
 #[test]
 fn json_checks_spline_coefficients() {
     let bad = r#"{"format":"mx-motion","version":1,"curves":[{"kind":"spline","basis":{"kind":"knots","degree":1,"knots":[0,0,1,1]},"coeffs":[1]}],"dofs":[]}"#;
-    let e = from_json_str(bad, &compile).unwrap_err();
+    let e = from_json_str(bad, &compile).unwrap_err().to_string();
     assert!(e.contains("needs 2 coefficients"), "{e}");
 }
 
@@ -269,7 +271,7 @@ fn csv_loads_back_what_it_saved() {
         ("t,a,a\n0,1,1\n1,2,2\n", "twice"),
         ("t,\"a\n0,1\n", "unclosed quote"),
     ] {
-        let e = from_csv_str(bad).unwrap_err();
+        let e = from_csv_str(bad).unwrap_err().to_string();
         assert!(e.contains(why), "{bad:?}: {e}");
     }
 }

@@ -59,8 +59,9 @@ fn every_clip_samples_back_its_frames_and_round_trips() {
             path.display()
         );
         // Exact JSON round trip of real data.
-        let none =
-            |_: &str| -> Result<Arc<dyn TimeFunction>, String> { Err("no functions".into()) };
+        let none = |_: &str| -> Result<Arc<dyn TimeFunction>, mx::io::ContentError> {
+            Err("no functions".into())
+        };
         let back = from_json_str(&to_json_string(&mu).unwrap(), &none).unwrap();
         assert!(
             back == mu,

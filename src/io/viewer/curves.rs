@@ -5,12 +5,19 @@
 //! whose Euler angles wrap between −π and π (a 2π jump that is no motion),
 //! and small end joints that capture tracks poorly.
 
+/// A pattern that names no DOF and no joint.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("no DOF or joint matches `{pattern}`")]
+pub struct Unmatched {
+    pub pattern: String,
+}
+
 /// The DOFs among `names` that `patterns` ask for, in the patterns' order
 /// (a DOF asked twice is drawn once). A pattern is a DOF name
 /// (`Hips.Xrotation`), a joint name (`LeftKnee`: all its DOFs, `LeftKnee.*`)
 /// or a glob where `*` is any run of characters and `?` one
 /// (`*Knee.Xrotation`). `Err` names the first pattern that matches nothing.
-pub fn select<'a>(names: &[&'a str], patterns: &[&str]) -> Result<Vec<&'a str>, String> {
+pub fn select<'a>(names: &[&'a str], patterns: &[&str]) -> Result<Vec<&'a str>, Unmatched> {
     let mut out: Vec<&'a str> = Vec::new();
     for p in patterns {
         let hits: Vec<&'a str> = names
@@ -19,7 +26,9 @@ pub fn select<'a>(names: &[&'a str], patterns: &[&str]) -> Result<Vec<&'a str>, 
             .filter(|n| *n == *p || joint_of(n) == *p || glob(p, n))
             .collect();
         if hits.is_empty() {
-            return Err(p.to_string());
+            return Err(Unmatched {
+                pattern: p.to_string(),
+            });
         }
         for h in hits {
             if !out.contains(&h) {
@@ -175,7 +184,7 @@ mod tests {
                 "elbow_joint"
             ]
         );
-        assert_eq!(select(&names, &["Knee"]).unwrap_err(), "Knee");
+        assert_eq!(select(&names, &["Knee"]).unwrap_err().pattern, "Knee");
     }
 
     #[test]

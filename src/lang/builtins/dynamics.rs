@@ -15,9 +15,9 @@ use crate::dynamics::{
     forward_dynamics, inverse_dynamics, mass_matrix, simulate,
 };
 use crate::lang::args::{ArgValue, Args};
-use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::diagnostics::{MxError, MxResult};
 use crate::lang::eval::Evaluator;
-use crate::lang::host::errors::dyn_error;
+use crate::lang::host::errors::{dyn_error, engine_error};
 use crate::lang::host::{Body, Motion};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
@@ -508,7 +508,7 @@ pub fn register(reg: &mut Registry) {
                 },
             };
             let (m, coupling) = Model::from_urdf_file_with(path, UrdfOptions { mimic })
-                .map_err(|e| urdf_error(e.to_string()))?;
+                .map_err(|e| engine_error(&e))?;
             let mut b = Body::from_model(Arc::new(m));
             b.coupling = coupling.map(Arc::new);
             Ok(Value::object(b))
@@ -610,19 +610,4 @@ pub fn register(reg: &mut Registry) {
          driven: coordinates moved at a constant rate whatever the forces (a motor; the clock of a deforming_surface).",
         |a, _| build_scene(a),
     );
-}
-
-/// A URDF error with the help that fits it: the reader's messages already say
-/// what is wrong in the file; a missing file or broken XML needs other advice.
-fn urdf_error(message: String) -> MxError {
-    let e = MxError::new(ErrorKind::Io, message.clone());
-    if message.contains("cannot read") {
-        e.help(super::mocap::MISSING_FILE_HELP)
-    } else if message.contains("could not parse") {
-        e.help("the file is not well-formed XML with a <robot> root; open it in an XML viewer or export it again")
-    } else if message.contains("not defined") {
-        e.help("define that link or correct the joint's <parent>/<child> link name")
-    } else {
-        e.help("fix the file as the message says")
-    }
 }

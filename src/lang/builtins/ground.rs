@@ -10,17 +10,15 @@ use crate::lang::args::Args;
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::host::Body;
-use crate::lang::host::errors::motion_error;
+use crate::lang::host::errors::diagnostic;
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::Value;
 use crate::motion::Mu;
 
-fn ground_error(e: GroundError, span: Span) -> MxError {
-    match e {
-        GroundError::Motion(m) => motion_error(m, span),
-        other => MxError::new(ErrorKind::Value, other.to_string()).at(span),
-    }
+/// A ground error at the argument it names (`height`, `points`, …), else at `span`.
+fn ground_error(e: GroundError, a: &Args, span: Span) -> MxError {
+    diagnostic(&e, a, span)
 }
 
 /// `m` and `body`, the first two arguments of every ground built-in.
@@ -79,7 +77,7 @@ fn options(a: &mut Args) -> MxResult<GroundOptions> {
     o.height = a.named_number_or("height", o.height)?;
     o.speed = a.named_number_or("speed", o.speed)?;
     let span = a.call_span();
-    o.check().map_err(|e| ground_error(e, span))?;
+    o.check().map_err(|e| ground_error(e, a, span))?;
     Ok(o)
 }
 
@@ -112,7 +110,7 @@ pub fn register(reg: &mut Registry) {
             let (m, body) = motion_and_body(a)?;
             let o = options(a)?;
             let span = a.call_span();
-            let c = ground::contacts(&m, &body.model, &o).map_err(|e| ground_error(e, span))?;
+            let c = ground::contacts(&m, &body.model, &o).map_err(|e| ground_error(e, a, span))?;
             let points: IndexMap<String, Value> = c
                 .points
                 .iter()
@@ -148,7 +146,7 @@ pub fn register(reg: &mut Registry) {
             let (m, body) = motion_and_body(a)?;
             let o = options(a)?;
             let span = a.call_span();
-            let s = ground::foot_skate(&m, &body.model, &o).map_err(|e| ground_error(e, span))?;
+            let s = ground::foot_skate(&m, &body.model, &o).map_err(|e| ground_error(e, a, span))?;
             Ok(rec(vec![
                 ("mean", num(s.mean)),
                 ("worst", num(s.worst)),
@@ -168,7 +166,7 @@ pub fn register(reg: &mut Registry) {
             let (m, body) = motion_and_body(a)?;
             let o = options(a)?;
             let span = a.call_span();
-            let p = ground::penetration(&m, &body.model, &o).map_err(|e| ground_error(e, span))?;
+            let p = ground::penetration(&m, &body.model, &o).map_err(|e| ground_error(e, a, span))?;
             Ok(rec(vec![
                 ("depth", num(p.depth)),
                 ("point", Value::str(&p.point)),
@@ -189,7 +187,7 @@ pub fn register(reg: &mut Registry) {
             let friction = a.named_number_or("friction", 0.8)?;
             let o = options(a)?;
             let span = a.call_span();
-            let r = ground::ground_residual(&m, &body.model, &o, friction).map_err(|e| ground_error(e, span))?;
+            let r = ground::ground_residual(&m, &body.model, &o, friction).map_err(|e| ground_error(e, a, span))?;
             let contact: Vec<f64> = r.in_contact.iter().map(|&n| n as f64).collect();
             Ok(rec(vec![
                 ("force_mean", num(r.mean_force)),

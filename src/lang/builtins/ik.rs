@@ -6,18 +6,18 @@
 
 use std::sync::Arc;
 
-use crate::ik::{self, IkError, IkOptions, IkReport, Target};
+use crate::ik::{self, IkOptions, IkReport, Target};
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::host::body::Body;
-use crate::lang::host::errors::motion_error;
+use crate::lang::host::errors::diagnostic;
 use crate::lang::host::motion::{Motion, Provenance, provenance};
 use crate::lang::host::sp_report::{num, record};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::{HostObject, Value};
-use crate::motion::channel::Channel;
+use crate::motion::channel::{Channel, Found, channel_for};
 use crate::motion::{Dof, Mu};
 
 /// `ik_report(m)`: reads like a record, prints as text.
@@ -95,31 +95,17 @@ impl HostObject for IkReportValue {
     }
 }
 
-fn ik_error(e: IkError, span: Span) -> MxError {
-    match e {
-        IkError::Motion(m) => motion_error(m, span),
-        e => MxError::new(ErrorKind::Value, e.to_string())
-            .at(span)
-            .label("here"),
-    }
-}
-
-/// The one DOF of `m` for `axis`: named `axis` or ending in `.axis`.
+/// The one DOF of `m` for `axis`: named `axis`, `link.axis` or the one
+/// ending in `.axis` ([`channel_for`]).
 fn axis_dof(m: &Mu, link: &str, axis: &str, span: Span) -> MxResult<Dof> {
-    // `x`, else `Link.x`, else the one DOF ending in `.x`
-    let own = format!("{link}.{axis}");
-    if let Some(d) = m.get(axis).or_else(|| m.get(&own)) {
-        return Ok(d.clone());
-    }
-    let suffix = format!(".{axis}");
-    let found: Vec<&str> = m.names().filter(|n| n.ends_with(&suffix)).collect();
-    match found.as_slice() {
-        [one] => Ok(m.get(one).cloned().unwrap_or_default()),
-        [] => Err(MxError::value(format!("the target of {link} has no DOF `{axis}` (or `….{axis}`)"))
+    let names: Vec<&str> = m.names().collect();
+    match channel_for(&names, link, axis) {
+        Found::One(n) => Ok(m.get(n).cloned().unwrap_or_default()),
+        Found::Missing => Err(MxError::value(format!("the target of {link} has no DOF `{axis}` (or `….{axis}`)"))
             .at(span)
             .label("missing a coordinate")
             .help("a target is a motion of the link's world position: DOFs x, y, z (or Link.x, Link.y, Link.z, as positions(m, body) gives)")),
-        _ => Err(MxError::value(format!("the target of {link} has several DOFs for `{axis}`: {}", found.join(", ")))
+        Found::Several(found) => Err(MxError::value(format!("the target of {link} has several DOFs for `{axis}`: {}", found.join(", ")))
             .at(span)
             .label("ambiguous")
             .help("give one motion per link: {LeftFoot: p} with DOFs x, y, z")),
@@ -129,10 +115,8 @@ fn axis_dof(m: &Mu, link: &str, axis: &str, span: Span) -> MxResult<Dof> {
 /// A target's optional orientation: DOFs `rx ry rz` (a world rotation
 /// vector, radians), all three or none.
 fn orientation_dofs(m: &Mu, link: &str, span: Span) -> MxResult<Option<[Dof; 3]>> {
-    let has = |axis: &str| {
-        let suffix = format!(".{axis}");
-        m.get(axis).is_some() || m.names().any(|n| n.ends_with(&suffix))
-    };
+    let names: Vec<&str> = m.names().collect();
+    let has = |axis: &str| channel_for(&names, link, axis) != Found::Missing;
     match ["rx", "ry", "rz"].map(has) {
         [false, false, false] => Ok(None),
         [true, true, true] => Ok(Some([
@@ -293,14 +277,9 @@ fn run_ik(a: &mut Args) -> MxResult<Value> {
         options.rate = Some(rate);
     }
     let span = a.call_span();
-    let (out, report) = ik::ik(&body.model, &m, &targets, &options).map_err(|e| {
-        let at = match &e {
-            IkError::Invalid(msg) if msg.contains("target") || msg.contains("link") => targ.span,
-            IkError::Invalid(msg) if msg.contains("motion") => marg.span,
-            _ => span,
-        };
-        ik_error(e, at)
-    })?;
+    // the engine names the input at fault (`targets`, `m`, `tolerance`, …)
+    let (out, report) =
+        ik::ik(&body.model, &m, &targets, &options).map_err(|e| diagnostic(&e, a, span))?;
     if report.unconverged_frames > 0 {
         eprintln!(
             "warning: ik: {} of {} frames not within {} m (largest residual {:.3e} m); ik_report(m) has the details",

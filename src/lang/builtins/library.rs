@@ -5,6 +5,7 @@ use std::sync::Arc;
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
+use crate::lang::host::errors::diagnostic;
 use crate::lang::host::motion::skeleton_of as clip_of;
 use crate::lang::host::sp_report::{num, record};
 use crate::lang::host::{LibraryValue, Motion};
@@ -14,10 +15,9 @@ use crate::lang::value::Value;
 use crate::library::{self, ClipInput, Library, LibraryError, Settings, Skipped, file};
 use crate::mocap::to_motion;
 
+/// A library error at the option it names (`rate`, `warps`), else at the call.
 fn lib_error(e: LibraryError, a: &Args) -> MxError {
-    MxError::new(ErrorKind::Value, e.0)
-        .at(a.call_span())
-        .help(format!("usage: {}", a.signature()))
+    diagnostic(&e, a, a.call_span())
 }
 
 /// `rate:` and `warps:`, if either is given.
@@ -218,7 +218,7 @@ pub fn register(reg: &mut Registry) {
         |path, a, _ev| {
             let expect = settings_arg(a)?;
             let lib = file::load(path, expect.as_ref()).map_err(|e| {
-                MxError::new(ErrorKind::Io, e.0)
+                MxError::new(ErrorKind::Io, e.to_string())
                     .at(a.call_span())
                     .help("rebuild it with library(…) and save it again")
             })?;
@@ -238,7 +238,7 @@ pub fn register(reg: &mut Registry) {
                     ),
                 ));
             };
-            file::save(&lib.0, path).map_err(|e| MxError::new(ErrorKind::Io, e.0).at(a.call_span()))
+            file::save(&lib.0, path).map_err(|e| lib_error(e, a))
         },
     );
 }

@@ -11,13 +11,15 @@ use nalgebra::{Matrix3, Rotation3, Vector3};
 
 use crate::lang::args::{ArgValue, Args};
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
+use crate::lang::host::errors::diagnostic;
 use crate::lang::host::{Body, JointValue};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::{HostObject, Value};
 use crate::lie::Se3;
 use crate::model::joint::Joint;
-use crate::model::{Inertia, Model};
+use crate::model::link_tree::{TreeError, TreeJoint, tree_order};
+use crate::model::{Inertia, Model, ModelError};
 
 /// One link description, checked on its own (the tree is checked by `body`).
 #[derive(Clone, Debug)]
@@ -198,7 +200,8 @@ fn make_link(a: &mut Args) -> MxResult<Value> {
         Some(i) => inertia_matrix(a, &i)?,
         None => Matrix3::zeros(),
     };
-    let inertia = Inertia::from_com(mass, com, i_com).map_err(|e| a.error(ErrorKind::Value, e))?;
+    let inertia =
+        Inertia::from_com(mass, com, i_com).map_err(|e| diagnostic(&e, a, a.call_span()))?;
     Ok(Value::object(LinkSpec {
         name,
         parent,
@@ -209,100 +212,56 @@ fn make_link(a: &mut Args) -> MxResult<Value> {
     }))
 }
 
-/// Orders links parents first, with errors for duplicates, unknown parents and cycles.
-fn tree_order(links: &[LinkSpec]) -> Result<Vec<usize>, String> {
-    let mut index: IndexMap<&str, usize> = IndexMap::new();
-    for (i, l) in links.iter().enumerate() {
-        if index.insert(&l.name, i).is_some() {
-            return Err(format!(
-                "two links are named `{}`; link names must be unique",
-                l.name
-            ));
-        }
-    }
-    let mut joints = std::collections::HashSet::new();
-    for l in links {
-        if !joints.insert(&l.joint_name) {
-            return Err(format!(
-                "two joints are named `{}` (a joint is named after its link unless `joint_name:` says otherwise); joint names must be unique",
-                l.joint_name
-            ));
-        }
-    }
-    for l in links {
-        if let Some(p) = &l.parent
-            && !index.contains_key(p.as_str())
-        {
-            let near = index
-                .keys()
-                .min_by_key(|k| strsim::levenshtein(k, p))
-                .map(|k| format!(" (did you mean `{k}`?)"))
-                .unwrap_or_default();
-            return Err(format!(
-                "link `{}` names parent `{p}`, but no link has that name{near}; use \"world\" for the ground",
-                l.name
-            ));
-        }
-    }
-    // Depth-first from the world; a link never reached lies on a cycle.
-    let mut order = Vec::with_capacity(links.len());
-    let mut stack: Vec<usize> = (0..links.len())
-        .rev()
-        .filter(|&i| links[i].parent.is_none())
-        .collect();
-    while let Some(i) = stack.pop() {
-        order.push(i);
-        let kids: Vec<usize> = (0..links.len())
-            .rev()
-            .filter(|&k| links[k].parent.as_deref() == Some(links[i].name.as_str()))
-            .collect();
-        stack.extend(kids);
-    }
-    if order.len() < links.len() {
-        let cyc: Vec<&str> = (0..links.len())
-            .filter(|i| !order.contains(i))
-            .map(|i| links[i].name.as_str())
-            .collect();
-        return Err(format!(
-            "links {} form a cycle (each is an ancestor of itself) and never reach \"world\"; a body must be a tree",
-            cyc.iter()
-                .map(|n| format!("`{n}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-    }
-    Ok(order)
-}
-
-/// A model from link descriptions (any order; parents are placed first).
+/// A model from link descriptions (any order; parents are placed first), the
+/// tree checked by `model::link_tree` as a URDF's is.
 pub fn model_from_links(
     name: &str,
     links: &[LinkSpec],
     gravity: Vector3<f64>,
-) -> Result<Model, String> {
+) -> Result<Model, ModelError> {
     if links.is_empty() {
-        return Err("a body needs at least one link".into());
+        return Err(ModelError::Invalid("a body needs at least one link".into()));
     }
-    let order = tree_order(links)?;
+    let names: Vec<&str> = links.iter().map(|l| l.name.as_str()).collect();
+    let joints: Vec<TreeJoint> = links
+        .iter()
+        .map(|l| TreeJoint {
+            name: &l.joint_name,
+            parent: l.parent.as_deref(),
+            child: &l.name,
+        })
+        .collect();
+    let order = tree_order(&names, &joints)?;
     let mut m = Model::new(name);
     m.default_gravity = gravity;
     let mut placed: IndexMap<&str, usize> = IndexMap::new();
     for &i in &order {
         let l = &links[i];
         let parent = l.parent.as_deref().map(|p| placed[p]);
-        let idx = m
-            .add_link(
-                &l.name,
-                parent,
-                &l.joint_name,
-                l.joint.clone(),
-                l.offset,
-                l.inertia,
-            )
-            .map_err(|e| e.to_string())?;
+        let idx = m.add_link(
+            &l.name,
+            parent,
+            &l.joint_name,
+            l.joint.clone(),
+            l.offset,
+            l.inertia,
+        )?;
         placed.insert(&l.name, idx);
     }
     Ok(m)
+}
+
+/// What to do about links that are not a tree, in the language's words.
+fn tree_advice(e: &ModelError) -> Option<&'static str> {
+    match e {
+        ModelError::Tree(TreeError::DuplicateJoint(_)) => Some(
+            "a joint is named after its link unless `joint_name:` says otherwise; joint names must be unique",
+        ),
+        ModelError::Tree(TreeError::UnknownLink { .. }) => {
+            Some("a link's `parent:` names another link of the body, or \"world\" for the ground")
+        }
+        _ => None,
+    }
 }
 
 fn make_body(a: &mut Args) -> MxResult<Value> {
@@ -335,8 +294,13 @@ fn make_body(a: &mut Args) -> MxResult<Value> {
         Some(g) => vec3_arg(a, "gravity", &g)?,
         None => Vector3::new(0.0, 0.0, -9.81),
     };
-    let m = model_from_links(&name, &links, gravity)
-        .map_err(|e| MxError::value(format!("`body`: {e}")).at(larg.span))?;
+    let m = model_from_links(&name, &links, gravity).map_err(|e| {
+        let err = MxError::value(format!("`body`: {e}")).at(larg.span);
+        match tree_advice(&e) {
+            Some(h) => err.help(h),
+            None => err,
+        }
+    })?;
     Ok(Value::object(Body::from_model(Arc::new(m))))
 }
 

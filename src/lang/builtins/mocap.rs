@@ -15,7 +15,7 @@ use crate::lang::args::{ArgValue, Args, describe};
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
-use crate::lang::host::errors::{file_error, motion_error};
+use crate::lang::host::errors::{diagnostic, error_at, file_error};
 use crate::lang::host::motion::{ClipSource, LoadedClips, Provenance, provenance};
 use crate::lang::host::sp_report::report_of;
 use crate::lang::host::{Body, Motion};
@@ -26,29 +26,10 @@ use crate::mocap::bvh::Units;
 use crate::mocap::{self, Missing, MocapError, to_motion};
 use crate::motion::{Curve, Dof, Interval, Mu};
 
+/// A mocap error at `span`, with the engine's kind and advice.
 fn mocap_error(e: MocapError, span: Span) -> MxError {
-    match e {
-        MocapError::Motion(m) => motion_error(m, span),
-        // the help says what to do about this error, not about BVH files
-        MocapError::Bvh(b @ mocap::bvh::BvhError::Io { .. }) => {
-            MxError::new(ErrorKind::Io, b.to_string())
-                .at(span)
-                .help(MISSING_FILE_HELP)
-        }
-        MocapError::Bvh(b @ mocap::bvh::BvhError::Parse { .. }) => {
-            MxError::new(ErrorKind::Io, b.to_string())
-                .at(span)
-                .help("the BVH file is malformed at the line named; fix or re-export it")
-        }
-        MocapError::Bvh(b) => MxError::new(ErrorKind::Io, b.to_string())
-            .at(span)
-            .help("the BVH file's skeleton or motion is inconsistent as said; fix or re-export it"),
-        other => MxError::new(ErrorKind::Value, other.to_string()).at(span),
-    }
+    error_at(&e, span)
 }
-
-/// The help under a file that cannot be read.
-pub(crate) const MISSING_FILE_HELP: &str = "check the file name: a script's relative paths are taken from the script's own folder, the REPL's from the current folder";
 
 fn mu_of(a: &Args, name: &str, arg: &ArgValue) -> MxResult<Mu> {
     a.mu_of(name, arg)
@@ -108,7 +89,7 @@ fn clips(reg: &mut Registry) {
         "BVH motion capture: an Mu with DOFs `Joint.channel` (radians, metres; cubic between frames). Option `unit:` metres per file unit (default: detected; see bvh_info).",
         |path, a, ev| {
             let units = units_arg(a)?;
-            let clip = to_motion::load(path, units).map_err(|e| mocap_error(e, a.call_span()))?;
+            let clip = to_motion::load(path, units).map_err(|e| diagnostic(&e, a, a.call_span()))?;
             // One line per kind of looseness, on stderr: stdout carries only `print` output.
             for w in &clip.warnings {
                 eprintln!("warning: {}: {w}", path.display());
@@ -167,7 +148,7 @@ fn clips(reg: &mut Registry) {
             let Value::Str(p) = &arg.value else { return Err(a.type_error("path", "a file name string", &arg)) };
             let path = ev.resolve_path(p, arg.span)?;
             let units = units_arg(a)?;
-            let clip = to_motion::load(&path, units).map_err(|e| mocap_error(e, arg.span))?;
+            let clip = to_motion::load(&path, units).map_err(|e| diagnostic(&e, a, arg.span))?;
             let mut r = IndexMap::new();
             r.insert("frames".into(), Value::Number(clip.frames as f64));
             r.insert("frame_time".into(), Value::Number(clip.frame_time));
@@ -184,14 +165,7 @@ fn clips(reg: &mut Registry) {
 }
 
 fn gltf_error(e: crate::io::gltf::GltfError, span: Span) -> MxError {
-    use crate::io::gltf::GltfError;
-    match e {
-        GltfError::File(f) => file_error(f, span),
-        GltfError::Mocap(m) => mocap_error(m, span),
-        GltfError::Invalid(m) => MxError::new(ErrorKind::Io, m)
-            .at(span)
-            .help("mx reads glTF files holding a skin (skeleton) and an animation of its joints"),
-    }
+    error_at(&e, span)
 }
 
 /// The motions of a `save(…, "x.glb")`: one Mu, or a non-empty list of them.
@@ -314,7 +288,7 @@ fn bodies(reg: &mut Registry) {
             let m = mu_of(a, "clip", &arg)?;
             let k = clip_of(&arg.value, &m, ev).ok_or_else(|| no_skeleton(arg.span))?;
             let mass = a.number_or("mass", k.skeleton.stated_mass().unwrap_or(70.0))?;
-            let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| mocap_error(e, a.call_span()))?;
+            let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| diagnostic(&e, a, a.call_span()))?;
             Ok(Value::object(Body {
                 model: Arc::new(model),
                 skeleton: Some((k.skeleton.clone(), k.metres_per_unit)),
@@ -332,7 +306,7 @@ fn bodies(reg: &mut Registry) {
             let m = mu_of(a, "clip", &arg)?;
             let mass = a.number_or("mass", 70.0)?;
             let k = clip_of(&arg.value, &m, ev).ok_or_else(|| no_skeleton(arg.span))?;
-            let h = mocap::human::human(&k.skeleton, k.metres_per_unit, mass).map_err(|e| mocap_error(e, a.call_span()))?;
+            let h = mocap::human::human(&k.skeleton, k.metres_per_unit, mass).map_err(|e| diagnostic(&e, a, a.call_span()))?;
             Ok(Value::object(Body {
                 model: Arc::new(h.model.clone()),
                 skeleton: Some((k.skeleton.clone(), k.metres_per_unit)),
@@ -358,7 +332,7 @@ fn bodies(reg: &mut Registry) {
             let dt = to_motion::sample_period(&m).unwrap_or(k.frame_time);
             let (file, _) = to_motion::to_bvh(&m, &k.skeleton, k.metres_per_unit, dt).map_err(|e| mocap_error(e, span))?;
             let options = mocap::human::FitOptions { angle_weight: a.number_or("angle_weight", mocap::human::FitOptions::default().angle_weight)? };
-            let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, options, Some(&ev.ctx.cancel)).map_err(|e| mocap_error(e, span))?;
+            let (mu, rep) = mocap::human::fit(&file, k.metres_per_unit, &h, options, Some(&ev.ctx.cancel)).map_err(|e| diagnostic(&e, a, span))?;
             // A note, not a result: stderr, so stdout carries only `print` output.
             eprintln!("fit: {} frames, {rep}", file.frame_count());
             Ok(Value::object(Motion::Mu(mu)))
@@ -502,10 +476,11 @@ fn view_curves(a: &mut Args, mus: &[Mu]) -> MxResult<Vec<String>> {
     }
     crate::io::viewer::curves::select(&names, &patterns)
         .map(|v| v.into_iter().map(str::to_string).collect())
-        .map_err(|p| {
-            let e = MxError::new(ErrorKind::Value, format!("no DOF or joint matches `{p}`")).at(c.span).label("matches nothing");
+        .map_err(|u| {
+            let p = &u.pattern;
+            let e = MxError::new(ErrorKind::Value, u.to_string()).at(c.span).label("matches nothing");
             let joints = names.iter().map(|n| crate::io::viewer::curves::joint_of(n));
-            match crate::lang::diagnostics::did_you_mean(&p, names.iter().copied().chain(joints)) {
+            match crate::lang::diagnostics::did_you_mean(p, names.iter().copied().chain(joints)) {
                 Some(s) => e.help(format!("did you mean `{s}`? (`*` and `?` are wildcards)")),
                 None => e.help("give DOF names (`\"Hips.Xrotation\"`), joint names (`\"LeftKnee\"`) or globs (`\"*Knee*\"`); `dofs(m)` lists them"),
             }

@@ -438,7 +438,8 @@ fn formats(reg: &mut Registry) {
         "Motion JSON written by `save(m, \"x.json\")`.",
         |path, a, ev| {
             let ctx = ev.ctx.clone();
-            let compile_fn = move |src: &str| compile(src, &ctx);
+            let compile_fn =
+                move |src: &str| compile(src, &ctx).map_err(crate::io::ContentError::new);
             let m = crate::io::motion_json::load_json(path, &compile_fn)
                 .map_err(|e| file_error(e, a.call_span()))?;
             obj(Motion::Mu(m))

@@ -24,6 +24,7 @@ use crate::motion::Mu;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
 use crate::spacetime::contact::GivenStance;
 use crate::spacetime::reference::LibrarySource;
+use crate::spacetime::sp::SP_OPTIONS;
 use crate::spacetime::{
     Contact, Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
     Tally, fill_hermite, sp, torque_energy,
@@ -64,6 +65,12 @@ fn bad_option(a: &Args, arg: &ArgValue, msg: String, help: &str) -> MxError {
         .help(help.to_string())
 }
 
+/// [`bad_option`] for an option of `SP`, with the engine's one text of what
+/// it takes ([`SpOptions::help`]).
+fn bad_sp_option(a: &Args, arg: &ArgValue, option: &str, msg: String) -> MxError {
+    bad_option(a, arg, msg, SpOptions::help(option).unwrap_or_default())
+}
+
 /// A whole number given as the named option `name` (its range is the
 /// engine's to check: `SpOptions::check`).
 fn whole(a: &mut Args, name: &str) -> MxResult<Option<usize>> {
@@ -86,11 +93,11 @@ fn continuity(a: &mut Args) -> MxResult<Continuity> {
             Ok(Continuity::from_order(x as i64)
                 .map_err(|e| bad_option(a, &arg, e.to_string(), ""))?)
         }
-        _ => Err(bad_option(
+        _ => Err(bad_sp_option(
             a,
             &arg,
+            "continuity",
             format!("`continuity:` must be 1 or 2, found {}", arg.value.repr()),
-            "1: position and velocity continuous at the gap ends (Rose's transitions); 2: acceleration too",
         )),
     }
 }
@@ -204,36 +211,25 @@ fn given_stances(a: &Args, arg: &ArgValue) -> MxResult<Vec<GivenStance>> {
 /// stance schedule planned per gap for the frames near the floor, held by the
 /// support IK with the floor below), `["Toes_L", …]` (those frames), or the
 /// stances themselves: `[{point, from, to, at}, …]` or `contacts(capture, b)`.
-/// Planning replaces `support:`, so the two are not given together.
-fn contact(a: &mut Args, support_given: bool) -> MxResult<Contact> {
+/// Planning replaces `support:`: the engine rejects the two together.
+fn contact(a: &mut Args) -> MxResult<Contact> {
     let Some(arg) = a.opt_named("contact") else {
         return Ok(Contact::default());
     };
-    let contact = match &arg.value {
-        Value::Str(s) if &**s == "none" => return Ok(Contact::None),
-        Value::Str(s) if &**s == "auto" => Contact::Auto,
+    match &arg.value {
+        Value::Str(s) if &**s == "none" => Ok(Contact::None),
+        Value::Str(s) if &**s == "auto" => Ok(Contact::Auto),
         Value::List(items) if !items.is_empty() && items.iter().all(|v| v.as_str().is_some()) => {
-            Contact::Named(frame_names(a, &arg, "contact")?)
+            Ok(Contact::Named(frame_names(a, &arg, "contact")?))
         }
-        Value::List(items) if !items.is_empty() => Contact::Given(given_stances(a, &arg)?),
-        Value::Record(_) => Contact::Given(given_stances(a, &arg)?),
-        _ => {
-            return Err(a.type_error(
-                "contact",
-                "\"none\", \"auto\", a list of frame names like [\"Toes_L\"], a list of stances [{point: \"Toes_L\", from: 2.1, to: 2.5}] or contacts(capture, body)",
-                &arg,
-            ));
-        }
-    };
-    if support_given {
-        return Err(bad_option(
-            a,
+        Value::List(items) if !items.is_empty() => Ok(Contact::Given(given_stances(a, &arg)?)),
+        Value::Record(_) => Ok(Contact::Given(given_stances(a, &arg)?)),
+        _ => Err(a.type_error(
+            "contact",
+            "\"none\", \"auto\", a list of frame names like [\"Toes_L\"], a list of stances [{point: \"Toes_L\", from: 2.1, to: 2.5}] or contacts(capture, body)",
             &arg,
-            "`contact:` plans the feet itself and replaces `support:`".into(),
-            "give one of the two",
-        ));
+        )),
     }
-    Ok(contact)
 }
 
 /// `floor: h`: the floor's height (m, along −gravity) for `contact:`.
@@ -244,14 +240,14 @@ fn floor(a: &mut Args) -> MxResult<Option<f64>> {
     match arg.value {
         Value::Number(h) => Ok(Some(h)),
         Value::Str(ref s) if &**s == "auto" => Ok(None),
-        _ => Err(bad_option(
+        _ => Err(bad_sp_option(
             a,
             &arg,
+            "floor",
             format!(
                 "`floor:` must be a height in metres or \"auto\", found {}",
                 arg.value.repr()
             ),
-            "\"auto\" (default): the lowest contact point of the motion's recorded part",
         )),
     }
 }
@@ -266,16 +262,14 @@ fn root_fill(a: &mut Args) -> MxResult<RootFill> {
         Some("auto") => Ok(RootFill::Auto),
         Some("shift") => Ok(RootFill::Shift),
         Some("pinned") => Ok(RootFill::Pinned),
-        _ => Err(bad_option(
+        _ => Err(bad_sp_option(
             a,
             &arg,
+            "root",
             format!(
                 "`root:` must be \"auto\", \"shift\" or \"pinned\", found {}",
                 arg.value.repr()
             ),
-            "\"auto\" (default): pinned where both sides look like one recording, shifted otherwise; \
-             \"shift\": the root's x–z follows interpolated velocities and what follows the gap moves to continue it \
-             (Rose); \"pinned\": the motion after the gap stays where it is and the root's x–z is a Hermite curve",
         )),
     }
 }
@@ -305,15 +299,14 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
             Some("effort") => {}
             Some("torque") => p = Prior::none(),
             _ => {
-                return Err(bad_option(
+                return Err(bad_sp_option(
                     a,
                     &arg,
+                    "objective",
                     format!(
                         "`objective:` must be \"effort\" or \"torque\", found {}",
                         arg.value.repr()
                     ),
-                    "\"effort\" (default): ∫Στ² plus a kinematic prior that holds light and gimbal-locked DOFs, kept \
-                     below Hermite's ∫Στ²; \"torque\": Rose's ∫Στ² alone",
                 ));
             }
         }
@@ -330,14 +323,14 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
             Value::Str(ref t) if &**t == "auto" => p.time_constant = None,
             Value::Number(x) => p.time_constant = Some(x),
             _ => {
-                return Err(bad_option(
+                return Err(bad_sp_option(
                     a,
                     &arg,
+                    "time_constant",
                     format!(
                         "`time_constant:` must be a positive time or \"auto\", found {}",
                         arg.value.repr()
                     ),
-                    "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: (0.32 s)²/gap length)",
                 ));
             }
         }
@@ -355,16 +348,14 @@ fn prior(a: &mut Args, library: &mut Option<Arc<Library>>) -> MxResult<Prior> {
                 *library = Some(lib);
             }
             _ => {
-                return Err(bad_option(
+                return Err(bad_sp_option(
                     a,
                     &arg,
+                    "example",
                     format!(
                         "`example:` must be \"self\", \"none\", a clip library or [library, \"self\"], found {}",
                         arg.value.repr()
                     ),
-                    "\"self\" (default): where the motion repeats (a walk, a run), the prior follows the stretch of it \
-                     whose frames around it best match the frames around the gap; \"none\": the plain prior; a library (library(\"clips/\")): \
-                     the best stretch of its clips; [lib, \"self\"]: the better of the two",
                 ));
             }
         }
@@ -395,9 +386,8 @@ fn sp_options(a: &mut Args, ev: &Evaluator, (m, marg): (&Mu, &ArgValue)) -> MxRe
     if let Some(g) = a.opt_named("gravity") {
         o.gravity = Some(vec3(a, &g, "gravity")?);
     }
-    let support_given = a.has_named("support");
     o.support = support(a)?;
-    o.contact = contact(a, support_given)?;
+    o.contact = contact(a)?;
     o.floor = floor(a)?;
     o.root = root_fill(a)?;
     let mut library = None;
@@ -524,33 +514,37 @@ fn run_cyclify(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
     Ok(Value::object(Motion::Mu(out)))
 }
 
-pub fn register(reg: &mut Registry) {
-    reg.topic(Topic::Spacetime);
-    reg.add(
-        "SP(m, body: b, coefficients: 5, samples: 20, continuity: 1, support: \"auto\", gravity: [x, y, z], iterations: 300, tolerance: 1e-3, objective: \"effort\", smoothness: 1e6, time_constant: \"auto\", example: \"self\", root: \"auto\", contact: \"none\", floor: \"auto\")",
+/// `SP(…)`'s usage line: its two arguments, then every option of
+/// [`SP_OPTIONS`] with its default.
+fn sp_signature() -> String {
+    let options: Vec<String> = SP_OPTIONS
+        .iter()
+        .map(|o| format!("{}: {}", o.name, o.default))
+        .collect();
+    format!("SP(m, body: b, {})", options.join(", "))
+}
+
+/// `:help SP`: what SP does, then each option in the engine's one text of it
+/// ([`SP_OPTIONS`], the help under an option's error too).
+fn sp_doc() -> String {
+    let options: Vec<String> = SP_OPTIONS
+        .iter()
+        .map(|o| format!("{}: {}.", o.name, o.help))
+        .collect();
+    format!(
         "Spacetime transitions (Rose et al. 1996): every interior gap of every DOF of m is filled with the cubic \
          B-spline minimising ∫Στ² dt (joint torques of `body`, whose coordinates must be m's DOFs, e.g. body_of(clip)); \
          the root moves kinematically; position and velocity (continuity: 2: also acceleration) match at both gap ends. \
-         coefficients: free B-spline coefficients per DOF (at least 2, or 3 with continuity: 2); samples: Gauss points \
-         of the torque integral (at least 6 per B-spline piece); support: frames held by IK ([\"LeftFoot\"], [] for none, \"auto\" to detect); \
-         iterations: limit; tolerance: stop when 25 iterations lower the energy by less than this fraction. \
-         objective: \"effort\" (default) adds to ∫Στ² a kinematic prior, λ Σ M_dd² ∫ q̈² + q̇²/T² (smoothness: λ, time_constant: T, default (0.32 s)²/gap length), \
-         lowered tenfold until the transition costs at least 1 % less ∫Στ² than the Hermite curves; \"torque\" is Rose's ∫Στ² alone. \
-         example: \"self\" (default): where the motion repeats (a walk, a run), the prior follows the velocities of the stretch of m \
-         whose 0.3 s on each side best match those around the gap, λ Σ M_dd² ∫ (q̈ − r̈)² + (q̇ − ṙ)²/T², if it matches better than \
-         the context's own mean pose; \"none\": the plain prior; a clip library (library(…)): the stretch of its clips that best \
-         matches the gap's context, turned and moved onto the gap in the floor plane (sp_report names clip, time, warp and mismatch); \
-         [lib, \"self\"]: the better of the two. \
-         root: \"auto\" (default: per gap, \"pinned\" when the recorded x–z displacement across it is within 0.5 m + half the \
-         displacement T (v₀ + v₁)/2 the end velocities predict, i.e. a hole inside one recording, else \"shift\"), \"shift\" \
-         (Rose: what follows the gap moves to continue the root's path) or \"pinned\" (it stays where it was recorded). \
-         contact: \"none\" (default: Rose's support: alone), \"auto\" (a stance schedule per foot planned from the stances around \
-         each gap, planted frames held by IK with the floor below them; replaces support:) or [\"Toes_L\", …]; floor: its height \
-         (m, default \"auto\": the lowest contact point of the recorded part); sp_report(result).contacts lists the plan. \
+         {} \
          Translation DOFs constant on both sides (bone offsets) stay constant. Gaps at the start or end stay undefined; a conflict is an error. \
          sp_report(result) tells what was done. Ctrl-C cancels.",
-        run_sp,
-    );
+        options.join(" ")
+    )
+}
+
+pub fn register(reg: &mut Registry) {
+    reg.topic(Topic::Spacetime);
+    reg.add(&sp_signature(), &sp_doc(), run_sp);
     reg.add(
         "sp_report(m)",
         "What SP did to produce m: `groups` (per gap group: dofs, t0, t1, method, unknowns, iterations, evaluations, \

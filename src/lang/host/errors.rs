@@ -6,12 +6,26 @@
 
 use crate::dynamics::DynamicsError;
 use crate::graph::GraphError;
+use crate::ground::GroundError;
+use crate::ik::IkError;
+use crate::io::FileError;
+use crate::io::gltf::GltfError;
+use crate::io::plot::PlotError;
+use crate::io::viewer::ViewerError;
 use crate::lang::args::Args;
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError};
+use crate::library::LibraryError;
+use crate::mocap::MocapError;
+use crate::mocap::bvh::BvhError;
+use crate::model::joints::JointSpecError;
+use crate::model::link_tree::TreeError;
+use crate::model::{InertiaError, ModelError};
 use crate::motion::MotionError;
+use crate::motion::cyclify::CyclifyError;
 use crate::shard::ShardError;
-use crate::spacetime::SpError;
+use crate::spacetime::{SpError, SpOptions};
+use crate::spline::SplineError;
 
 /// What the language needs from an engine error to report it.
 pub trait EngineError: std::fmt::Display {
@@ -89,7 +103,9 @@ impl EngineError for SpError {
         match self {
             SpError::Cancelled => ErrorKind::Cancelled,
             SpError::Conflict { .. } => ErrorKind::Motion,
-            SpError::Invalid(_) | SpError::InvalidOption { .. } => ErrorKind::Value,
+            SpError::Invalid(_)
+            | SpError::InvalidOption { .. }
+            | SpError::ContactReplacesSupport => ErrorKind::Value,
             // what the motion or the body could not give: the host's, as before they were typed
             SpError::Undefined { .. }
             | SpError::Incomplete(_)
@@ -109,7 +125,8 @@ impl EngineError for SpError {
             SpError::Conflict { .. } => {
                 Some("`conflicts(m)` lists where the motion is multiply defined")
             }
-            SpError::InvalidOption { option, .. } => sp_option_help(option),
+            SpError::InvalidOption { option, .. } => SpOptions::help(option),
+            SpError::ContactReplacesSupport => Some("give one of the two"),
             _ => None,
         }
     }
@@ -118,43 +135,13 @@ impl EngineError for SpError {
     }
     fn label(&self) -> &'static str {
         match self {
-            SpError::Cancelled | SpError::Invalid(_) | SpError::InvalidOption { .. } => {
-                "in this call"
-            }
+            SpError::Cancelled
+            | SpError::Invalid(_)
+            | SpError::InvalidOption { .. }
+            | SpError::ContactReplacesSupport => "in this call",
             _ => "this motion",
         }
     }
-}
-
-/// What each of SP's options means, for the help line under its error (the
-/// engine checks the value; this only explains it).
-fn sp_option_help(option: &str) -> Option<&'static str> {
-    Some(match option {
-        "coefficients" => {
-            "free B-spline coefficients per DOF and gap: at least 2 with continuity: 1, 3 with continuity: 2 \
-             (default 5, as in Rose's Fig. 8; Rose uses 5–10)"
-        }
-        "samples" => {
-            "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)"
-        }
-        "iterations" => "solver iterations per gap group (default 300)",
-        "tolerance" => {
-            "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)"
-        }
-        "smoothness" => {
-            "weight λ of the kinematic prior against ∫Στ² (default 1e6; 0 is objective: \"torque\")"
-        }
-        "time_constant" => {
-            "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: \
-             (0.32 s)²/gap length)"
-        }
-        "floor" => "\"auto\" (default): the lowest contact point of the motion's recorded part",
-        "support" | "contact" => {
-            "name frames (links) of the body, e.g. a clip's joints: [\"LeftFoot\", \"RightFoot\"]"
-        }
-        "gravity" => "a finite vector in m/s², e.g. [0, -9.81, 0]",
-        _ => return None,
-    })
 }
 
 impl EngineError for GraphError {
@@ -168,6 +155,244 @@ impl EngineError for GraphError {
     }
     fn argument(&self) -> Option<&'static str> {
         self.option()
+    }
+}
+
+impl EngineError for GroundError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            GroundError::Motion(m) => m.kind(),
+            GroundError::Dynamics(d) => d.kind(),
+            _ => ErrorKind::Value,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            GroundError::Motion(m) => m.advice(),
+            _ => None,
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        match self {
+            GroundError::Motion(m) => m.option(),
+            e => e.option(),
+        }
+    }
+}
+
+impl EngineError for IkError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            IkError::Motion(m) => m.kind(),
+            _ => ErrorKind::Value,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            IkError::Motion(m) => m.advice(),
+            _ => None,
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        match self {
+            IkError::Motion(m) => m.option(),
+            e => e.argument(),
+        }
+    }
+    fn label(&self) -> &'static str {
+        "here"
+    }
+}
+
+impl EngineError for LibraryError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            LibraryError::File { .. } => ErrorKind::Io,
+            _ => ErrorKind::Value,
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        self.option()
+    }
+}
+
+/// The help under a file that cannot be read.
+pub const MISSING_FILE_HELP: &str = "check the file name: a script's relative paths are taken from the script's own folder, the REPL's from the current folder";
+
+impl EngineError for BvhError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            BvhError::Unit(_) => ErrorKind::Value,
+            _ => ErrorKind::Io,
+        }
+    }
+    // the help says what to do about this error, not about BVH files
+    fn advice(&self) -> Option<&'static str> {
+        Some(match self {
+            BvhError::Io { .. } => MISSING_FILE_HELP,
+            BvhError::Parse { .. } => {
+                "the BVH file is malformed at the line named; fix or re-export it"
+            }
+            BvhError::Invalid(_) => {
+                "the BVH file's skeleton or motion is inconsistent as said; fix or re-export it"
+            }
+            BvhError::Unit(_) => return None,
+        })
+    }
+    fn argument(&self) -> Option<&'static str> {
+        match self {
+            BvhError::Unit(_) => Some("unit"),
+            _ => None,
+        }
+    }
+}
+
+impl EngineError for MocapError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            MocapError::Motion(m) => m.kind(),
+            MocapError::Bvh(b) => b.kind(),
+            _ => ErrorKind::Value,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            MocapError::Motion(m) => m.advice(),
+            MocapError::Bvh(b) => b.advice(),
+            _ => None,
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        self.option()
+    }
+}
+
+impl EngineError for FileError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            FileError::Motion(m) => m.kind(),
+            _ => ErrorKind::Io,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            FileError::Motion(m) => m.advice(),
+            _ => Some("check the path, the folder's permissions and the file's content"),
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        match self {
+            FileError::Motion(m) => m.option(),
+            _ => None,
+        }
+    }
+}
+
+impl EngineError for GltfError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            GltfError::File(f) => f.kind(),
+            GltfError::Mocap(m) => m.kind(),
+            GltfError::Invalid(_) => ErrorKind::Io,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            GltfError::File(f) => f.advice(),
+            GltfError::Mocap(m) => m.advice(),
+            GltfError::Invalid(_) => {
+                Some("mx reads glTF files holding a skin (skeleton) and an animation of its joints")
+            }
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        match self {
+            GltfError::File(f) => f.argument(),
+            GltfError::Mocap(m) => m.argument(),
+            GltfError::Invalid(_) => None,
+        }
+    }
+}
+
+impl EngineError for ModelError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            ModelError::Invalid(_) | ModelError::Tree(_) => ErrorKind::Value,
+            _ => ErrorKind::Io,
+        }
+    }
+    // a URDF's: what to do about the file (the reader's messages say what is wrong in it)
+    fn advice(&self) -> Option<&'static str> {
+        Some(match self {
+            ModelError::Invalid(_) | ModelError::Tree(_) => return None,
+            ModelError::UrdfUnreadable(_) => MISSING_FILE_HELP,
+            ModelError::UrdfMalformed(_) => {
+                "the file is not well-formed XML with a <robot> root; open it in an XML viewer or export it again"
+            }
+            ModelError::UrdfTree {
+                error: TreeError::UnknownLink { .. },
+                ..
+            } => "define that link or correct the joint's <parent>/<child> link name",
+            ModelError::Urdf(_) | ModelError::UrdfTree { .. } => "fix the file as the message says",
+        })
+    }
+}
+
+impl EngineError for InertiaError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Value
+    }
+    fn argument(&self) -> Option<&'static str> {
+        Some(self.quantity())
+    }
+}
+
+impl EngineError for JointSpecError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Value
+    }
+}
+
+impl EngineError for CyclifyError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Value
+    }
+}
+
+impl EngineError for SplineError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Value
+    }
+}
+
+impl EngineError for PlotError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Io
+    }
+}
+
+impl EngineError for ViewerError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            ViewerError::Io { .. } => ErrorKind::Io,
+            ViewerError::Invalid(_) => ErrorKind::Value,
+        }
+    }
+}
+
+/// `e` as a diagnostic at `span`, for callers without the call's arguments
+/// at hand: the engine's kind and advice, no argument to point at.
+pub fn error_at(e: &dyn EngineError, span: Span) -> MxError {
+    engine_error(e).at(span).label(e.label())
+}
+
+/// `e` as a diagnostic with its kind and advice, placed by the caller (a
+/// loader's error is placed at the call by the evaluator).
+pub fn engine_error(e: &dyn EngineError) -> MxError {
+    let err = MxError::new(e.kind(), e.to_string());
+    match e.advice() {
+        Some(h) => err.help(h),
+        None => err,
     }
 }
 

@@ -21,6 +21,11 @@ pub enum BvhError {
     },
     #[error("BVH: {0}")]
     Invalid(String),
+    /// A stated scale that is no length (`unit:`).
+    #[error(
+        "unit scale must be a positive number of metres per file unit, got {0} (use 0.01 for centimetres)"
+    )]
+    Unit(f64),
 }
 
 impl BvhError {

@@ -3,7 +3,7 @@
 //! 0.056444 m. The user may state the scale; otherwise it is detected from the
 //! skeleton's size and the choice (with its reason) is reported.
 
-use super::Skeleton;
+use super::{BvhError, Skeleton};
 
 /// How to convert file lengths to metres.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -45,7 +45,7 @@ const CANDIDATES: [(f64, &str); 5] = [
 const TYPICAL_CHAIN_M: f64 = 1.0;
 
 /// Resolves `units` for a skeleton.
-pub fn resolve(units: Units, skeleton: &Skeleton) -> Result<UnitChoice, String> {
+pub fn resolve(units: Units, skeleton: &Skeleton) -> Result<UnitChoice, BvhError> {
     match units {
         Units::MetresPerUnit(s) if s.is_finite() && s > 0.0 => Ok(UnitChoice {
             metres_per_unit: s,
@@ -57,9 +57,7 @@ pub fn resolve(units: Units, skeleton: &Skeleton) -> Result<UnitChoice, String> 
             detected: false,
             reason: format!("stated: {s} m per file unit"),
         }),
-        Units::MetresPerUnit(s) => Err(format!(
-            "unit scale must be a positive number of metres per file unit, got {s} (use 0.01 for centimetres)"
-        )),
+        Units::MetresPerUnit(s) => Err(BvhError::Unit(s)),
         Units::Auto => Ok(detect_units(skeleton)),
     }
 }

@@ -386,9 +386,10 @@ pub fn fit(
     }
     let w = options.angle_weight;
     if !(w.is_finite() && w >= 0.0) {
-        return Err(MocapError::invalid(format!(
-            "angle_weight must be a number of metres per radian ≥ 0, got {w}"
-        )));
+        return Err(MocapError::invalid_option(
+            "angle_weight",
+            format!("angle_weight must be a number of metres per radian ≥ 0, got {w}"),
+        ));
     }
     let model = &h.model;
     let problem = Problem::new(h);

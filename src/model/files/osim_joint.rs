@@ -229,7 +229,7 @@ pub(crate) fn function_from_xml(n: Node) -> Result<ScalarFunction, FunctionJoint
         "PiecewiseLinearFunction" => {
             let x = nums(text(n, "x").unwrap_or(""))?;
             let y = nums(text(n, "y").unwrap_or(""))?;
-            ScalarFunction::piecewise_linear(x, y).map_err(FunctionJointError)
+            ScalarFunction::piecewise_linear(x, y)
         }
         "GCVSpline" => gcv_spline(n),
         "MultivariatePolynomialFunction" => e(

@@ -167,51 +167,57 @@ fn offset_from_json(v: Option<&Value>) -> Result<Se3, FunctionJointError> {
 }
 
 /// An OpenSim function from its JSON form (`type` + parameters).
-pub fn function_from_json(f: &Value) -> Result<ScalarFunction, String> {
+pub fn function_from_json(f: &Value) -> Result<ScalarFunction, FunctionJointError> {
     let ty = f.get("type").and_then(Value::as_str).unwrap_or("");
     match ty {
         "Constant" => Ok(ScalarFunction::Constant {
             value: f
                 .get("value")
                 .and_then(Value::as_f64)
-                .ok_or("Constant needs a numeric `value`")?,
+                .ok_or_else(|| FunctionJointError("Constant needs a numeric `value`".into()))?,
         }),
         "LinearFunction" => {
             let c = f64s(f.get("coefficients"))
                 .filter(|c| c.len() == 2)
-                .ok_or("LinearFunction needs `coefficients` [slope, intercept]")?;
+                .ok_or_else(|| {
+                    FunctionJointError(
+                        "LinearFunction needs `coefficients` [slope, intercept]".into(),
+                    )
+                })?;
             Ok(ScalarFunction::Linear {
                 slope: c[0],
                 intercept: c[1],
             })
         }
         "SimmSpline" => {
-            let x = f64s(f.get("x")).ok_or("SimmSpline needs numeric `x`")?;
-            let y = f64s(f.get("y")).ok_or("SimmSpline needs numeric `y`")?;
+            let x = f64s(f.get("x"))
+                .ok_or_else(|| FunctionJointError("SimmSpline needs numeric `x`".into()))?;
+            let y = f64s(f.get("y"))
+                .ok_or_else(|| FunctionJointError("SimmSpline needs numeric `y`".into()))?;
             Ok(ScalarFunction::SimmSpline(
-                SimmSpline::new(x, y).map_err(|e| e.to_string())?,
+                SimmSpline::new(x, y).map_err(|e| FunctionJointError(e.to_string()))?,
             ))
         }
         "PolynomialFunction" => Ok(ScalarFunction::Polynomial {
-            coefficients: f64s(f.get("coefficients"))
-                .ok_or("PolynomialFunction needs `coefficients`")?,
+            coefficients: f64s(f.get("coefficients")).ok_or_else(|| {
+                FunctionJointError("PolynomialFunction needs `coefficients`".into())
+            })?,
         }),
         "MultiplierFunction" => {
             let scale = f
                 .get("scale")
                 .and_then(Value::as_f64)
-                .ok_or("MultiplierFunction needs `scale`")?;
-            let inner = function_from_json(
-                f.get("function")
-                    .ok_or("MultiplierFunction needs `function`")?,
-            )?;
+                .ok_or_else(|| FunctionJointError("MultiplierFunction needs `scale`".into()))?;
+            let inner = function_from_json(f.get("function").ok_or_else(|| {
+                FunctionJointError("MultiplierFunction needs `function`".into())
+            })?)?;
             Ok(ScalarFunction::Multiplier {
                 scale,
                 function: Box::new(inner),
             })
         }
-        other => Err(format!(
+        other => Err(FunctionJointError(format!(
             "function type '{other}' is not supported (use Constant, LinearFunction, SimmSpline, PolynomialFunction or MultiplierFunction)"
-        )),
+        ))),
     }
 }

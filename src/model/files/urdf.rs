@@ -25,6 +25,7 @@ use crate::model::body::Inertia;
 use crate::model::coupling::{Coupling, Follower};
 use crate::model::joint::{Joint, Limit};
 use crate::model::joints::{Prismatic, Revolute};
+use crate::model::link_tree::{TreeError, TreeJoint, roots, tree_order};
 use crate::model::tree::{Model, ModelError};
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use std::collections::HashMap;
@@ -122,7 +123,7 @@ impl Model {
         options: UrdfOptions,
     ) -> Result<(Model, Option<Coupling>), ModelError> {
         let robot = urdf_rs::read_from_string(text).map_err(|e| {
-            ModelError::Urdf(format!("could not parse the URDF ({e}); check that it is well-formed XML with a <robot> root"))
+            ModelError::UrdfMalformed(format!("could not parse the URDF ({e}); check that it is well-formed XML with a <robot> root"))
         })?;
         check_limits(text)?;
         let model = build(&robot)?;
@@ -141,10 +142,19 @@ impl Model {
         options: UrdfOptions,
     ) -> Result<(Model, Option<Coupling>), ModelError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ModelError::Urdf(format!("cannot read `{}`: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ModelError::UrdfUnreadable(format!("cannot read `{}`: {e}", path.display()))
+        })?;
+        // the file's name leads every message about its content
         Self::from_urdf_str_with(&text, options).map_err(|e| match e {
             ModelError::Urdf(m) => ModelError::Urdf(format!("{}: {m}", path.display())),
+            ModelError::UrdfMalformed(m) => {
+                ModelError::UrdfMalformed(format!("{}: {m}", path.display()))
+            }
+            ModelError::UrdfTree { error, .. } => ModelError::UrdfTree {
+                path: Some(path.to_path_buf()),
+                error,
+            },
             other => other,
         })
     }
@@ -154,7 +164,7 @@ impl Model {
 /// (urdf-rs would fill in zeros silently).
 fn check_limits(text: &str) -> Result<(), ModelError> {
     let doc = roxmltree::Document::parse(text)
-        .map_err(|e| ModelError::Urdf(format!("could not parse the URDF XML: {e}")))?;
+        .map_err(|e| ModelError::UrdfMalformed(format!("could not parse the URDF XML: {e}")))?;
     let robot = doc.root_element();
     for j in robot.children().filter(|n| n.has_tag_name("joint")) {
         let kind = j.attribute("type").unwrap_or("");
@@ -216,59 +226,35 @@ fn mimic_coupling(
         .map_err(|e| ModelError::Urdf(e.to_string()))
 }
 
-// Long (about 160 lines): the broken-file checks (duplicates, missing links, several
-// roots, cycles) and the depth-first build in Pinocchio's joint order share the name
-// maps and must run in this order, each check naming what it found.
+// The tree's checks (names, joints between links that exist, cycles) are
+// `link_tree`'s; a URDF adds one root, welded to the world, and Pinocchio's
+// order (children by joint name), then builds depth first.
 fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
-    let mut links: HashMap<&str, &urdf_rs::Link> = HashMap::new();
+    let urdf = |error: TreeError| ModelError::UrdfTree { path: None, error };
     for l in &robot.links {
-        if links.insert(l.name.as_str(), l).is_some() {
-            return Err(ModelError::Urdf(format!(
-                "link `{}` is defined twice; link names must be unique",
-                l.name
-            )));
-        }
         // Every link, the root's too (welded to the world, but a broken file).
         check_inertia(&l.name, l.inertial.mass.value, &inertia_matrix(l))?;
     }
-    let mut joint_names = std::collections::HashSet::new();
-    for j in &robot.joints {
-        if !joint_names.insert(j.name.as_str()) {
-            return Err(ModelError::Urdf(format!(
-                "joint `{}` is defined twice; joint names must be unique",
-                j.name
-            )));
-        }
-    }
-    let mut children: HashMap<&str, Vec<&urdf_rs::Joint>> = HashMap::new();
-    let mut is_child: HashMap<&str, &str> = HashMap::new();
-    for j in &robot.joints {
-        for end in [&j.parent.link, &j.child.link] {
-            if !links.contains_key(end.as_str()) {
-                return Err(ModelError::Urdf(format!(
-                    "joint `{}` refers to link `{end}`, which is not defined",
-                    j.name
-                )));
-            }
-        }
-        if let Some(prev) = is_child.insert(j.child.link.as_str(), j.name.as_str()) {
-            return Err(ModelError::Urdf(format!(
-                "link `{}` is the child of both `{prev}` and `{}`; a URDF must be a tree",
-                j.child.link, j.name
-            )));
-        }
-        children.entry(j.parent.link.as_str()).or_default().push(j);
-    }
-    for v in children.values_mut() {
-        v.sort_by(|a, b| a.name.cmp(&b.name));
-    }
-    let roots: Vec<&str> = robot
-        .links
+    let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
+    // children of every link sorted by joint name: Pinocchio's order
+    let mut joints: Vec<&urdf_rs::Joint> = robot.joints.iter().collect();
+    joints.sort_by(|a, b| a.name.cmp(&b.name));
+    let edges: Vec<TreeJoint> = joints
         .iter()
-        .map(|l| l.name.as_str())
-        .filter(|n| !is_child.contains_key(n))
+        .map(|j| TreeJoint {
+            name: &j.name,
+            parent: Some(&j.parent.link),
+            child: &j.child.link,
+        })
         .collect();
-    let root = match roots.as_slice() {
+    let tree = tree_order(&names, &edges);
+    // a cycle's message names the root it is not connected to, found first
+    if let Err(e) = &tree
+        && !matches!(e, TreeError::Cycle { .. })
+    {
+        return Err(urdf(e.clone()));
+    }
+    let root = match roots(&names, &edges).as_slice() {
         [r] => *r,
         [] => {
             return Err(ModelError::Urdf(
@@ -282,26 +268,29 @@ fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
             )));
         }
     };
+    let order = tree.map_err(|e| match e {
+        TreeError::Cycle {
+            joints: mut stray, ..
+        } => {
+            // in the file's order
+            stray.sort_by_key(|n| robot.joints.iter().position(|j| &j.name == n));
+            ModelError::Urdf(format!(
+                "the joints {} form a cycle not connected to the root link `{root}`",
+                stray.join(", ")
+            ))
+        }
+        e => urdf(e),
+    })?;
+    let links: HashMap<&str, &urdf_rs::Link> =
+        robot.links.iter().map(|l| (l.name.as_str(), l)).collect();
     let mut model = Model::new(&robot.name);
     let mut inertias: Vec<Inertia> = Vec::new();
-    // Depth-first, children sorted by joint name: Pinocchio's order. Stack items:
-    // (joint, moving body its parent link belongs to, pose of that parent link in the body).
-    let mut stack: Vec<(&urdf_rs::Joint, Option<usize>, Se3)> = Vec::new();
-    let push_children = |stack: &mut Vec<_>, lname: &str, body: Option<usize>, acc: Se3| {
-        if let Some(kids) = children.get(lname) {
-            // Reverse so the first name is popped first.
-            for j in kids.iter().rev() {
-                stack.push((*j, body, acc));
-            }
-        }
-    };
-    push_children(&mut stack, root, None, Se3::identity());
-    let mut visited = 0usize;
-    while let Some((j, body, acc)) = stack.pop() {
-        visited += 1;
-        if visited > robot.joints.len() {
-            return Err(ModelError::Urdf("the joints form a cycle".into()));
-        }
+    // Per link placed: the moving body it belongs to and its pose in that body
+    // (a fixed joint's child joins its parent's body).
+    let mut placed: HashMap<&str, (Option<usize>, Se3)> =
+        HashMap::from([(root, (None, Se3::identity()))]);
+    for j in order.into_iter().map(|i| joints[i]) {
+        let (body, acc) = placed[j.parent.link.as_str()];
         let child = links[j.child.link.as_str()];
         let placement = acc.compose(&pose(&j.origin));
         let axis = Vector3::new(j.axis.xyz[0], j.axis.xyz[1], j.axis.xyz[2]);
@@ -324,7 +313,7 @@ fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
                 if let Some(b) = body {
                     inertias[b] += link_inertia(child)?.transformed(&placement);
                 }
-                push_children(&mut stack, child.name.as_str(), body, placement);
+                placed.insert(child.name.as_str(), (body, placement));
                 continue;
             }
             urdf_rs::JointType::Revolute => {
@@ -351,31 +340,7 @@ fn build(robot: &urdf_rs::Robot) -> Result<Model, ModelError> {
             Inertia::zero(),
         )?;
         inertias.push(link_inertia(child)?);
-        push_children(&mut stack, child.name.as_str(), Some(idx), Se3::identity());
-    }
-    if visited < robot.joints.len() {
-        // Every link has one parent, so joints the root cannot reach hang in a cycle.
-        let mut reached = std::collections::HashSet::from([root]);
-        let mut grew = true;
-        while grew {
-            grew = false;
-            for j in &robot.joints {
-                if reached.contains(j.parent.link.as_str()) && reached.insert(j.child.link.as_str())
-                {
-                    grew = true;
-                }
-            }
-        }
-        let stray: Vec<&str> = robot
-            .joints
-            .iter()
-            .filter(|j| !reached.contains(j.child.link.as_str()))
-            .map(|j| j.name.as_str())
-            .collect();
-        return Err(ModelError::Urdf(format!(
-            "the joints {} form a cycle not connected to the root link `{root}`",
-            stray.join(", ")
-        )));
+        placed.insert(child.name.as_str(), (Some(idx), Se3::identity()));
     }
     for (i, inertia) in inertias.into_iter().enumerate() {
         model.set_inertia(i, inertia)?;

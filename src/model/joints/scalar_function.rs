@@ -1,6 +1,7 @@
 //! Scalar functions of one coordinate that drive the exponentials of a
 //! function-based joint: the OpenSim `Function`s used in CustomJoints.
 
+use super::error::JointSpecError;
 use crate::spline::{BSplineCurve, GcvSpline, SimmSpline};
 use serde::{Deserialize, Serialize};
 
@@ -32,26 +33,30 @@ pub enum ScalarFunction {
 
 impl ScalarFunction {
     /// A `PiecewiseLinearFunction` through (x[i], y[i]): at least 2 points, x strictly increasing.
-    pub fn piecewise_linear(x: Vec<f64>, y: Vec<f64>) -> Result<Self, String> {
+    pub fn piecewise_linear(x: Vec<f64>, y: Vec<f64>) -> Result<Self, JointSpecError> {
         if x.len() != y.len() {
-            return Err(format!(
+            return Err(JointSpecError(format!(
                 "PiecewiseLinearFunction has {} x values but {} y values",
                 x.len(),
                 y.len()
-            ));
+            )));
         }
         if x.len() < 2 {
-            return Err("PiecewiseLinearFunction needs at least 2 points".into());
+            return Err(JointSpecError(
+                "PiecewiseLinearFunction needs at least 2 points".into(),
+            ));
         }
         if x.iter().chain(&y).any(|v| !v.is_finite()) {
-            return Err("PiecewiseLinearFunction points must be finite".into());
+            return Err(JointSpecError(
+                "PiecewiseLinearFunction points must be finite".into(),
+            ));
         }
         if let Some(i) = (1..x.len()).find(|&i| x[i] <= x[i - 1]) {
-            return Err(format!(
+            return Err(JointSpecError(format!(
                 "PiecewiseLinearFunction x values must be strictly increasing: x[{i}] = {} follows {}",
                 x[i],
                 x[i - 1]
-            ));
+            )));
         }
         Ok(ScalarFunction::PiecewiseLinear { x, y })
     }

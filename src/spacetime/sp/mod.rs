@@ -36,8 +36,8 @@ pub use energy::{joint_weights, torque_energy};
 pub use filling::Filling;
 pub use hold_contacts::contact_floor;
 pub use options::{
-    AUTO_TIME_SCALE, DEFAULT_SMOOTHNESS, Prior, ROOT_TOLERANCE_FIXED, ROOT_TOLERANCE_RELATIVE,
-    RootFill, SpOptions, Support, root_tolerance,
+    AUTO_TIME_SCALE, DEFAULT_SMOOTHNESS, OptionDoc, Prior, ROOT_TOLERANCE_FIXED,
+    ROOT_TOLERANCE_RELATIVE, RootFill, SP_OPTIONS, SpOptions, Support, root_tolerance,
 };
 pub use prior_weights::prior_weights;
 pub use report::{PinnedRoot, RootShift, SpReport, Undefined};

@@ -114,6 +114,11 @@ impl SpOptions {
                 ),
             ));
         }
+        // planning replaces the support limbs: a support given beside it
+        // would be silently ignored (`sp` holds contacts only under the default)
+        if self.contact != Contact::None && self.support != Support::default() {
+            return Err(SpError::ContactReplacesSupport);
+        }
         if let Support::Named(names) = &self.support {
             crate::spacetime::hold::named(model, names, "support")?;
         }
@@ -128,7 +133,116 @@ impl SpOptions {
         }
         Ok(())
     }
+
+    /// What the option `option` (as the language spells it) means and takes:
+    /// the one text the help line under its error shows, whether the engine
+    /// found the value out of range or the language found it of the wrong type,
+    /// and the one `:help SP` lists ([`SP_OPTIONS`]).
+    pub fn help(option: &str) -> Option<&'static str> {
+        SP_OPTIONS.iter().find(|o| o.name == option).map(|o| o.help)
+    }
 }
+
+/// One option of `SP(…)` as the language writes it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OptionDoc {
+    pub name: &'static str,
+    /// The default as `SP(…)`'s usage line shows it.
+    pub default: &'static str,
+    /// What it means and takes ([`SpOptions::help`]).
+    pub help: &'static str,
+}
+
+/// SP's options in the order its usage line lists them: the one statement of
+/// what each means, from which the language makes `SP(…)`'s signature, its
+/// `:help` and the help under an option's error.
+pub const SP_OPTIONS: [OptionDoc; 14] = [
+    OptionDoc {
+        name: "coefficients",
+        default: "5",
+        help: "free B-spline coefficients per DOF and gap: at least 2 with continuity: 1, 3 with continuity: 2 \
+               (default 5, as in Rose's Fig. 8; Rose uses 5–10)",
+    },
+    OptionDoc {
+        name: "samples",
+        default: "20",
+        help: "Gauss points of the torque integral per gap, at least 6 per B-spline piece (default 20)",
+    },
+    OptionDoc {
+        name: "continuity",
+        default: "1",
+        help: "1: position and velocity continuous at the gap ends (Rose's transitions); 2: acceleration too",
+    },
+    OptionDoc {
+        name: "support",
+        default: "\"auto\"",
+        help: "frames (links) of the body held by IK, e.g. a clip's joints: [\"LeftFoot\", \"RightFoot\"]; \
+               [] for none; \"auto\" (default) detects them",
+    },
+    OptionDoc {
+        name: "gravity",
+        default: "[x, y, z]",
+        help: "a finite vector in m/s², e.g. [0, -9.81, 0]",
+    },
+    OptionDoc {
+        name: "iterations",
+        default: "300",
+        help: "solver iterations per gap group (default 300)",
+    },
+    OptionDoc {
+        name: "tolerance",
+        default: "1e-3",
+        help: "the solver stops when 25 iterations lower the energy by less than this fraction (default 1e-3)",
+    },
+    OptionDoc {
+        name: "objective",
+        default: "\"effort\"",
+        help: "\"effort\" (default): ∫Στ² plus a kinematic prior λ Σ M_dd² ∫ q̈² + q̇²/T² that holds light and \
+               gimbal-locked DOFs (smoothness: λ, time_constant: T), lowered tenfold until the transition costs at \
+               least 1 % less ∫Στ² than the Hermite curves; \"torque\": Rose's ∫Στ² alone",
+    },
+    OptionDoc {
+        name: "smoothness",
+        default: "1e6",
+        help: "weight λ of the kinematic prior against ∫Στ² (default 1e6; 0 is objective: \"torque\")",
+    },
+    OptionDoc {
+        name: "time_constant",
+        default: "\"auto\"",
+        help: "the prior damps the end velocities over about this time (e.g. 0.1s; \"auto\", the default: \
+               (0.32 s)²/gap length)",
+    },
+    OptionDoc {
+        name: "example",
+        default: "\"self\"",
+        help: "\"self\" (default): where the motion repeats (a walk, a run), the prior follows the velocities of the \
+               stretch of m whose 0.3 s on each side best match those around the gap, λ Σ M_dd² ∫ (q̈ − r̈)² + (q̇ − ṙ)²/T², \
+               if it matches better than the context's own mean pose; \"none\": the plain prior; a clip library \
+               (library(…)): the stretch of its clips that best matches the gap's context, turned and moved onto the gap \
+               in the floor plane (sp_report names clip, time, warp and mismatch); [lib, \"self\"]: the better of the two",
+    },
+    OptionDoc {
+        name: "root",
+        default: "\"auto\"",
+        help: "\"auto\" (default): per gap, \"pinned\" when the recorded x–z displacement across it is within 0.5 m + \
+               half the displacement T (v₀ + v₁)/2 the end velocities predict, i.e. a hole inside one recording, else \
+               \"shift\"; \"shift\" (Rose): what follows the gap moves to continue the root's path; \"pinned\": the motion \
+               after the gap stays where it was recorded and the root's x–z is a Hermite curve",
+    },
+    OptionDoc {
+        name: "contact",
+        default: "\"none\"",
+        help: "\"none\" (default): Rose's support: alone; \"auto\": a stance schedule per foot planned from the stances \
+               around each gap, planted frames held by IK with the floor below them (replaces support:); or frames \
+               (links) of the body, e.g. a clip's joints: [\"Toes_L\", \"Toes_R\"]; sp_report(result).contacts lists the plan",
+    },
+    OptionDoc {
+        name: "floor",
+        default: "\"auto\"",
+        help: "the floor's height (m) under contact:; \"auto\" (default): the lowest contact point of the motion's \
+               recorded part",
+    },
+];
 
 /// The kinematic prior SP adds to Rose's ∫Στ² (see [`prior_weights`]):
 /// Σ_d λ s_d² ∫ ((q̈_d − r̈_d)² + (q̇_d − ṙ_d)²/T²) dt over the gap DOFs, s_d
@@ -268,4 +382,83 @@ pub const ROOT_TOLERANCE_RELATIVE: f64 = 0.5;
 /// which case keeping them where they are is what was asked.
 pub fn root_tolerance(predicted: f64) -> f64 {
     ROOT_TOLERANCE_FIXED + ROOT_TOLERANCE_RELATIVE * predicted
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::fixture::{body, motion};
+    use super::*;
+
+    /// The engine itself refuses `contact:` beside a `support:` it would
+    /// ignore, before any work, naming `contact`; the default support is no
+    /// clash (planning replaces it).
+    #[test]
+    fn contact_beside_a_given_support_is_refused_by_the_engine() {
+        let model = body();
+        let m = motion(&model, &[3, 4], (0.8, 1.2));
+        for support in [
+            Support::Off,
+            Support::Named(vec!["thigh".into()]),
+            Support::Auto { box_size: 0.05 },
+        ] {
+            for contact in [Contact::Auto, Contact::Named(vec!["shin".into()])] {
+                let opts = SpOptions {
+                    support: support.clone(),
+                    contact: contact.clone(),
+                    ..Default::default()
+                };
+                let e = opts.check(&model).unwrap_err();
+                assert_eq!(
+                    e,
+                    SpError::ContactReplacesSupport,
+                    "{support:?} {contact:?}"
+                );
+                assert_eq!(e.option(), Some("contact"));
+                let e = crate::spacetime::sp(&m, &model, &opts).unwrap_err();
+                assert_eq!(e, SpError::ContactReplacesSupport);
+            }
+        }
+        let planned = SpOptions {
+            contact: Contact::Auto,
+            ..Default::default()
+        };
+        assert_eq!(planned.check(&model), Ok(()));
+        let off = SpOptions {
+            support: Support::Off,
+            ..Default::default()
+        };
+        assert_eq!(off.check(&model), Ok(()));
+    }
+
+    /// Every option an error can name has its one help text.
+    #[test]
+    fn every_checked_option_has_help() {
+        for o in [
+            "coefficients",
+            "samples",
+            "iterations",
+            "tolerance",
+            "gravity",
+            "smoothness",
+            "time_constant",
+            "floor",
+            "support",
+            "contact",
+        ] {
+            assert!(SpOptions::help(o).is_some(), "{o}");
+        }
+        assert_eq!(SpOptions::help("nonsense"), None);
+        // each option once, each with its own text
+        for (i, o) in SP_OPTIONS.iter().enumerate() {
+            assert!(!o.help.is_empty() && !o.default.is_empty(), "{}", o.name);
+            for p in &SP_OPTIONS[i + 1..] {
+                assert!(
+                    o.name != p.name && o.help != p.help,
+                    "{} {}",
+                    o.name,
+                    p.name
+                );
+            }
+        }
+    }
 }
