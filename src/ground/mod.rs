@@ -40,7 +40,9 @@ pub use points::{
 pub use residual::{GroundResidual, ground_residual};
 pub use root::moving_root;
 pub use skate::{Penetration, Skate, foot_skate, penetration};
-pub use stance::{CONTACT_HEIGHT, CONTACT_SPEED, GROUND_BAND, in_stance};
+pub use stance::{
+    CONTACT_HEIGHT, CONTACT_SPEED, GROUND_BAND, in_stance, plan_speed_limit, plan_stances,
+};
 
 /// Why a ground measure could not run: bad input, named.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -38,7 +38,7 @@ pub use progress::{Progress, ProgressEvent, Tally};
 pub mod contact;
 pub mod hold;
 pub mod sp;
-pub use contact::{Contact, ContactPlan, GapPlan, PointPlan, Stance};
+pub use contact::{Contact, ContactPlan, GapPlan, PointPlan, Source, Stance};
 pub use hold::HeldFrame;
 pub use sp::{
     Filling, PinnedRoot, Prior, RootFill, SpOptions, SpReport, Support, fill_hermite, sp,

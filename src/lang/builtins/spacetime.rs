@@ -22,12 +22,14 @@ use crate::library::Library;
 use crate::model::Model;
 use crate::motion::Mu;
 use crate::motion::cyclify::{CyclifyOptions, cyclify, floor_drift, loop_motion};
+use crate::spacetime::contact::GivenStance;
 use crate::spacetime::reference::LibrarySource;
 use crate::spacetime::sp::SP_OPTIONS;
 use crate::spacetime::{
     Contact, Continuity, Prior, Progress, ProgressEvent, RootFill, SpError, SpOptions, Support,
     Tally, fill_hermite, sp, torque_energy,
 };
+use nalgebra::Vector3;
 
 /// Methods `fill(m, method)` knows.
 const FILL_METHODS: [&str; 3] = ["hermite", "slerp", "linear"];
@@ -131,9 +133,84 @@ fn frame_names(a: &Args, arg: &ArgValue, name: &str) -> MxResult<Vec<String>> {
         .collect()
 }
 
+/// The stances of `contact: [{point, from, to, at}, …]` or of a capture's
+/// `contacts(m, body)` record (`{points: {NAME: [{start, stop}, …]}}`).
+fn given_stances(a: &Args, arg: &ArgValue) -> MxResult<Vec<GivenStance>> {
+    let want = "a list of records {point: \"Toes_L\", from: t0, to: t1, at: [x, y, z] (optional)}, or contacts(capture, body)";
+    let bad = |msg: String| bad_option(a, arg, msg, want);
+    let num = |r: &indexmap::IndexMap<String, Value>, k: &str, what: &str| -> MxResult<f64> {
+        r.get(k)
+            .and_then(Value::as_number)
+            .ok_or_else(|| bad(format!("{what} needs a number `{k}:` (s)")))
+    };
+    let at =
+        |r: &indexmap::IndexMap<String, Value>, what: &str| -> MxResult<Option<Vector3<f64>>> {
+            let Some(v) = r.get("at") else {
+                return Ok(None);
+            };
+            let xs: Option<Vec<f64>> = match v {
+                Value::List(items) => items.iter().map(Value::as_number).collect(),
+                _ => None,
+            };
+            match xs.as_deref() {
+                Some([x, y, z]) => Ok(Some(Vector3::new(*x, *y, *z))),
+                _ => Err(bad(format!("{what}: `at:` needs a position [x, y, z] (m)"))),
+            }
+        };
+    match &arg.value {
+        Value::List(items) => items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let what = format!("stance {}", i + 1);
+                let r = v
+                    .as_record()
+                    .ok_or_else(|| bad(format!("{what} is a {}, not a record", v.type_name())))?;
+                let point = r
+                    .get("point")
+                    .and_then(|p| p.as_str())
+                    .ok_or_else(|| bad(format!("{what} needs `point:` (a link's name)")))?;
+                Ok(GivenStance {
+                    point: point.to_string(),
+                    from: num(r, "from", &what)?,
+                    to: num(r, "to", &what)?,
+                    at: at(r, &what)?,
+                })
+            })
+            .collect(),
+        Value::Record(r) => {
+            let points = r
+                .get("points")
+                .and_then(Value::as_record)
+                .ok_or_else(|| bad("a record needs `points:` as contacts() gives".into()))?;
+            let mut out = vec![];
+            for (name, ivs) in points {
+                let Value::List(ivs) = ivs else {
+                    return Err(bad(format!("points.{name} needs a list of intervals")));
+                };
+                for iv in ivs.iter() {
+                    let what = format!("points.{name}");
+                    let r = iv.as_record().ok_or_else(|| {
+                        bad(format!("{what}: an interval is a record {{start, stop}}"))
+                    })?;
+                    out.push(GivenStance {
+                        point: name.clone(),
+                        from: num(r, "start", &what)?,
+                        to: num(r, "stop", &what)?,
+                        at: at(r, &what)?,
+                    });
+                }
+            }
+            Ok(out)
+        }
+        _ => Err(bad("not a list or a record".into())),
+    }
+}
+
 /// `contact: "none"` (the default: Rose's supports alone), `"auto"` (a
 /// stance schedule planned per gap for the frames near the floor, held by the
-/// support IK with the floor below) or `["Toes_L", …]` (those frames).
+/// support IK with the floor below), `["Toes_L", …]` (those frames), or the
+/// stances themselves: `[{point, from, to, at}, …]` or `contacts(capture, b)`.
 /// Planning replaces `support:`: the engine rejects the two together.
 fn contact(a: &mut Args) -> MxResult<Contact> {
     let Some(arg) = a.opt_named("contact") else {
@@ -142,12 +219,14 @@ fn contact(a: &mut Args) -> MxResult<Contact> {
     match &arg.value {
         Value::Str(s) if &**s == "none" => Ok(Contact::None),
         Value::Str(s) if &**s == "auto" => Ok(Contact::Auto),
-        Value::List(items) if !items.is_empty() => {
+        Value::List(items) if !items.is_empty() && items.iter().all(|v| v.as_str().is_some()) => {
             Ok(Contact::Named(frame_names(a, &arg, "contact")?))
         }
+        Value::List(items) if !items.is_empty() => Ok(Contact::Given(given_stances(a, &arg)?)),
+        Value::Record(_) => Ok(Contact::Given(given_stances(a, &arg)?)),
         _ => Err(a.type_error(
             "contact",
-            "\"none\", \"auto\" or a list of frame names like [\"Toes_L\"]",
+            "\"none\", \"auto\", a list of frame names like [\"Toes_L\"], a list of stances [{point: \"Toes_L\", from: 2.1, to: 2.5}] or contacts(capture, body)",
             &arg,
         )),
     }

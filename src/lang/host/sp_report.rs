@@ -190,7 +190,9 @@ impl SpReportValue {
 
 impl SpReportValue {
     /// Per gap planned with `contact:`, the floor and each contact frame's
-    /// planted intervals with where the frame stands at their ends.
+    /// planted intervals with where the frame stands at their ends and which
+    /// source made them (context / example / steps / given), and the height
+    /// it stands at.
     fn contacts(&self) -> Value {
         let point = |p: &nalgebra::Vector3<f64>| Value::list(vec![num(p.x), num(p.y), num(p.z)]);
         let Some(plan) = &self.0.contacts else {
@@ -213,11 +215,13 @@ impl SpReportValue {
                                         ("t1", num(p.t1)),
                                         ("p0", point(&p.p0)),
                                         ("p1", point(&p.p1)),
+                                        ("source", Value::str(p.source.name())),
                                     ])
                                 })
                                 .collect();
                             record(vec![
                                 ("frame", Value::str(&ph.name)),
+                                ("stand", num(ph.stand)),
                                 ("planted", Value::list(plants)),
                             ])
                         })

@@ -4,9 +4,11 @@
 //! The contact points are `ground`'s (a body's ankle and toe joints, or the
 //! links `contact: [...]` names); one whose lowest height over the context is
 //! within [`GROUND_BAND`] of the floor is kept (unless named). It is *in
-//! stance* at a sample by [`in_stance`]: within [`CONTACT_HEIGHT`] of its own
-//! lowest height in the context (an ankle never comes within 2 cm of the
-//! floor, its toe does) and moving horizontally slower than [`CONTACT_SPEED`].
+//! stance* at a sample by `ground`'s planning rule ([`plan_stances`]): within
+//! 2 cm of its own lowest height in the context (an ankle never comes within
+//! 2 cm of the floor, its toe does) and moving horizontally slower than a
+//! fraction of the body's speed (so a run's stances are whole, not 1–3
+//! frames).
 //!
 //! Per point, at the gap's ends:
 //! - in stance at both ends, in the same place (within 2 cm):
@@ -25,18 +27,16 @@
 //! hold IK ([`crate::spacetime::hold::HoldObjective::planned`]), which also
 //! keeps every contact point at or above the floor.
 
-use super::plan::{GapPlan, PointPlan, Stance};
-use crate::ground::{
-    CONTACT_HEIGHT, CONTACT_SPEED, FloorPlane, GROUND_BAND, horizontal, in_stance,
-};
-use crate::model::Model;
+use super::plan::{GapPlan, PointPlan, Source, Stance};
+use crate::ground::{FloorPlane, GROUND_BAND, plan_stances};
+use crate::model::{Model, RootCoords};
 use crate::spacetime::error::SpError;
 use nalgebra::Vector3;
 
 /// Seconds of context looked at on each side of a gap.
 pub const CONTEXT: f64 = 1.5;
 /// Context sampling step (s).
-const STEP: f64 = 1.0 / 60.0;
+pub(super) const STEP: f64 = 1.0 / 60.0;
 /// Stance and swing durations (s) used when the context shows no complete
 /// one (a typical walk: 0.6 s stance, 0.4 s swing).
 const DEFAULT_STANCE: f64 = 0.6;
@@ -44,8 +44,16 @@ const DEFAULT_SWING: f64 = 0.4;
 /// Two stances within this (m) of each other are one plant.
 const SAME_PLACE: f64 = 0.02;
 
-/// One side of a gap: sample times, and per frame its positions at them.
-type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>);
+/// One side of a gap: sample times, per frame its positions at them, and
+/// the body's (its root link's) positions.
+type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Vector3<f64>>);
+
+/// The link whose horizontal speed is the body's: the last link of its root
+/// chain (a BVH skeleton's hips). `None` for a body without a root chain.
+pub(super) fn body_link(model: &Model, up: &Vector3<f64>) -> Option<usize> {
+    let root = RootCoords::detect(model, Some(up));
+    model.coordinate_link(*root.all.last()?)
+}
 
 /// The contact points of a motion around one gap and their samples.
 pub struct Context<'a> {
@@ -82,10 +90,12 @@ impl<'a> Context<'a> {
     ) -> Result<Self, SpError> {
         let up = floor.up;
         let n = (CONTEXT / STEP).round() as usize;
+        let body = body_link(model, &up);
         let mut poses = vec![];
         let mut side = |times: Vec<f64>| -> Result<Side, SpError> {
             let mut ts = vec![];
             let mut ps = vec![vec![]; candidates.len()];
+            let mut bs = vec![];
             for t in times {
                 let q = configuration(t)?;
                 if !q.iter().all(|v| v.is_finite()) {
@@ -96,14 +106,16 @@ impl<'a> Context<'a> {
                 for (j, &f) in candidates.iter().enumerate() {
                     ps[j].push(poses[f].p);
                 }
+                bs.push(body.map_or_else(Vector3::zeros, |b| poses[b].p));
             }
-            Ok((ts, ps))
+            Ok((ts, ps, bs))
         };
         // before the gap from t0 backwards, after it from t1 forwards
-        let (mut tb, mut pb) = side((0..=n).map(|k| t0 - k as f64 * STEP).collect())?;
+        let (mut tb, mut pb, mut bb) = side((0..=n).map(|k| t0 - k as f64 * STEP).collect())?;
         tb.reverse();
+        bb.reverse();
         pb.iter_mut().for_each(|p| p.reverse());
-        let (ta, pa) = side((0..=n).map(|k| t1 + k as f64 * STEP).collect())?;
+        let (ta, pa, ba) = side((0..=n).map(|k| t1 + k as f64 * STEP).collect())?;
         if tb.is_empty() || ta.is_empty() {
             return Err(SpError::Incomplete(format!(
                 "contact: the body is not fully defined at the gap ends [{t0}, {t1}]"
@@ -129,31 +141,21 @@ impl<'a> Context<'a> {
             model,
             up,
             frames: keep.iter().map(|&(_, f)| f).collect(),
-            before: (tb, pick(pb)),
-            after: (ta, pick(pa)),
+            before: (tb, pick(pb), bb),
+            after: (ta, pick(pa), ba),
             lowest,
             span: (t0, t1),
         })
     }
 
     /// Stance flags of point k on one side's samples.
-    fn stance(&self, k: usize, (ts, ps): &Side) -> Vec<bool> {
-        let p = &ps[k];
-        (0..ts.len())
-            .map(|i| {
-                let above = self.up.dot(&p[i]) - self.lowest[k];
-                // horizontal speed by the nearest difference on this side
-                let (a, b) = if i + 1 < ts.len() {
-                    (i, i + 1)
-                } else if i > 0 {
-                    (i - 1, i)
-                } else {
-                    return in_stance(above, 0.0, CONTACT_HEIGHT, CONTACT_SPEED);
-                };
-                let speed = horizontal(&(p[b] - p[a]), &self.up).norm() / (ts[b] - ts[a]);
-                in_stance(above, speed, CONTACT_HEIGHT, CONTACT_SPEED)
-            })
-            .collect()
+    fn stance(&self, k: usize, (_, ps, body): &Side) -> Vec<bool> {
+        plan_stances(&ps[k], body, STEP, self.lowest[k], &self.up)
+    }
+
+    /// The kept points' links and the heights they stand at.
+    pub fn points(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.frames.iter().copied().zip(self.lowest.iter().copied())
     }
 
     /// The gap's plan: every kept point's stances over [t0, t1].
@@ -186,6 +188,7 @@ impl<'a> Context<'a> {
                     t1: b,
                     p0: p,
                     p1: q,
+                    source: Source::Context,
                 };
                 let lift = (t0 + (stance - a0).max(0.0)).min(t1);
                 let touch = (t1 - (stance - b1).max(0.0)).max(t0);
@@ -217,6 +220,7 @@ impl<'a> Context<'a> {
                 PointPlan {
                     name: self.model.link(link).name.clone(),
                     link,
+                    stand: self.lowest[k],
                     stances: out,
                 }
             })

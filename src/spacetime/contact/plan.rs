@@ -4,13 +4,39 @@
 //! keeps every contact point at or above the floor; `sp_report(m).contacts`
 //! lists it.
 //!
-//! The plan does not say how it was made, so every way of making one fills
-//! the same value: today [`super::context::Context`] plans each gap from the
-//! stances around it; an example's own contacts laid into the world, a step
-//! planner, or a user's `contact: [...]` give a plan of the same shape.
+//! Every way of making one fills the same value, and each stance says which
+//! made it ([`Source`]): [`super::context::Context`] plans each gap from the
+//! stances around it; a user's `contact: [...]` (or a capture's own contacts)
+//! gives stances directly (`given.rs`).
 
 use crate::ground::FloorPlane;
 use nalgebra::Vector3;
+
+/// Which of the plan's sources made a stance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Source {
+    /// Planned from the stances around the gap.
+    #[default]
+    Context,
+    /// The example SP follows: its own contacts, laid into the world.
+    Example,
+    /// A step planner (cadence and step length of the context's steps).
+    Steps,
+    /// Stated by `contact: [...]` (a user's records, or a capture's contacts).
+    Given,
+}
+
+impl Source {
+    /// The name the report and the language use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Source::Context => "context",
+            Source::Example => "example",
+            Source::Steps => "steps",
+            Source::Given => "given",
+        }
+    }
+}
 
 /// Where a held point must be over part of a gap: on the straight path from
 /// `p0` at `t0` to `p1` at `t1`. A planted foot stands still (`p0 == p1`,
@@ -21,17 +47,25 @@ pub struct Stance {
     pub t1: f64,
     pub p0: Vector3<f64>,
     pub p1: Vector3<f64>,
+    /// What made it.
+    pub source: Source,
 }
 
 impl Stance {
-    /// Planted at `anchor` over [t0, t1].
+    /// Planted at `anchor` over [t0, t1], by the context.
     pub fn planted(t0: f64, t1: f64, anchor: Vector3<f64>) -> Stance {
         Stance {
             t0,
             t1,
             p0: anchor,
             p1: anchor,
+            source: Source::Context,
         }
+    }
+
+    /// The same stance, made by `source`.
+    pub fn by(self, source: Source) -> Stance {
+        Stance { source, ..self }
     }
 
     /// Whether `t` is inside the stance, ends included.
@@ -53,8 +87,34 @@ pub struct PointPlan {
     pub name: String,
     /// Link index in the body.
     pub link: usize,
-    /// Its stances in the gap, in time order; empty: free (only kept above the floor).
+    /// The height (m along up, the floor's axis) the point stands at when
+    /// planted: its own lowest height around the gap. An ankle joint stands
+    /// ~8 cm above the floor its toe stands on; a clearance term keeps a
+    /// swinging point above this, anchors lie on it.
+    pub stand: f64,
+    /// Its stances in the gap, in time order, not overlapping; empty: free
+    /// (only kept above the floor).
     pub stances: Vec<Stance>,
+}
+
+impl PointPlan {
+    /// The intervals of [t0, t1] where the point is free (swinging): the
+    /// complement of its stances, in time order; empty intervals dropped.
+    pub fn swings(&self, t0: f64, t1: f64) -> Vec<(f64, f64)> {
+        let mut out = vec![];
+        let mut from = t0;
+        for s in &self.stances {
+            if s.t0 > from {
+                out.push((from, s.t0.min(t1)));
+            }
+            from = from.max(s.t1);
+        }
+        if t1 > from {
+            out.push((from, t1));
+        }
+        out.retain(|(a, b)| b > a);
+        out
+    }
 }
 
 /// The plan of one gap (a group of overlapping gaps: their common span).
@@ -124,11 +184,13 @@ mod tests {
                 PointPlan {
                     name: "Toes_L".into(),
                     link: 7,
+                    stand: 0.05,
                     stances: vec![Stance::planted(1.0, 1.4, a)],
                 },
                 PointPlan {
                     name: "Toes_R".into(),
                     link: 9,
+                    stand: 0.05,
                     stances: vec![],
                 },
             ],
@@ -139,12 +201,21 @@ mod tests {
         assert_eq!(g.anchor(9, 1.2), None, "free");
         assert_eq!(g.anchor(3, 1.2), None, "not a contact point");
         assert!(plan.gap_at(2.5).is_none());
+        // the free intervals: the stances' complement inside the gap
+        assert_eq!(g.points[0].swings(1.0, 2.0), vec![(1.4, 2.0)]);
+        assert_eq!(g.points[1].swings(1.0, 2.0), vec![(1.0, 2.0)]);
+        let mid = PointPlan {
+            stances: vec![Stance::planted(1.2, 1.5, a), Stance::planted(1.5, 2.0, a)],
+            ..g.points[0].clone()
+        };
+        assert_eq!(mid.swings(1.0, 2.0), vec![(1.0, 1.2)]);
         // a path between two ends
         let s = Stance {
             t0: 0.0,
             t1: 2.0,
             p0: Vector3::zeros(),
             p1: Vector3::x(),
+            source: Source::Given,
         };
         assert_eq!(s.at(1.0), Vector3::new(0.5, 0.0, 0.0));
         assert_eq!(s.at(5.0), Vector3::x());

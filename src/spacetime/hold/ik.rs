@@ -84,6 +84,7 @@ impl<'a> HoldObjective<'a> {
                     t1: o.t1,
                     p0,
                     p1,
+                    source: crate::spacetime::contact::Source::Context,
                 }]
             })
             .collect();

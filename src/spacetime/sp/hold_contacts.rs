@@ -13,7 +13,7 @@ use super::options::SpOptions;
 use crate::ground::{self, FloorPlane, GroundOptions, up_of};
 use crate::model::Model;
 use crate::motion::Mu;
-use crate::spacetime::contact::{Contact, ContactPlan, Context};
+use crate::spacetime::contact::{Contact, ContactPlan, Context, plan_given};
 use crate::spacetime::error::SpError;
 use crate::spacetime::hold::{self, HoldObjective};
 use crate::spacetime::objective::GapDof;
@@ -28,6 +28,12 @@ pub(super) fn contact_links(
 ) -> Result<(Vec<usize>, bool), SpError> {
     Ok(match contact {
         Contact::Named(n) => (hold::named(model, n, "contact")?, true),
+        Contact::Given(g) => {
+            let mut names: Vec<String> = g.iter().map(|s| s.point.clone()).collect();
+            names.sort();
+            names.dedup();
+            (hold::named(model, &names, "contact")?, true)
+        }
         _ => (
             ground::default_contact_points(model)
                 .into_iter()
@@ -114,7 +120,13 @@ fn hold_group(
         let sampler = f.sampler();
         let configuration = |t: f64| sampler.positions(t).map_err(motion_err);
         let ctx = Context::new(model, floor, links, named, (t0, t1), &configuration)?;
-        let plan = ctx.plan();
+        let plan = match &opts.contact {
+            Contact::Given(given) => {
+                let points: Vec<(usize, f64)> = ctx.points().collect();
+                plan_given(model, given, &points, (t0, t1), &configuration)?
+            }
+            _ => ctx.plan(),
+        };
         // the chains of the planted points are solved by IK
         let on_chain = |c: usize| {
             ik && plan
@@ -191,6 +203,58 @@ mod tests {
         // the report lists the plan the filling carried
         let (_, report) = f.finish();
         assert_eq!(report.contacts.unwrap().gaps.len(), 1);
+    }
+
+    #[test]
+    fn given_stances_are_the_plan_anchored_at_the_gap_edge_they_touch() {
+        use crate::spacetime::contact::{GivenStance, Source};
+        let model = body();
+        let m = motion(&model, &[3, 4], (0.8, 1.2));
+        let given = |from: f64, to: f64, at: Option<Vector3<f64>>| GivenStance {
+            point: "foot".into(),
+            from,
+            to,
+            at,
+        };
+        let opts = |g: Vec<GivenStance>| SpOptions {
+            contact: Contact::Given(g),
+            floor: Some(-2.0),
+            ..Default::default()
+        };
+        let here = Vector3::new(0.1, -1.9, 0.2);
+        let o = opts(vec![given(0.5, 0.9, None), given(1.0, 1.1, Some(here))]);
+        o.check(&model).unwrap();
+        let mut f = Filling::new(&m, &model, Y_UP);
+        let gaps = f.gaps().unwrap();
+        hold_contacts(&mut f, &o, gaps.clone()).unwrap();
+        let plan = &f.contacts.as_ref().unwrap().gaps[0];
+        let foot = &plan.points[0];
+        assert_eq!(foot.name, "foot");
+        assert_eq!(foot.stances.len(), 2, "{plan:?}");
+        let (a, b) = (&foot.stances[0], &foot.stances[1]);
+        assert_eq!((a.t0, a.t1, a.source), (0.8, 0.9, Source::Given));
+        assert_eq!(
+            (b.t0, b.t1, b.p0, b.source),
+            (1.0, 1.1, here, Source::Given)
+        );
+        // anchored where the motion has the foot at the gap's start
+        let sampler = f.sampler();
+        let q = sampler.positions(0.8).unwrap();
+        let mut poses = vec![];
+        model.forward_kinematics(&q, &mut poses).unwrap();
+        assert!((a.p0 - poses[foot.link].p).norm() < 1e-12);
+        // inside the gap without at: an error naming the point
+        let mut f = Filling::new(&m, &model, Y_UP);
+        let err = hold_contacts(&mut f, &opts(vec![given(0.9, 1.0, None)]), gaps.clone())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("foot") && err.contains("at:"), "{err}");
+        // bad times, an unknown point: SpOptions::check says so
+        let err = opts(vec![given(1.0, 0.9, None)]).check(&model).unwrap_err();
+        assert!(err.to_string().contains("from ≤ to"), "{err}");
+        let mut nobody = given(0.5, 0.9, None);
+        nobody.point = "hand".into();
+        assert!(opts(vec![nobody]).check(&model).is_err());
     }
 
     #[test]

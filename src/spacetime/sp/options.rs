@@ -125,6 +125,12 @@ impl SpOptions {
         if let Contact::Named(names) = &self.contact {
             crate::spacetime::hold::named(model, names, "contact")?;
         }
+        if let Contact::Given(given) = &self.contact {
+            for g in given {
+                g.check().map_err(|e| invalid_option("contact", e))?;
+                crate::spacetime::hold::named(model, std::slice::from_ref(&g.point), "contact")?;
+            }
+        }
         Ok(())
     }
 

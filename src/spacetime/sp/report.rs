@@ -167,7 +167,7 @@ impl SpReport {
                 for p in &c.stances {
                     writeln!(
                         f,
-                        "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){}",
+                        "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){} ({})",
                         c.name,
                         g.t0,
                         g.t1,
@@ -180,7 +180,8 @@ impl SpReport {
                             format!(" to ({:.3}, {:.3}, {:.3})", p.p1.x, p.p1.y, p.p1.z)
                         } else {
                             String::new()
-                        }
+                        },
+                        p.source.name()
                     )?;
                 }
             }
