@@ -149,7 +149,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let clip = mocap::load(&path, Units::Auto)?;
         let (body, _) = mocap::body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit)?;
         let names = body.coordinate_names();
-        let sampler = JointSampler::new(&clip.mu, &names);
+        let sampler = JointSampler::new(&clip.mu, names);
         let (start, stop) = clip.mu.span().ok_or("empty clip")?;
         let up = ground::up_of(&body.default_gravity).ok_or("no gravity")?;
         let points = ground::default_contact_points(&body);
