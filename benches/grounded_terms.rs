@@ -128,6 +128,8 @@ fn main() {
             .map(|(j, p)| PointPlan {
                 name: p.name.clone(),
                 link: p.link,
+                // unread: clearance_term takes its standing heights beside the plan
+                stand: 0.0,
                 stances: match j {
                     0 => vec![Stance::planted(t0, mid, at(&ends.0[0], p.link))],
                     1 => vec![Stance::planted(mid, t1, at(&ends.1[0], p.link))],

@@ -138,6 +138,8 @@ fn plan(body: &Model, mu: &Mu, w: &Window) -> GapPlan {
         .map(|(j, p)| PointPlan {
             name: p.name.clone(),
             link: p.link,
+            // unread here: clearance_term takes its standing heights beside the plan
+            stand: 0.0,
             stances: match j {
                 0 => vec![Stance::planted(
                     w.t0,
@@ -381,6 +383,7 @@ fn a_standing_body_is_balanced_and_a_lifted_one_is_not() {
             .map(|(p, a)| PointPlan {
                 name: p.name.clone(),
                 link: p.link,
+                stand: 0.0, // unread: clearance_term takes its standing heights beside the plan
                 stances: if planted {
                     vec![Stance::planted(t0, t1, *a)]
                 } else {

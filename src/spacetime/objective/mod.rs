@@ -20,9 +20,9 @@ use super::transition::{Continuity, EndState, TransitionCurve};
 
 mod base;
 mod clearance;
+mod example;
 mod floor;
 mod forces;
-mod example;
 mod gauss_newton;
 pub mod layout;
 mod points;
@@ -38,9 +38,9 @@ mod torque_term;
 
 pub use base::BaseTerm;
 pub use clearance::{Clearance, clearance_term};
+pub use example::{ExampleTerm, position_weight};
 pub use floor::floor_term;
 pub use forces::{ContactForces, GroundScale, NodeForces};
-pub use example::{ExampleTerm, position_weight};
 pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
 pub use points::{PointRow, PointTerm};
 use prior::KinematicPrior;

@@ -226,7 +226,7 @@ mod tests {
         o.check(&model).unwrap();
         let mut f = Filling::new(&m, &model, Y_UP);
         let gaps = f.gaps().unwrap();
-        hold_contacts(&mut f, &o, gaps.clone()).unwrap();
+        hold_contacts(&mut f, &o, gaps.clone(), true).unwrap();
         let plan = &f.contacts.as_ref().unwrap().gaps[0];
         let foot = &plan.points[0];
         assert_eq!(foot.name, "foot");
@@ -245,9 +245,14 @@ mod tests {
         assert!((a.p0 - poses[foot.link].p).norm() < 1e-12);
         // inside the gap without at: an error naming the point
         let mut f = Filling::new(&m, &model, Y_UP);
-        let err = hold_contacts(&mut f, &opts(vec![given(0.9, 1.0, None)]), gaps.clone())
-            .unwrap_err()
-            .to_string();
+        let err = hold_contacts(
+            &mut f,
+            &opts(vec![given(0.9, 1.0, None)]),
+            gaps.clone(),
+            true,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("foot") && err.contains("at:"), "{err}");
         // bad times, an unknown point: SpOptions::check says so
         let err = opts(vec![given(1.0, 0.9, None)]).check(&model).unwrap_err();
