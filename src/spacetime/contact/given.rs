@@ -7,7 +7,7 @@
 use super::plan::{GapPlan, PointPlan, Source, Stance};
 use crate::lie::Se3;
 use crate::model::Model;
-use crate::spacetime::error::SpError;
+use crate::spacetime::error::{SpError, invalid_option};
 use nalgebra::Vector3;
 
 /// One stated stance: `point` (a link's name) planted over [from, to] s,
@@ -22,16 +22,22 @@ pub struct GivenStance {
 
 impl GivenStance {
     /// Why the stance cannot be planned, if it cannot: times not finite or
-    /// `to` before `from`, a position not finite.
-    pub fn check(&self) -> Result<(), String> {
+    /// `to` before `from`, a position not finite (an error of `contact:`).
+    pub fn check(&self) -> Result<(), SpError> {
         if !(self.from.is_finite() && self.to.is_finite()) || self.to < self.from {
-            return Err(format!(
-                "{}: from {} to {}: needs finite times with from ≤ to",
-                self.point, self.from, self.to
+            return Err(invalid_option(
+                "contact",
+                format!(
+                    "{}: from {} to {}: needs finite times with from ≤ to",
+                    self.point, self.from, self.to
+                ),
             ));
         }
         if self.at.is_some_and(|p| !p.iter().all(|v| v.is_finite())) {
-            return Err(format!("{}: at: needs a finite [x, y, z]", self.point));
+            return Err(invalid_option(
+                "contact",
+                format!("{}: at: needs a finite [x, y, z]", self.point),
+            ));
         }
         Ok(())
     }

@@ -127,7 +127,7 @@ impl SpOptions {
         }
         if let Contact::Given(given) = &self.contact {
             for g in given {
-                g.check().map_err(|e| invalid_option("contact", e))?;
+                g.check()?;
                 crate::spacetime::hold::named(model, std::slice::from_ref(&g.point), "contact")?;
             }
         }

@@ -49,7 +49,7 @@ pub(super) fn solve_transitions(
             )
         };
         let joints = reference::Joints::of_model(model, names);
-        let up = (gravity.norm() > 0.0).then(|| -gravity.normalize());
+        let up = crate::ground::up_of(&gravity);
         let lay = reference::Lay {
             model,
             names,
