@@ -12,44 +12,10 @@
 
 use super::error::ReportError;
 use super::inbetween::{Case, PROTOCOL_RATE, is_locomotion};
+use super::regrid::regrid;
 use crate::mocap::bvh::Skeleton;
 use crate::motion::channel::mirror_name;
-use crate::motion::{Curve, Dof, Interval, Mu};
 use std::path::{Path, PathBuf};
-
-/// `mu` played `speed` times as fast, sampled every `dt` s from t = 0 over
-/// the `span` seconds of `mu` it covers (`speed` 1: resampled only); each
-/// DOF becomes one sampled curve. Returns the motion and its frame count.
-pub fn regrid(mu: &Mu, span: f64, speed: f64, dt: f64) -> Result<(Mu, usize), ReportError> {
-    if !(speed.is_finite() && speed > 0.0 && dt.is_finite() && dt > 0.0 && span >= 0.0) {
-        return Err(format!(
-            "regrid needs a positive speed and step and a span ≥ 0, found speed {speed}, step {dt}, span {span}"
-        )
-        .into());
-    }
-    // frames whose source time k·dt·speed stays within the span (to rounding)
-    let frames = (span / (speed * dt) + 1e-6).floor() as usize + 1;
-    let mut out = Mu::new();
-    for (name, _) in &mu.dofs {
-        let values = (0..frames)
-            .map(|k| {
-                let t = (k as f64 * dt * speed).min(span);
-                mu.sample(name, t)
-                    .map_err(|e| e.to_string())?
-                    .map(|s| s[0])
-                    .ok_or_else(|| format!("{name} is undefined at t = {t:.4} s"))
-            })
-            .collect::<Result<Vec<f64>, String>>()?;
-        let curve = Curve::samples(0.0, dt, values).map_err(|e| e.to_string())?;
-        let interval =
-            Interval::curve(curve, 0.0, (frames - 1) as f64 * dt).map_err(|e| e.to_string())?;
-        out.insert(
-            name.clone(),
-            Dof::new(vec![interval]).map_err(|e| e.to_string())?,
-        );
-    }
-    Ok((out, frames))
-}
 
 /// The horizontal axis that separates the skeleton's left from its right at
 /// rest (0 = x, 1 = y, 2 = z): the one along which joints and their mirror

@@ -4,9 +4,7 @@
 
 use super::doc::Doc;
 use super::hard_cases::HardCase;
-use super::{
-    Options, cyclify, fit, hard_cases, ik, inbetween, integrators, mocap, perf, spacetime,
-};
+use super::{Options, cyclify, fit, hard_cases, ik, integrators, mocap, perf, spacetime};
 use crate::report::error::ReportError;
 use indicatif::ProgressBar;
 use std::fmt::Write as _;
@@ -153,7 +151,7 @@ fn spacetime_section(d: &mut Doc, run: &mut Run<'_>) {
 
 fn inbetween_section(d: &mut Doc, run: &mut Run<'_>) {
     let pb = run.pb;
-    inbetween::section(d, run.opts.shared.as_deref(), run.smoke, &|| pb.inc(1));
+    super::inbetween_section::section(d, run.opts.shared.as_deref(), run.smoke, &|| pb.inc(1));
 }
 
 fn integrators_section(d: &mut Doc, run: &mut Run<'_>) {

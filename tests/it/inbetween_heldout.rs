@@ -26,8 +26,14 @@ fn every_held_out_clip_reads_at_the_protocols_rate() {
     for path in &files {
         let own = Case::load(path).unwrap();
         let at = Case::load_at(path, Some(PROTOCOL_RATE)).unwrap();
-        let dt = 1.0 / PROTOCOL_RATE;
-        assert!((at.frame_time - dt).abs() < 1e-12, "{}", own.name);
+        // a clip within 0.1 % of the rate keeps its own frames (a BVH's
+        // 0.033333 s), any other is resampled to exactly 1/30 s
+        let dt = at.frame_time;
+        assert!(
+            (dt - 1.0 / PROTOCOL_RATE).abs() <= 1e-3 / PROTOCOL_RATE,
+            "{}",
+            own.name
+        );
         let span = (own.frames - 1) as f64 * own.frame_time;
         let last = (at.frames - 1) as f64 * dt;
         assert!(
@@ -35,7 +41,7 @@ fn every_held_out_clip_reads_at_the_protocols_rate() {
             "{}: {last} of {span} s",
             own.name
         );
-        if (own.frame_time - dt).abs() > 1e-9 {
+        if (own.frame_time - dt).abs() > 1e-12 {
             resampled += 1;
         }
         for (dof, _) in own.capture.dofs.iter().take(12) {
@@ -192,13 +198,40 @@ fn results_do_not_depend_on_the_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap();
-        let mut rows = pool
-            .install(|| inbetween::run(&cases, &p, &methods, |_| {}))
-            .unwrap();
-        for r in &mut rows {
-            r.seconds = 0.0;
-        }
-        format!("{rows:?}")
+        pool.install(|| inbetween::run(&cases, &p, &methods, |_| {}))
+            .unwrap()
     };
-    assert_eq!(on(1), on(2));
+    let (one, two) = (on(1), on(2));
+    assert_eq!(one.len(), two.len());
+    // the same rows in the same order; the numbers to rounding (SP's node
+    // sums are split across threads, so their last bits may differ)
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-8 * a.abs().max(b.abs()) + 1e-12;
+    for (a, b) in one.iter().zip(&two) {
+        let key = |r: &inbetween::WindowResult| {
+            (
+                r.clip.clone(),
+                r.start,
+                r.gap,
+                r.root,
+                r.method.clone(),
+                r.worst_joint.clone(),
+            )
+        };
+        assert_eq!(key(a), key(b));
+        for (x, y) in [
+            (a.l2p, b.l2p),
+            (a.worst, b.worst),
+            (a.l2q, b.l2q),
+            (a.npss, b.npss),
+            (a.skate, b.skate),
+            (a.bone, b.bone),
+            (a.energy, b.energy),
+            (a.ground_skate, b.ground_skate),
+            (a.penetration, b.penetration),
+            (a.residual, b.residual),
+            (a.residual_worst, b.residual_worst),
+        ] {
+            assert!(close(x, y) || (x.is_nan() && y.is_nan()), "{a:?}\n{b:?}");
+        }
+    }
 }

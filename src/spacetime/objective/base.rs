@@ -19,8 +19,9 @@
 
 use super::super::error::{SpError, invalid};
 use super::super::torque::BodyDynamics;
-use super::forces::{GroundScale, NodeForces};
+use super::forces::GroundScale;
 use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch, scratch_of};
+use super::term::{NodeForces, check_weight};
 use crate::dynamics::{InverseDynamicsPass, JointState, StateGradient};
 use crate::ground::up_direction;
 use crate::lie::{Twist, Wrench};
@@ -162,17 +163,6 @@ impl<'a> BaseTerm<'a> {
         };
         pass.reverse(&s.zero, &self.seed(rbar, &nf.reference), grad)?;
         Ok(())
-    }
-}
-
-/// `Err` naming the term unless `w` is a finite weight ≥ 0.
-pub(super) fn check_weight(term: &str, w: f64) -> Result<(), SpError> {
-    if w.is_finite() && w >= 0.0 {
-        Ok(())
-    } else {
-        Err(invalid(format!(
-            "the {term} term's weight must be finite and ≥ 0, got {w}"
-        )))
     }
 }
 

@@ -15,6 +15,7 @@ use super::super::error::{SpError, invalid};
 use super::super::torque::BodyDynamics;
 use super::Objective;
 use super::layout::GapLayout;
+use super::term::NodeForces;
 use crate::dynamics::{PointForce, Workspace, inverse_dynamics, root_wrench};
 use crate::ground::cone::best_contact_forces;
 use crate::ground::residual::{centre_of_mass, length_scale};
@@ -22,14 +23,6 @@ use crate::ground::up_direction;
 use crate::lie::{Se3, Wrench};
 use crate::spacetime::contact::GapPlan;
 use nalgebra::Vector3;
-
-/// The forces held fixed at one node, and the point their moment balance
-/// is taken about (the centre of mass where they were chosen).
-#[derive(Clone, Debug, PartialEq)]
-pub struct NodeForces {
-    pub forces: Vec<PointForce>,
-    pub reference: Vector3<f64>,
-}
 
 /// The scales the base term and the cone problem share: the body's weight
 /// m|g| (N) and its length L (m: the largest extent of its joint points, as

@@ -40,13 +40,15 @@ pub use base::BaseTerm;
 pub use clearance::{Clearance, clearance_term};
 pub use example::{ExampleTerm, position_weight};
 pub use floor::floor_term;
-pub use forces::{ContactForces, GroundScale, NodeForces};
+pub use forces::{ContactForces, GroundScale};
 pub use layout::{GapLayout, MIN_POINTS_PER_PIECE, NodeRows, composite_nodes};
 pub use points::{PointRow, PointTerm};
 use prior::KinematicPrior;
 use sampled::Sampled;
 pub use stance::stance_term;
-pub use term::{GaussNewtonNode, Node, NodeGrad, NodeSum, Term, TermScratch, scratch_of};
+pub use term::{
+    GaussNewtonNode, Node, NodeForces, NodeGrad, NodeSum, Term, TermScratch, scratch_of,
+};
 use torque_term::TorqueTerm;
 
 /// One DOF's gap: model coordinate `coord` is undefined on (t0, t1) and has

@@ -11,9 +11,8 @@
 
 use super::super::error::SpError;
 use super::super::torque::BodyDynamics;
-use super::base::check_weight;
 use super::layout::GapLayout;
-use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch, scratch_of};
+use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch, check_weight, scratch_of};
 use crate::lie::Se3;
 use crate::model::Model;
 use crate::model::joint::{Derivatives, JointKinematics};

@@ -12,11 +12,11 @@
 //! with [`super::Objective::with_term`] (torque and the kinematic prior are
 //! built in: `torque_term.rs`, `prior.rs`).
 
-use super::super::error::SpError;
+use super::super::error::{SpError, invalid};
 use super::super::torque::TorqueModel;
-use super::forces::NodeForces;
 use super::layout::{GapLayout, NodeRows};
-use nalgebra::DMatrix;
+use crate::dynamics::PointForce;
+use nalgebra::{DMatrix, Vector3};
 
 /// A term's own scratch memory, one per evaluation thread
 /// ([`Term::scratch`]; read back with [`scratch_of`]).
@@ -272,5 +272,24 @@ impl<'s> GaussNewtonNode<'s> {
                 self.h[(n0 + i, n0 + j)] += ee[(i, j)];
             }
         }
+    }
+}
+
+/// The forces held fixed at one node, and the point their moment balance
+/// is taken about (the centre of mass where they were chosen).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeForces {
+    pub forces: Vec<PointForce>,
+    pub reference: Vector3<f64>,
+}
+
+/// `Err` naming the term unless `w` is a finite weight ≥ 0.
+pub(super) fn check_weight(term: &str, w: f64) -> Result<(), SpError> {
+    if w.is_finite() && w >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "the {term} term's weight must be finite and ≥ 0, got {w}"
+        )))
     }
 }

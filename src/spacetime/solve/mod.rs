@@ -43,6 +43,7 @@
 
 mod continuation;
 mod eval;
+pub mod ground_model;
 pub mod grounded;
 pub mod groups;
 pub mod options;
@@ -51,7 +52,7 @@ pub mod report;
 mod run;
 mod stall;
 
-pub use grounded::{GroundModel, GroundSchedule};
+pub use ground_model::{GroundModel, GroundSchedule};
 pub use groups::{group_overlapping, solve_all};
 pub use options::SolveOptions;
 pub use problem::{FindExample, LayExample, PriorTerm, Problem};

@@ -2,7 +2,7 @@
 //! settings, the torque weights, the prior, the motion outside the gaps, the
 //! solver's options and the coordinates' names.
 
-use super::grounded::{GroundModel, GroundSchedule};
+use super::ground_model::{GroundModel, GroundSchedule};
 use super::options::SolveOptions;
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs, Objective, TransitionSettings};
