@@ -279,12 +279,11 @@ fn view_worst(
     let Some(sp) = methods.iter().find(|m| m.label() == sp_label) else {
         return;
     };
-    let fill =
-        |m: &Method| inbetween::fill_window(case, p, w.start, w.gap, w.root, m).map(|f| f.motion);
-    let (sp_m, h_m) = (
-        fill(sp).unwrap_or_else(|e| panic!("{e}")),
-        fill(&Method::Hermite).unwrap_or_else(|e| panic!("{e}")),
-    );
+    let fill = |m: &Method| match inbetween::fill_window(case, p, w.start, w.gap, w.root, m) {
+        Ok(f) => f.motion,
+        Err(e) => panic!("{e}"),
+    };
+    let (sp_m, h_m) = (fill(sp), fill(&Method::Hermite));
     let path = std::env::var_os("MX_INBETWEEN_VIEW")
         .map(PathBuf::from)
         .unwrap_or_else(|| {

@@ -198,8 +198,7 @@ fn results_do_not_depend_on_the_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| inbetween::run(&cases, &p, &methods, |_| {}))
-            .unwrap()
+        pool.install(|| inbetween::run(&cases, &p, &methods, |_| {}).unwrap())
     };
     let (one, two) = (on(1), on(2));
     assert_eq!(one.len(), two.len());
