@@ -4,6 +4,7 @@
 //! Slurm's job-array variables, else the whole list. `mx graph build` shares
 //! its clip pairs this way, `mx library build` its clip files.
 
+use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt;
 
 /// Shard `index` of `count`.
@@ -97,6 +98,25 @@ impl Shard {
     /// The shard's name in file and folder names.
     pub fn dir_name(&self) -> String {
         format!("{}-of-{}", self.index, self.count)
+    }
+}
+
+impl Shard {
+    /// The bar over this shard's `len` `items` still to do, hidden unless
+    /// `show` (`--progress`): one look for every sharded build.
+    pub fn progress_bar(self, show: bool, len: usize, items: &str) -> ProgressBar {
+        let bar = if show {
+            ProgressBar::new(len as u64)
+        } else {
+            ProgressBar::hidden()
+        };
+        let template =
+            format!("{{bar:30}} {{pos}}/{{len}} {items} [{{elapsed}} < {{eta}}] {{msg}}");
+        if let Ok(style) = ProgressStyle::with_template(&template) {
+            bar.set_style(style);
+        }
+        bar.set_message(format!("shard {self}"));
+        bar
     }
 }
 

@@ -12,7 +12,6 @@ use super::settings::Settings;
 use super::shard::{Shard, pairs};
 use super::store;
 use super::transition::{self, gap_frames};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -185,21 +184,6 @@ fn open_log(path: &Path) -> Result<std::fs::File, GraphError> {
         .map_err(|e| GraphError::new(format!("cannot open the log {}: {e}", path.display())))
 }
 
-/// The shard's bar over its pairs still to do (hidden without `--progress`).
-fn progress_bar(o: &BuildOptions, pairs: usize) -> ProgressBar {
-    let bar = if o.progress {
-        ProgressBar::new(pairs as u64)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} pairs [{elapsed} < {eta}] {msg}")
-            .expect("a valid template"),
-    );
-    bar.set_message(format!("shard {}", o.shard));
-    bar
-}
-
 /// Rayon's pool with `--threads` threads (its default without).
 fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool, GraphError> {
     let mut b = rayon::ThreadPoolBuilder::new();
@@ -279,7 +263,7 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, GraphError> {
         .filter(|&(a, b)| !done.contains_key(&(lib.names[a].clone(), lib.names[b].clone())))
         .collect();
     let log = o.log.as_deref().map(open_log).transpose()?.map(Mutex::new);
-    let bar = progress_bar(o, todo.len());
+    let bar = o.shard.progress_bar(o.progress, todo.len(), "pairs");
     let transitions_now = AtomicUsize::new(0);
     let finished_now = AtomicUsize::new(0);
     let timings = Mutex::new((0.0f64, 0.0f64));

@@ -19,7 +19,6 @@ use super::file::{self, HashReader, HashWriter, read_vectors, write_vectors};
 use super::index::{Library, Settings, Skipped};
 use super::{Fingerprint, LibraryError, bvh_files, clip_name};
 use crate::shard::Shard;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
@@ -102,20 +101,6 @@ fn listing(paths: &[PathBuf]) -> u64 {
     f.finish()
 }
 
-fn bar(o: &BuildOptions, files: usize) -> ProgressBar {
-    let bar = if o.progress {
-        ProgressBar::new(files as u64)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} clips [{elapsed} < {eta}] {msg}")
-            .expect("a valid template"),
-    );
-    bar.set_message(format!("shard {}", o.shard));
-    bar
-}
-
 /// Runs one shard: indexes its files and writes its part, or the `.mxlib`
 /// itself when it is the only shard.
 pub fn build(o: &BuildOptions) -> Result<BuildSummary, LibraryError> {
@@ -125,7 +110,7 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, LibraryError> {
     let folder = std::fs::canonicalize(&o.clips).unwrap_or_else(|_| o.clips.clone());
     let mine: Vec<usize> = (0..paths.len()).filter(|&k| o.shard.owns(k)).collect();
     let my_paths: Vec<PathBuf> = mine.iter().map(|&k| paths[k].clone()).collect();
-    let bar = bar(o, mine.len());
+    let bar = o.shard.progress_bar(o.progress, mine.len(), "clips");
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(t) = o.threads {
         pool = pool.num_threads(t);
