@@ -189,52 +189,42 @@ impl SpReportValue {
 }
 
 impl SpReportValue {
-    /// Per gap planned with `contact:`, the floor and each contact frame's
-    /// planted intervals with where the frame stands at their ends and which
-    /// source made them (context / example / steps / given), and the height
-    /// it stands at.
+    /// The contact plan as one flat list of stances, in gap and point order:
+    /// `{point, from, to, at, source, gap, stand, floor, error}` — the first
+    /// four as `contact:` takes them, so a plan can be edited and given back;
+    /// `source` is what made it (context / example / steps / given /
+    /// re-planned), `gap` the group's span [t0, t1], `stand` the height the
+    /// point stands at, `floor` the floor's, and `error` the solved point's
+    /// largest distance (m) from `at` over the stance (nil before a solve).
+    /// A stance Rose's support moves along a path has `at_end` too.
     fn contacts(&self) -> Value {
         let point = |p: &nalgebra::Vector3<f64>| Value::list(vec![num(p.x), num(p.y), num(p.z)]);
         let Some(plan) = &self.0.contacts else {
             return Value::list(vec![]);
         };
-        Value::list(
-            plan.gaps
-                .iter()
-                .map(|g| {
-                    let phases = g
-                        .points
-                        .iter()
-                        .map(|ph| {
-                            let plants = ph
-                                .stances
-                                .iter()
-                                .map(|p| {
-                                    record(vec![
-                                        ("t0", num(p.t0)),
-                                        ("t1", num(p.t1)),
-                                        ("p0", point(&p.p0)),
-                                        ("p1", point(&p.p1)),
-                                        ("source", Value::str(p.source.name())),
-                                    ])
-                                })
-                                .collect();
-                            record(vec![
-                                ("frame", Value::str(&ph.name)),
-                                ("stand", num(ph.stand)),
-                                ("planted", Value::list(plants)),
-                            ])
-                        })
-                        .collect();
-                    record(vec![
-                        ("t0", num(g.t0)),
-                        ("t1", num(g.t1)),
+        let mut out = vec![];
+        for g in &plan.gaps {
+            for ph in &g.points {
+                for s in &ph.stances {
+                    let mut fields = vec![
+                        ("point", Value::str(&ph.name)),
+                        ("from", num(s.t0)),
+                        ("to", num(s.t1)),
+                        ("at", point(&s.p0)),
+                        ("source", Value::str(s.source.name())),
+                        ("gap", Value::list(vec![num(g.t0), num(g.t1)])),
+                        ("stand", num(ph.stand)),
                         ("floor", num(plan.floor.height)),
-                        ("phases", Value::list(phases)),
-                    ])
-                })
-                .collect(),
-        )
+                        ("error", s.solved.map_or(Value::Nil, num)),
+                    ];
+                    if s.p1 != s.p0 {
+                        fields.push(("at_end", point(&s.p1)));
+                    }
+                    out.push(record(fields));
+                }
+            }
+        }
+        Value::list(out)
     }
 }
 

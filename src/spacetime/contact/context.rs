@@ -189,6 +189,7 @@ impl<'a> Context<'a> {
                     p0: p,
                     p1: q,
                     source: Source::Context,
+                    solved: None,
                 };
                 let lift = (t0 + (stance - a0).max(0.0)).min(t1);
                 let touch = (t1 - (stance - b1).max(0.0)).max(t0);

@@ -24,6 +24,9 @@ pub enum Source {
     Steps,
     /// Stated by `contact: [...]` (a user's records, or a capture's contacts).
     Given,
+    /// Re-estimated from a solve's result (its ends and anchor moved to
+    /// where the solved point stood).
+    Replanned,
 }
 
 impl Source {
@@ -34,6 +37,7 @@ impl Source {
             Source::Example => "example",
             Source::Steps => "steps",
             Source::Given => "given",
+            Source::Replanned => "re-planned",
         }
     }
 }
@@ -49,6 +53,9 @@ pub struct Stance {
     pub p1: Vector3<f64>,
     /// What made it.
     pub source: Source,
+    /// After the solve: the solved point's largest distance (m) from where
+    /// the stance holds it (`at`) over the stance; `None` before.
+    pub solved: Option<f64>,
 }
 
 impl Stance {
@@ -60,6 +67,7 @@ impl Stance {
             p0: anchor,
             p1: anchor,
             source: Source::Context,
+            solved: None,
         }
     }
 
@@ -216,6 +224,7 @@ mod tests {
             p0: Vector3::zeros(),
             p1: Vector3::x(),
             source: Source::Given,
+            solved: None,
         };
         assert_eq!(s.at(1.0), Vector3::new(0.5, 0.0, 0.0));
         assert_eq!(s.at(5.0), Vector3::x());

@@ -85,6 +85,7 @@ impl<'a> HoldObjective<'a> {
                     p0,
                     p1,
                     source: crate::spacetime::contact::Source::Context,
+                    solved: None,
                 }]
             })
             .collect();

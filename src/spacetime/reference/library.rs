@@ -51,6 +51,22 @@ pub struct ClipStretch {
     /// DOFs named as the body's coordinates.
     pub motion: Arc<Mu>,
     names: Arc<Vec<String>>,
+    /// The clip's own stances over the stretch, on the gap's clock, from the
+    /// contact labels the library stored at build time (`ground`'s planning
+    /// rule on the clip as recorded); `None` when the library has none for
+    /// it, and the contact plan then reads them off the laid poses.
+    pub stances: Option<Vec<ExampleStances>>,
+}
+
+/// One contact point's stances in a library example, on the gap's clock
+/// (issues 42 and 43: the library example's contacts are the gap's plan).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExampleStances {
+    /// The contact point: its joint's (link's) name, as the body names it.
+    pub point: String,
+    /// Stance intervals [t0, t1] (s, gap clock), in time order, over the
+    /// gap and the context either side.
+    pub spans: Vec<(f64, f64)>,
 }
 
 impl PartialEq for ClipStretch {
@@ -321,6 +337,7 @@ impl<'a> LibraryGap<'a> {
                 features: cand.mismatch,
                 motion: Arc::new(motion),
                 names: self.names_arc.clone(),
+                stances: None,
             }),
             fit: None,
         }))

@@ -30,7 +30,7 @@ mod tests;
 
 pub use joints::Joints;
 pub use lay::{EndFit, LaidExample, Lay, MAX_END_OFFSET};
-pub use library::{ClipStretch, LibrarySource, from_library, from_library_with};
+pub use library::{ClipStretch, ExampleStances, LibrarySource, from_library, from_library_with};
 pub use own::{find, find_with};
 
 /// Grid step (s) the motion is compared on: a capture's usual frame time.
