@@ -42,8 +42,9 @@ pub struct Contacts {
     pub points: Vec<PointContacts>,
 }
 
-/// Runs of `true` in `flags` as intervals over `times`.
-fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
+/// Runs of `true` in `flags` as intervals over `times` (the contact
+/// intervals of per-frame flags, whichever rule set them).
+pub fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
     let mut out = vec![];
     let mut k = 0;
     while k < flags.len() {

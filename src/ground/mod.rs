@@ -38,7 +38,7 @@ pub use points::{
     recorded_floor, tracks,
 };
 pub use residual::{GroundResidual, ground_residual};
-pub use root::moving_root;
+pub use root::{body_link, moving_root};
 pub use skate::{Penetration, Skate, foot_skate, penetration};
 pub use stance::{
     CONTACT_HEIGHT, CONTACT_SPEED, GROUND_BAND, in_stance, plan_speed_limit, plan_stances,

@@ -280,14 +280,19 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
         b[at] ^= 0x40;
         assert!(load_bytes(&b).contains("damaged"), "byte {at}");
     }
-    // in a clip's text (read when a match needs it): refused when it is read
+    // in a clip's text or its contact labels (read when a match needs
+    // them): refused when they are read
     for at in [good.len() / 2, good.len() - 20] {
         let mut b = good.clone();
         b[at] ^= 0x40;
         std::fs::write(&p, &b).unwrap();
         let e = match file::load(&p, None) {
             Err(e) => e,
-            Ok(lib) => lib.clips[0].motion().unwrap_err(),
+            Ok(lib) => {
+                let c = &lib.clips[0];
+                let e = c.motion().err().or_else(|| c.labels().err());
+                e.unwrap_or_else(|| panic!("byte {at}: the damage went unseen"))
+            }
         };
         assert!(e.to_string().contains("damaged"), "byte {at}: {e}");
     }
@@ -552,6 +557,7 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
         assert_eq!(c.name, "the same, renamed", "{}", case.name);
         // (a still stretch may match as well elsewhere: the fill below is the check)
         assert_eq!(c.warp, 1.0, "{}", case.name);
+        stances_are_the_stored_labels(&opts, &gaps, c);
         // ρ is over the context's own spread: a nearly still context (a
         // 120 Hz clip's frames 4e-5 s off the 30 Hz grid) leaves a few %
         assert!(ex.mismatch < 0.1, "{}: {}", case.name, ex.mismatch);
@@ -647,6 +653,43 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
 /// and one without an example says why. The library is every other clip of
 /// the folder (the window's own clip left out).
 #[cfg(feature = "report")]
+/// The example's stances are its clip's planning labels, stored when it was
+/// indexed, over the gap and 0.3 s either side, on the gap's clock.
+fn stances_are_the_stored_labels(
+    opts: &mx::spacetime::SpOptions,
+    gaps: &[mx::spacetime::GapDof],
+    c: &mx::spacetime::reference::ClipStretch,
+) {
+    let lib = &opts.library.as_ref().unwrap().library;
+    let entry = lib.clips.iter().find(|k| k.name == c.name).unwrap();
+    let labels = entry.labels().unwrap().expect("labels stored");
+    let t0 = gaps.iter().map(|g| g.t0).fold(f64::INFINITY, f64::min);
+    let t1 = gaps.iter().map(|g| g.t1).fold(f64::NEG_INFINITY, f64::max);
+    let (from, to) = (t0 - 0.3, t1 + 0.3);
+    let on_gap = |s: f64| t0 + (s - c.time) / c.warp;
+    let stances = c.stances.as_ref().expect("the example carries stances");
+    assert_eq!(stances.len(), labels.points.len(), "{}", c.name);
+    for (s, p) in stances.iter().zip(&labels.points) {
+        assert_eq!(s.point, p.name);
+        let want: Vec<(f64, f64)> = p
+            .plan
+            .iter()
+            .map(|&[a, b]| (on_gap(labels.time(a)), on_gap(labels.time(b))))
+            .filter(|&(a, b)| b >= from - 1e-9 && a <= to + 1e-9)
+            .map(|(a, b)| (a.max(from), b.min(to)))
+            .collect();
+        assert_eq!(s.spans.len(), want.len(), "{} {}", c.name, p.name);
+        for (x, y) in s.spans.iter().zip(&want) {
+            assert!(
+                (x.0 - y.0).abs() < 1e-9 && (x.1 - y.1).abs() < 1e-9,
+                "{} {}: {x:?} vs {y:?}",
+                c.name,
+                p.name
+            );
+        }
+    }
+}
+
 #[test]
 fn with_a_library_and_self_each_gap_follows_the_better_match() {
     use mx::report::inbetween::{Case, RootMode};

@@ -37,6 +37,7 @@ mod lang_isolation;
 mod lang_motion;
 mod layers;
 mod library;
+mod library_labels;
 mod library_shards;
 mod lie;
 mod mechanisms;
