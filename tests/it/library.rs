@@ -648,10 +648,6 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
     );
 }
 
-/// `example: [lib, "self"]` chooses per gap by match cost: each group
-/// follows the source whose ρ is lower (both asked, both in the report),
-/// and one without an example says why. The library is every other clip of
-/// the folder (the window's own clip left out).
 #[cfg(feature = "report")]
 /// The example's stances are its clip's planning labels, stored when it was
 /// indexed, over the gap and 0.3 s either side, on the gap's clock.
@@ -690,6 +686,11 @@ fn stances_are_the_stored_labels(
     }
 }
 
+/// `example: [lib, "self"]` chooses per gap by match cost: each group
+/// follows the source whose ρ is lower (both asked, both in the report),
+/// and one without an example says why. The library is every other clip of
+/// the folder (the window's own clip left out).
+#[cfg(feature = "report")]
 #[test]
 fn with_a_library_and_self_each_gap_follows_the_better_match() {
     use mx::report::inbetween::{Case, RootMode};
