@@ -177,7 +177,10 @@ fn script_of(found: &[(Block, usize)], shared: bool) -> (String, Option<usize>) 
 fn outputs_by_block(stdout: &str) -> Vec<(usize, String)> {
     let mut out: Vec<(usize, String)> = Vec::new();
     for line in stdout.lines() {
-        match line.strip_prefix("\u{1}block ").and_then(|n| n.parse().ok()) {
+        match line
+            .strip_prefix("\u{1}block ")
+            .and_then(|n| n.parse().ok())
+        {
             Some(n) => out.push((n, String::new())),
             None => {
                 if let Some((_, text)) = out.last_mut() {
@@ -228,7 +231,10 @@ fn run_file(path: &Path, shared: Option<&Path>) -> Vec<String> {
     let file = work.join(path.file_name().unwrap());
     std::fs::write(&file, script).unwrap();
     let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_mx"));
-    cmd.arg("run").arg(&file).current_dir(&work).env("NO_COLOR", "1");
+    cmd.arg("run")
+        .arg(&file)
+        .current_dir(&work)
+        .env("NO_COLOR", "1");
     match shared {
         Some(s) => cmd.env("MX_SHARED", s),
         None => cmd.env_remove("MX_SHARED"),
@@ -338,14 +344,24 @@ fn the_readme_opens_with_the_tour_and_what_it_prints() {
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let found = blocks(&readme);
     let (first, _) = &found[0];
-    assert_eq!(first.lang(), "sh", "README.md:{}: the first block is the commands", first.line);
+    assert_eq!(
+        first.lang(),
+        "sh",
+        "README.md:{}: the first block is the commands",
+        first.line
+    );
     let command = |line: &str| line.split(" #").next().unwrap_or("").trim().to_string();
     let first_command = command(first.text.lines().next().unwrap_or(""));
     let tour = std::fs::read_to_string(root.join("examples/tour.mx")).unwrap();
     let header: Vec<String> = tour
         .lines()
         .take_while(|l| l.starts_with("//"))
-        .filter_map(|l| l.trim_start_matches('/').trim().strip_prefix("cargo ").map(|c| format!("cargo {c}")))
+        .filter_map(|l| {
+            l.trim_start_matches('/')
+                .trim()
+                .strip_prefix("cargo ")
+                .map(|c| format!("cargo {c}"))
+        })
         .collect();
     assert_eq!(
         header,
@@ -354,7 +370,11 @@ fn the_readme_opens_with_the_tour_and_what_it_prints() {
         first.line
     );
     let (shown, _) = &found[1];
-    assert!(shown.is_output(), "README.md:{}: what the tour prints follows its command", shown.line);
+    assert!(
+        shown.is_output(),
+        "README.md:{}: what the tour prints follows its command",
+        shown.line
+    );
     let (_tmp, work) = clone_like_root();
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_mx"))
         .args(["run", "examples/tour.mx"])
@@ -362,16 +382,29 @@ fn the_readme_opens_with_the_tour_and_what_it_prints() {
         .env_remove("MX_SHARED")
         .output()
         .unwrap();
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let printed = String::from_utf8_lossy(&run.stdout).to_string();
     let printed: Vec<&str> = printed.lines().map(str::trim_end).collect();
     let mut want: Vec<&str> = shown.text.lines().map(str::trim_end).collect();
     if want.last() == Some(&"…") {
         want.pop();
     } else {
-        assert_eq!(want.len(), printed.len(), "README.md:{}: shows the whole output", shown.line);
+        assert_eq!(
+            want.len(),
+            printed.len(),
+            "README.md:{}: shows the whole output",
+            shown.line
+        );
     }
-    assert!(want.len() >= 3, "README.md:{}: show a few lines", shown.line);
+    assert!(
+        want.len() >= 3,
+        "README.md:{}: show a few lines",
+        shown.line
+    );
     for (k, line) in want.iter().enumerate() {
         assert_eq!(
             Some(line),

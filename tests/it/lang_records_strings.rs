@@ -45,9 +45,17 @@ fn fields_agree(i: &mut Interpreter, v: &str) {
     );
     assert_eq!(eval(i, &check), "true", "{v}");
     let keys = eval(i, &format!("keys({v})"));
-    let first = keys.trim_start_matches("[\"").split('"').next().unwrap().to_string();
+    let first = keys
+        .trim_start_matches("[\"")
+        .split('"')
+        .next()
+        .unwrap()
+        .to_string();
     assert_eq!(
-        eval(i, &format!("repr(({v}).{first}) == repr(({v})[\"{first}\"])")),
+        eval(
+            i,
+            &format!("repr(({v}).{first}) == repr(({v})[\"{first}\"])")
+        ),
         "true",
         "{v}.{first}"
     );
@@ -58,7 +66,10 @@ fn fields_agree(i: &mut Interpreter, v: &str) {
         "{v}: {e}"
     );
     let e = error(i, &format!("({v}).zzzzzzzzzz"));
-    assert!(e.contains("its fields are:") && e.contains(&first), "{v}: {e}");
+    assert!(
+        e.contains("its fields are:") && e.contains(&first),
+        "{v}: {e}"
+    );
 }
 
 #[test]
@@ -74,7 +85,10 @@ fn keys_has_and_fields_agree_on_an_sp_report() {
         ),
     );
     // the issue's form, as written
-    let keys = eval(&mut i, "keys(sp_report(SP(g, body: body_of(m), samples: 6, iterations: 5)))");
+    let keys = eval(
+        &mut i,
+        "keys(sp_report(SP(g, body: body_of(m), samples: 6, iterations: 5)))",
+    );
     for k in ["groups", "contacts", "text"] {
         assert!(keys.contains(&format!("\"{k}\"")), "{keys}");
     }
@@ -94,7 +108,12 @@ fn keys_has_and_fields_agree_on_every_value_with_fields() {
              let knee = load({knee})\n\
              let robot = load({urdf})",
             walk = data("walk.bvh"),
-            knee = data("knee_r.osim"),
+            knee = quote(
+                &Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("tests/data/opensim/joints/BallJoint.osim")
+                    .display()
+                    .to_string()
+            ),
             urdf = data("double_pendulum.urdf"),
         ),
     );
@@ -110,8 +129,17 @@ fn keys_has_and_fields_agree_on_every_value_with_fields() {
         fields_agree(&mut i, v);
     }
     // optional fields are listed where the value has them, and only there
-    assert_eq!(eval(&mut i, "[has(b, \"report\"), has(knee, \"report\")]"), "[false, true]");
-    assert_eq!(eval(&mut i, "keys(b) == filter(keys(knee), fn(k) = k != \"report\" && k != \"defaults\")"), "true");
+    assert_eq!(
+        eval(&mut i, "[has(b, \"report\"), has(knee, \"report\")]"),
+        "[false, true]"
+    );
+    assert_eq!(
+        eval(
+            &mut i,
+            "keys(b) == filter(keys(knee), fn(k) = k != \"report\" && k != \"defaults\")"
+        ),
+        "true"
+    );
 }
 
 #[test]
@@ -141,8 +169,14 @@ fn starts_with_and_ends_with() {
         ("\"LeftFoot\".starts_with(\"Right\")", "false"),
         ("ends_with(\"walk.bvh\", \".bvh\")", "true"),
         ("\"walk.bvh\".ends_with(\".BVH\")", "false"),
-        ("[\"a\".starts_with(\"\"), \"a\".ends_with(\"\"), \"\".starts_with(\"a\")]", "[true, true, false]"),
-        ("\"é.bvh\".ends_with(\"h\") && \"éa\".starts_with(\"é\")", "true"),
+        (
+            "[\"a\".starts_with(\"\"), \"a\".ends_with(\"\"), \"\".starts_with(\"a\")]",
+            "[true, true, false]",
+        ),
+        (
+            "\"é.bvh\".ends_with(\"h\") && \"éa\".starts_with(\"é\")",
+            "true",
+        ),
         (
             "filter([\"Hips.Xposition\", \"LeftFoot.Zrotation\"], fn(d) = d.ends_with(\"rotation\"))",
             "[\"LeftFoot.Zrotation\"]",
@@ -182,10 +216,14 @@ fn number_reads_what_a_literal_reads() {
     ] {
         assert_eq!(eval(&mut i, src), want, "{src}");
     }
-    for bad in ["abc", "3,2", "", "  ", "1.", "nan", "inf", "1e999", "0x10", "2 s", "2sec", "--1"] {
+    for bad in [
+        "abc", "3,2", "", "  ", "1.", "nan", "inf", "1e999", "0x10", "2 s", "2sec", "--1",
+    ] {
         let e = error(&mut i, &format!("number({})", quote(bad)));
         assert!(
-            e.contains("`number`: `s` is") && e.contains("not a number") && e.contains("number literal"),
+            e.contains("`number`: `s` is")
+                && e.contains("not a number")
+                && e.contains("number literal"),
             "{bad:?}: {e}"
         );
     }
@@ -195,4 +233,51 @@ fn number_reads_what_a_literal_reads() {
     let d = i.eval_str("let t = \"x\"\nnumber(t)").unwrap_err();
     let place = d.place().expect("a place");
     assert_eq!((place.line, place.column), (2, 8), "{place:?}");
+}
+
+/// A host value that reads a name it does not list: `Value::field` and
+/// `Value::keys` go by the list alone, so field access, `keys` and `has`
+/// cannot disagree even when an implementation does.
+#[derive(Debug)]
+struct Sloppy;
+
+impl mx::HostObject for Sloppy {
+    fn type_name(&self) -> &'static str {
+        "Sloppy"
+    }
+    fn summary(&self) -> String {
+        "<sloppy>".into()
+    }
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn field_names(&self) -> &'static [&'static str] {
+        &["listed", "absent"]
+    }
+    fn read_field(&self, name: &str) -> Option<mx::Value> {
+        match name {
+            "listed" | "unlisted" => Some(mx::Value::Number(1.0)),
+            _ => None, // "absent": listed, but this value lacks it
+        }
+    }
+}
+
+#[test]
+fn only_listed_fields_exist() {
+    let v = mx::Value::object(Sloppy);
+    assert_eq!(v.keys(), Some(vec!["listed".to_string()]));
+    assert!(v.field("listed").is_some());
+    assert!(v.field("unlisted").is_none(), "not listed: no field");
+    assert!(v.field("absent").is_none());
+    let mut i = Interpreter::new();
+    i.set("s", v);
+    assert_eq!(
+        eval(
+            &mut i,
+            "[keys(s), has(s, \"unlisted\"), has(s, \"listed\")]"
+        ),
+        "[[\"listed\"], false, true]"
+    );
+    let e = error(&mut i, "s.unlisted");
+    assert!(e.contains("a Sloppy has no field `unlisted`"), "{e}");
 }

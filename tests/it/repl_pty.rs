@@ -216,7 +216,8 @@ fn a_line_may_begin_with_an_operator_in_the_repl() {
     p.expect("pasted 42").unwrap();
     // nothing open above: the error explains
     p.send_line("+ 1").unwrap();
-    p.expect("continues the expression on the line above").unwrap();
+    p.expect("continues the expression on the line above")
+        .unwrap();
     // a glued minus is a new statement's unary minus
     p.send_line("-y").unwrap();
     p.expect("-42").unwrap();

@@ -65,7 +65,17 @@ impl HostObject for IkReportValue {
         self
     }
     fn field_names(&self) -> &'static [&'static str] {
-        &["targets", "max", "frames", "iterations", "mean_iterations", "unconverged", "dofs", "tolerance", "text"]
+        &[
+            "targets",
+            "max",
+            "frames",
+            "iterations",
+            "mean_iterations",
+            "unconverged",
+            "dofs",
+            "tolerance",
+            "text",
+        ]
     }
     fn read_field(&self, name: &str) -> Option<Value> {
         let r = &self.0;

@@ -107,7 +107,15 @@ impl HostObject for Body {
         self
     }
     fn field_names(&self) -> &'static [&'static str] {
-        &["name", "mass", "coordinates", "nq", "links", "report", "defaults"]
+        &[
+            "name",
+            "mass",
+            "coordinates",
+            "nq",
+            "links",
+            "report",
+            "defaults",
+        ]
     }
     fn read_field(&self, name: &str) -> Option<Value> {
         match name {

@@ -74,7 +74,9 @@ pub fn is_incomplete(src: &str) -> bool {
 /// A trailing infix operator, `=`, `,` or `\` asks for another line; a
 /// trailing `--` does not (nothing continues it).
 fn ends_with_operator(code: &str) -> bool {
-    if code.ends_with(['+', '*', '/', '&', '∧', '=', ',', '|', '−', '<', '>', '%', '×', '≤', '≥', '\\']) {
+    if code.ends_with([
+        '+', '*', '/', '&', '∧', '=', ',', '|', '−', '<', '>', '%', '×', '≤', '≥', '\\',
+    ]) {
         return true;
     }
     if code.ends_with('-') {
@@ -98,8 +100,19 @@ mod tests {
     #[test]
     fn open_brackets_and_trailing_operators_ask_for_more() {
         for src in [
-            "[1,", "f(", "{", "1 +", "a and", "x ==", "1 <", "2 ×", "let x =", "a -", "1 \\",
-            "/* open", "xs.map(fn(x) {\n  x\n  + 1",
+            "[1,",
+            "f(",
+            "{",
+            "1 +",
+            "a and",
+            "x ==",
+            "1 <",
+            "2 ×",
+            "let x =",
+            "a -",
+            "1 \\",
+            "/* open",
+            "xs.map(fn(x) {\n  x\n  + 1",
         ] {
             assert!(is_incomplete(src), "{src:?} is incomplete");
         }

@@ -232,7 +232,10 @@ mod tests {
         assert_eq!(stmts("let x = a\n  + b\n  * c"), ["let x = (a + (b * c))"]);
         assert_eq!(stmts("a\n- b"), ["(a - b)"]);
         assert_eq!(stmts("a\n−\tb"), ["(a - b)"]);
-        for op in ["/", "%", "&", "∧", "×", "==", "!=", "<", "<=", ">", ">=", "≤", "≥", "&&", "||", "and", "or"] {
+        for op in [
+            "/", "%", "&", "∧", "×", "==", "!=", "<", "<=", ">", ">=", "≤", "≥", "&&", "||", "and",
+            "or",
+        ] {
             let want = stmts(&format!("a {op} b"));
             assert_eq!(stmts(&format!("a\n  {op} b")), want, "{op}");
             assert_eq!(stmts(&format!("a\r\n  {op} b")), want, "{op} after CRLF");
@@ -270,7 +273,10 @@ mod tests {
         for src in ["+ 1", "* 2", "fn f() { 1 }\n+ 1", ".a", "let x = 1;\n== 2"] {
             let err = parse_program(src, 0).unwrap_err();
             let help = err.help.clone().unwrap_or_default();
-            assert!(help.contains("continues the expression on the line above"), "{src:?}: {help}");
+            assert!(
+                help.contains("continues the expression on the line above"),
+                "{src:?}: {help}"
+            );
         }
     }
 
@@ -283,7 +289,10 @@ mod tests {
         assert_eq!(number_literal("250ms"), Some(0.25));
         assert_eq!(number_literal("90deg"), Some(std::f64::consts::FRAC_PI_2));
         assert_eq!(number_literal("-0").map(f64::is_sign_negative), Some(true));
-        for bad in ["", "-", "3,2", "3.", "1e", "nan", "inf", "0x10", "2 s", "2sec", "1e999", "--1", "3.2.1", "½"] {
+        for bad in [
+            "", "-", "3,2", "3.", "1e", "nan", "inf", "0x10", "2 s", "2sec", "1e999", "--1",
+            "3.2.1", "½",
+        ] {
             assert_eq!(number_literal(bad), None, "{bad:?}");
         }
     }
