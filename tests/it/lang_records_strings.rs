@@ -241,7 +241,7 @@ fn number_reads_what_a_literal_reads() {
 #[derive(Debug)]
 struct Sloppy;
 
-impl mx::HostObject for Sloppy {
+impl mx::lang::HostObject for Sloppy {
     fn type_name(&self) -> &'static str {
         "Sloppy"
     }
