@@ -200,20 +200,18 @@ fn a_line_may_begin_with_an_operator_in_the_repl() {
     let mut p = Session::spawn(cmd).expect("spawn mx in a pty");
     p.set_expect_timeout(Some(Duration::from_secs(20)));
     p.expect("mx> ").unwrap();
-    // typed line by line while the block is open
+    // typed line by line while the block is open; each input prints a word its
+    // echo does not contain, so the next is typed once it has run
     p.send_line("let f = fn(x) {").unwrap();
     p.send_line("  x").unwrap();
     p.send_line("    + 1").unwrap();
-    p.send_line("}").unwrap();
-    p.expect("mx> ").unwrap();
-    p.send_line("print(\"typed\", f(41))").unwrap();
-    p.expect("typed 42").unwrap();
-    // two lines pasted at once (bracketed paste), then Enter
-    p.send("\x1b[200~let y = 40\n  + 2\x1b[201~").unwrap();
+    p.send_line("}; print(\"typed\" + \"!\", f(41))").unwrap();
+    p.expect("typed! 42").unwrap();
+    // lines pasted at once (bracketed paste), then Enter
+    p.send("\x1b[200~let y = 40\n  + 2\nprint(\"pasted\" + \"!\", y)\x1b[201~")
+        .unwrap();
     p.send("\r").unwrap();
-    p.expect("mx> ").unwrap();
-    p.send_line("print(\"pasted\", y)").unwrap();
-    p.expect("pasted 42").unwrap();
+    p.expect("pasted! 42").unwrap();
     // nothing open above: the error explains
     p.send_line("+ 1").unwrap();
     p.expect("continues the expression on the line above")
