@@ -4,6 +4,7 @@
 //! compiled with it only.
 
 mod common;
+mod contact_plans;
 mod support;
 
 mod blender_addon;
