@@ -51,11 +51,11 @@ pub struct ClipLabels {
 /// Any mass: neither rule depends on it (`body_of` needs one).
 const MASS: f64 = 70.0;
 
-/// The runs of `flags` (frames of the clip, at `times`).
-fn runs(flags: &[bool], times: &[f64]) -> Runs {
-    ground::contacts::runs(flags, times)
-        .iter()
-        .map(|r| [r.first as u32, r.last as u32])
+/// The runs of `flags` (frames of the clip), by `ground`'s one rule.
+fn runs(flags: &[bool]) -> Runs {
+    ground::runs_of(flags)
+        .into_iter()
+        .map(|(a, b)| [a as u32, b as u32])
         .collect()
 }
 
@@ -112,8 +112,8 @@ impl ClipLabels {
                 let plan = ground::plan_stances(&path, &body_path, tracks.frame_time, stand, &up);
                 PointLabels {
                     name: pc.name.clone(),
-                    contact: runs(&pc.in_contact, &tracks.times),
-                    plan: runs(&plan, &tracks.times),
+                    contact: runs(&pc.in_contact),
+                    plan: runs(&plan),
                     stand,
                 }
             })
@@ -172,13 +172,11 @@ mod tests {
             vec![false, true, true, false, true],
             vec![true, true, false, false, true, true],
         ] {
-            let times: Vec<f64> = (0..f.len()).map(|k| k as f64 / 30.0).collect();
-            let r = runs(&f, &times);
+            let r = runs(&f);
             assert_eq!(flags(&r, f.len()), f, "{r:?}");
         }
-        let times = [0.0, 0.1, 0.2, 0.3, 0.4];
         assert_eq!(
-            runs(&[false, true, true, false, true], &times),
+            runs(&[false, true, true, false, true]),
             vec![[1, 2], [4, 4]]
         );
     }
