@@ -162,6 +162,16 @@ pub enum ClipData {
 }
 
 impl ClipData {
+    /// The stored bytes' length and fingerprint (a file's or an `.mxlib`
+    /// section's), which identify its text; `None` for a clip in memory.
+    pub fn stamp(&self) -> Option<(u64, u64)> {
+        match self {
+            ClipData::Memory(_) => None,
+            ClipData::File(s) => Some((s.len, s.fingerprint)),
+            ClipData::Section(s) => Some((s.len, s.fingerprint)),
+        }
+    }
+
     /// The clip's BVH text as stored (`None` for a clip in memory), checked
     /// against the fingerprint taken when it was indexed or saved.
     pub fn stored_bytes(&self, name: &str) -> Result<Option<Vec<u8>>, LibraryError> {

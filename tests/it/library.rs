@@ -253,6 +253,49 @@ fn a_saved_index_loads_back_and_answers_the_same() {
     assert_eq!(file::to_bytes(&back).unwrap(), std::fs::read(&p).unwrap());
 }
 
+/// Copies of one clip (the same bytes under other names) are searched once:
+/// the answers are the first copy's and other clips', never a second copy's
+/// (k distinct stretches, and a query that costs what one copy does), the
+/// tree agrees with brute force, and a saved and loaded library the same.
+#[test]
+fn repeated_clips_are_searched_once() {
+    let Some(dir) = mocap_dir() else { return };
+    let files = library::bvh_files(&dir).unwrap();
+    let text = |k: usize| std::fs::read_to_string(&files[k]).unwrap();
+    let d = folder(&[
+        ("a.bvh", text(0)),
+        ("b.bvh", text(0)),
+        ("c.bvh", text(0)),
+        ("d.bvh", text(1)),
+        ("e.bvh", text(1)),
+    ]);
+    let (clips, skipped) = library::clips_in_folder(d.path()).unwrap();
+    let lib = Library::build(clips, skipped, Settings::default()).unwrap();
+    assert_eq!(lib.repeats(), [false, true, true, false, true]);
+    let tmp = tempfile::tempdir().unwrap();
+    let back = file::load(&saved(&lib, tmp.path()), None).unwrap();
+    assert_eq!(back.repeats(), lib.repeats());
+    for (c, at) in [(0, 0.4), (3, 0.5)] {
+        let t0 = lib.clips[c].start + (at * lib.clips[c].frames as f64).round() / 30.0;
+        let q = self_query(&lib, c, t0, t0 + 0.5);
+        let tree = lib.match_gap(&q, 5);
+        assert_same(&tree, &lib.match_brute(&q, 5), "repeats");
+        assert_eq!((tree[0].clip, tree[0].warp), (c, 1.0), "{:?}", tree[0]);
+        assert!(tree[0].mismatch < 1e-6, "{:?}", tree[0]);
+        assert!(tree.iter().all(|m| m.clip == 0 || m.clip == 3), "{tree:?}");
+        assert_same(&back.match_gap(&q, 5), &tree, "loaded");
+    }
+    // clips made in memory have no stored bytes: never taken for repeats
+    let one = library::read_clip(&files[0]).unwrap();
+    let mem = |name: &str| ClipInput {
+        name: name.into(),
+        source: None,
+        ..one.clone()
+    };
+    let lib = Library::build(vec![mem("x"), mem("y")], vec![], Settings::default()).unwrap();
+    assert_eq!(lib.repeats(), [false, false]);
+}
+
 #[test]
 fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
     let Some(t) = template() else { return };
