@@ -85,7 +85,14 @@ struct PartClip {
     start: f64,
     frames: usize,
     /// Its contact labels, or why it has none.
-    labels: Result<ClipLabels, String>,
+    labels: PartLabels,
+}
+
+/// A part's clip's contact labels ([`ClipLabels`]), or why it has none.
+#[derive(Serialize, Deserialize)]
+enum PartLabels {
+    Labelled(ClipLabels),
+    Unlabelled { reason: String },
 }
 
 /// The folder of `out`'s parts.
@@ -162,10 +169,14 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, LibraryError> {
                     start: c.clip.start,
                     frames: c.clip.frames,
                     labels: match &c.clip.labels {
-                        LabelData::Memory(l) => Ok((**l).clone()),
-                        LabelData::None(why) => Err(why.clone()),
+                        LabelData::Memory(l) => PartLabels::Labelled((**l).clone()),
+                        LabelData::None(why) => PartLabels::Unlabelled {
+                            reason: why.clone(),
+                        },
                         // an indexed clip's labels are taken in memory
-                        LabelData::Section(_) => Err("not kept".into()),
+                        LabelData::Section(_) => PartLabels::Unlabelled {
+                            reason: "not kept".into(),
+                        },
                     },
                 })
                 .collect(),
@@ -295,8 +306,10 @@ fn read_part(path: &Path) -> Result<Part, LibraryError> {
                     frames: c.frames,
                     offset: 0,
                     labels: match &c.labels {
-                        Ok(l) => LabelData::Memory(std::sync::Arc::new(l.clone())),
-                        Err(why) => LabelData::None(why.clone()),
+                        PartLabels::Labelled(l) => {
+                            LabelData::Memory(std::sync::Arc::new(l.clone()))
+                        }
+                        PartLabels::Unlabelled { reason } => LabelData::None(reason.clone()),
                     },
                 },
                 before: b.to_vec(),
