@@ -28,8 +28,8 @@
 //! - `MX_INBETWEEN_GROUND="label:key=value,key=value;…"`: extra grounded SP
 //!   rows (`contact: "auto"`) with the ground's settings changed
 //!   (`GroundSettings`: `base=1e5/1e6/1e7`, `replans=1`, `prior=1e-5`,
-//!   `example=1e-5`, `stance=1e10`, `floor=1e9`, `clearance=1e9`,
-//!   `friction=0.8`, `plan=auto|context|example|steps`, and `anchor=0|1`,
+//!   `example=1e-5`, `given=1e-3` (both scales, root given), `stance=1e10`, `floor=1e9`, `clearance=1e9`,
+//!   `friction=0.8`, `window=25` (stall window), `bymismatch=1`, `plan=auto|context|example|steps`, and `anchor=0|1`,
 //!   `coefficients=5`);
 //! - `RAYON_NUM_THREADS=N`: windows run in parallel (each window's methods
 //!   one after the other on one thread, so their times compare); the
@@ -271,7 +271,8 @@ fn main() {
     view_worst(&cases, &p, &methods, &results);
 }
 
-/// A grounded row's options: `contact: "auto"` with `kvs`
+/// A grounded row's options: `contact: "auto"` stated (a given root stands
+/// too) with `kvs`
 /// (`key=value,…`, see the module docs) changed; a bad key or value stops
 /// the run naming it.
 fn ground_row(kvs: &str) -> mx::spacetime::SpOptions {
@@ -279,6 +280,7 @@ fn ground_row(kvs: &str) -> mx::spacetime::SpOptions {
         contact: mx::spacetime::Contact::Auto,
         ..Default::default()
     };
+    o.ground.stand_root_given = true;
     for kv in kvs.split(',').filter(|s| !s.trim().is_empty()) {
         let (k, v) = kv
             .split_once('=')
@@ -294,6 +296,9 @@ fn ground_row(kvs: &str) -> mx::spacetime::SpOptions {
             "replans" => g.replans = num(v) as usize,
             "prior" => g.prior_scale = num(v),
             "example" => g.example = num(v),
+            "given" => g.root_given = (num(v), num(v)),
+            "window" => g.stall_window = Some(num(v) as u64),
+            "bymismatch" => g.by_mismatch = num(v) != 0.0,
             "stance" => g.stance = num(v),
             "floor" => g.floor = num(v),
             "clearance" => g.clearance = num(v),

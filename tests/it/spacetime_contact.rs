@@ -144,7 +144,7 @@ fn walk_gaps_get_a_contact_schedule_and_keep_their_context() {
                 );
             }
         }
-        // contact: "none" is SP as it was (the default options)
+        // the default options stand on the ground: they are contact: "auto"
         let (default, _) = sp(
             &cut,
             &case.body,
@@ -158,7 +158,7 @@ fn walk_gaps_get_a_contact_schedule_and_keep_their_context() {
         for name in case.body.coordinate_names() {
             assert_eq!(
                 default.sample(name, t_mid).unwrap(),
-                with_none.sample(name, t_mid).unwrap(),
+                with_auto.sample(name, t_mid).unwrap(),
                 "{name}"
             );
         }
