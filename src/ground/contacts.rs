@@ -43,7 +43,7 @@ pub struct Contacts {
 }
 
 /// Runs of `true` in `flags` as intervals over `times`.
-fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
+pub fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
     let mut out = vec![];
     let mut k = 0;
     while k < flags.len() {

@@ -20,6 +20,7 @@ mod first_hour;
 mod gltf;
 mod graph;
 mod ground;
+mod ground_forces;
 mod grounded_terms;
 #[cfg(feature = "report")]
 mod hard_cases;
