@@ -81,3 +81,4 @@ mod spline;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;
+mod viewer_ground;
