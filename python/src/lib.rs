@@ -136,10 +136,18 @@ fn ground_forces(
 ) -> PyResult<Py<PyAny>> {
     use mx::ground::{Floor, GroundOptions};
     use numpy::{PyArray1, PyArrayMethods};
-    let Some(mx::lang::host::Motion::Mu(m)) = motion.get().value.as_object::<mx::lang::host::Motion>() else {
-        return Err(errors::type_error(py, "`motion` must be a motion unit (Mu), e.g. mx.load(\"walk.bvh\")"));
+    let Some(mx::lang::host::Motion::Mu(m)) =
+        motion.get().value.as_object::<mx::lang::host::Motion>()
+    else {
+        return Err(errors::type_error(
+            py,
+            "`motion` must be a motion unit (Mu), e.g. mx.load(\"walk.bvh\")",
+        ));
     };
-    let mut o = GroundOptions { points, ..GroundOptions::default() };
+    let mut o = GroundOptions {
+        points,
+        ..GroundOptions::default()
+    };
     if let Some(h) = height {
         o.height = h;
     }
@@ -157,17 +165,36 @@ fn ground_forces(
         .detach(move || mx::ground::ground_forces(&m, &model, &o, friction))
         .map_err(|e| errors::value_error(py, e.to_string()))?;
     let (t, p) = (g.times.len(), g.points.len());
-    let flat = |rows: &[nalgebra::Vector3<f64>]| rows.iter().flat_map(|v| [v.x, v.y, v.z]).collect::<Vec<f64>>();
+    let flat = |rows: &[nalgebra::Vector3<f64>]| {
+        rows.iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .collect::<Vec<f64>>()
+    };
     let forces: Vec<f64> = g.forces.iter().flat_map(|fr| flat(fr)).collect();
     let d = pyo3::types::PyDict::new(py);
     d.set_item("times", PyArray1::from_vec(py, g.times.clone()))?;
-    d.set_item("points", g.points.iter().map(|c| c.name.clone()).collect::<Vec<_>>())?;
+    d.set_item(
+        "points",
+        g.points.iter().map(|c| c.name.clone()).collect::<Vec<_>>(),
+    )?;
     d.set_item("forces", PyArray1::from_vec(py, forces).reshape([t, p, 3])?)?;
     let contact: Vec<bool> = g.in_contact.iter().flatten().copied().collect();
-    d.set_item("in_contact", PyArray1::from_vec(py, contact).reshape([t, p])?)?;
-    d.set_item("residual_force", PyArray1::from_vec(py, flat(&g.residual_force)).reshape([t, 3])?)?;
-    d.set_item("residual_moment", PyArray1::from_vec(py, flat(&g.residual_moment)).reshape([t, 3])?)?;
-    d.set_item("percent_bw", PyArray1::from_vec(py, (0..t).map(|k| g.percent_bw(k)).collect()))?;
+    d.set_item(
+        "in_contact",
+        PyArray1::from_vec(py, contact).reshape([t, p])?,
+    )?;
+    d.set_item(
+        "residual_force",
+        PyArray1::from_vec(py, flat(&g.residual_force)).reshape([t, 3])?,
+    )?;
+    d.set_item(
+        "residual_moment",
+        PyArray1::from_vec(py, flat(&g.residual_moment)).reshape([t, 3])?,
+    )?;
+    d.set_item(
+        "percent_bw",
+        PyArray1::from_vec(py, (0..t).map(|k| g.percent_bw(k)).collect()),
+    )?;
     d.set_item("com", PyArray1::from_vec(py, flat(&g.com)).reshape([t, 3])?)?;
     d.set_item("weight", g.weight)?;
     d.set_item("floor", g.floor)?;

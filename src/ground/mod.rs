@@ -36,8 +36,8 @@ pub mod skate;
 pub mod stance;
 
 pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
-pub use forces::{GroundForces, ground_forces};
 pub use floor::{FloorPlane, horizontal, up_direction, up_of};
+pub use forces::{GroundForces, ground_forces};
 pub use points::{
     ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points,
     recorded_floor, tracks,

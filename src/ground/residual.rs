@@ -53,7 +53,11 @@ pub fn ground_residual(
         times: g.times.clone(),
         force: (0..frames).map(|k| g.percent_bw(k)).collect(),
         moment: g.residual_moment.iter().map(|m| m.norm()).collect(),
-        needed: g.needed.iter().map(|f| f.norm() / g.weight * 100.0).collect(),
+        needed: g
+            .needed
+            .iter()
+            .map(|f| f.norm() / g.weight * 100.0)
+            .collect(),
         in_contact: g
             .in_contact
             .iter()

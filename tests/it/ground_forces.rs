@@ -40,7 +40,10 @@ fn a_standing_body_is_held_up_by_its_weight_under_its_centre_of_mass() {
         );
         // under the centre of mass (the centre of pressure, horizontally)
         let d = ground::horizontal(&(centre_of_pressure(&g, k) - g.com[k]), &g.up).norm();
-        assert!(d < 0.005, "frame {k}: the forces act {d} m from under the centre of mass");
+        assert!(
+            d < 0.005,
+            "frame {k}: the forces act {d} m from under the centre of mass"
+        );
         assert!(g.percent_bw(k) < 0.5, "{}", g.percent_bw(k));
         assert!(g.in_contact[k].iter().all(|&c| c));
     }
@@ -139,7 +142,10 @@ fn ground_forces_in_the_language_plots_and_saves() {
     let (m, body, _) = load(&walk);
     let g = ground::ground_forces(&m, &body, &GroundOptions::default(), 0.8).unwrap();
     let cols: Vec<&str> = header.split(',').collect();
-    let pct = cols.iter().position(|c| *c == "residual.percent_bw").unwrap();
+    let pct = cols
+        .iter()
+        .position(|c| *c == "residual.percent_bw")
+        .unwrap();
     let rows: Vec<Vec<f64>> = csv
         .lines()
         .skip(1)

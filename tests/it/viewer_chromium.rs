@@ -29,13 +29,20 @@ pub(crate) fn chromium() -> PathBuf {
 /// Runs Chromium on `page` (with a URL fragment such as `#t=3.5`, or "");
 /// returns (dumped DOM, stderr) and checks the screenshot.
 pub(crate) fn open_at(page: &Path, fragment: &str) -> (String, String) {
-    open_page(page, fragment, true)
+    open_page(page, fragment, true, 1000)
 }
 
 /// As [`open_at`]; `virtual_time` false runs the page on the real clock (a
-/// timing measured in the page is then real), scripts running only at load.
-pub(crate) fn open_page(page: &Path, fragment: &str, virtual_time: bool) -> (String, String) {
+/// timing measured in the page is then real), scripts running only at load;
+/// the window `width` px wide.
+pub(crate) fn open_page(
+    page: &Path,
+    fragment: &str,
+    virtual_time: bool,
+    width: u32,
+) -> (String, String) {
     let dir = page.parent().unwrap();
+    let size = format!("--window-size={width},800");
     let profile = dir.join("profile");
     let shot = dir.join("shot.png");
     let base = [
@@ -48,7 +55,7 @@ pub(crate) fn open_page(page: &Path, fragment: &str, virtual_time: bool) -> (Str
         "--disable-component-update",
         "--disable-sync",
         "--enable-logging=stderr",
-        "--window-size=1000,800",
+        size.as_str(),
         if virtual_time {
             "--virtual-time-budget=2000"
         } else {

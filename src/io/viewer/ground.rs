@@ -217,7 +217,8 @@ pub fn ground_layer(
     let mut tracks = Vec::new();
     for (k, track) in data.tracks.iter().enumerate() {
         let mut tg = TrackGround {
-            contacts: track_contacts(data, track, &points, &joint, floor, up).map_err(|e| invalid(&e))?,
+            contacts: track_contacts(data, track, &points, &joint, floor, up)
+                .map_err(|e| invalid(&e))?,
             ..TrackGround::default()
         };
         match plans.get(k).copied().flatten() {
@@ -415,12 +416,16 @@ impl GroundLayer {
         if self.tracks.len() != tracks {
             return bad(format!("{} tracks for {tracks} motions", self.tracks.len()));
         }
-        if self.joint.len() != self.points.len() || self.joint.iter().flatten().any(|&j| j >= points) {
+        if self.joint.len() != self.points.len()
+            || self.joint.iter().flatten().any(|&j| j >= points)
+        {
             return bad("a contact point is not among the drawn points".into());
         }
         for t in &self.tracks {
             let prints = t.stances.iter().chain(&t.own);
-            if t.contacts.len() != self.points.len() || prints.clone().any(|f| f.point >= self.points.len()) {
+            if t.contacts.len() != self.points.len()
+                || prints.clone().any(|f| f.point >= self.points.len())
+            {
                 return bad("a footprint or contact row names no contact point".into());
             }
             if prints.flat_map(|f| f.at).any(|x| !x.is_finite()) {
@@ -428,7 +433,12 @@ impl GroundLayer {
             }
             if let Some(f) = &t.forces {
                 let width = 3 * self.points.len() + 10;
-                if f.frames.len() != frames || f.frames.iter().flatten().any(|r| r.len() != width || r.iter().any(|x| !x.is_finite())) {
+                if f.frames.len() != frames
+                    || f.frames
+                        .iter()
+                        .flatten()
+                        .any(|r| r.len() != width || r.iter().any(|x| !x.is_finite()))
+                {
                     return bad("forces must give one finite row per frame".into());
                 }
             }

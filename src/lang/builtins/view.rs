@@ -227,4 +227,3 @@ fn filled_spans(r: &crate::spacetime::SpReport) -> Vec<[f64; 2]> {
     }
     merged
 }
-
