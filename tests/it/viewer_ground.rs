@@ -212,10 +212,9 @@ fn stances(plan: &mx::lang::value::Value) -> Vec<(String, f64, f64, [f64; 3], St
 #[test]
 fn footprints_stand_at_the_plans_anchors_in_their_sources_colour() {
     // Bandai's walks: toe and ankle points, stances around a 0.5 s gap
-    for clip in shared_files("mocap", ".bvh")
-        .into_iter()
-        .filter(|p| p.to_string_lossy().contains("bandai") && p.to_string_lossy().contains("_walk_"))
-    {
+    for clip in shared_files("mocap", ".bvh").into_iter().filter(|p| {
+        p.to_string_lossy().contains("bandai") && p.to_string_lossy().contains("_walk_")
+    }) {
         footprints_of(&clip);
     }
 }
