@@ -282,7 +282,7 @@ fn footprints_of(clip: &Path) {
          ring.push(pixel(q[0], q[1]));\n    }}\n    out.push({{ lit: lit, ring: ring, colour: v.colours.sources[s.source] }});\n  }}",
         Json::Array(probes)
     );
-    let found = drive(&page, "#view=top&follow=off&t=1", &body, true);
+    let found = drive(&page, "#view=top&t=1", &body, true);
     for (f, (point, from, to, _, source)) in found.as_array().unwrap().iter().zip(&plan) {
         assert!(
             f["lit"].as_u64().unwrap() >= 1,
