@@ -21,6 +21,7 @@ mod first_hour;
 mod gltf;
 mod graph;
 mod ground;
+mod ground_forces;
 mod grounded_terms;
 #[cfg(feature = "report")]
 mod hard_cases;
@@ -82,3 +83,4 @@ mod spline;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;
+mod viewer_ground;

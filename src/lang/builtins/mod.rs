@@ -1,6 +1,6 @@
 //! The built-in functions, one file per domain (`core.rs`, `motion.rs`,
 //! `strings.rs`, `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
-//! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `opensim.rs`,
+//! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `view.rs`, `ground.rs`, `opensim.rs`,
 //! `spacetime.rs`). Each is a leaf: it imports [`Args`], [`Value`], the host
 //! types it converts (`lang::host`) and the engine, and nothing of its
 //! siblings, and registers its functions under their `:help` topic with one
@@ -29,6 +29,7 @@ pub mod opensim;
 pub mod spacetime;
 pub mod spline_joints;
 pub mod strings;
+pub mod view;
 
 pub use crate::lang::args::{ArgValue, Args, ObjRef, describe};
 pub use crate::lang::eval::{BuiltinFn, LoadFn, SaveFn};
@@ -51,6 +52,7 @@ impl Registry {
         mechanics::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
+        view::register(&mut r);
         ground::register(&mut r);
         opensim::register(&mut r);
         spacetime::register(&mut r);
