@@ -30,6 +30,12 @@
 //! - `MX_INBETWEEN_KNOBS=1`: also a row per knob of SP's objective;
 //! - `MX_INBETWEEN_SP="label:smoothness:time_constant:coefficients[:nosupport];…"`:
 //!   extra SP settings;
+//! - `MX_INBETWEEN_GROUND="label:key=value,key=value;…"`: extra grounded SP
+//!   rows (`contact: "auto"`) with the ground's settings changed
+//!   (`GroundSettings`: `base=1e5/1e6/1e7`, `replans=1`, `prior=1e-5`,
+//!   `example=1e-5`, `stance=1e10`, `floor=1e9`, `clearance=1e9`,
+//!   `friction=0.8`, `plan=auto|context|example|steps`, and `anchor=0|1`,
+//!   `coefficients=5`);
 //! - `RAYON_NUM_THREADS=N`: windows run in parallel (each window's methods
 //!   one after the other on one thread, so their times compare); the
 //!   results do not depend on N. Rows whose SP options are identical are
@@ -182,6 +188,15 @@ fn main() {
             methods.push(Method::Sp(f[0].to_string(), Box::new(o)));
         }
     }
+    if let Some(extra) = var("MX_INBETWEEN_GROUND") {
+        for spec in extra.split(';').filter(|s| !s.trim().is_empty()) {
+            let (label, kvs) = spec.split_once(':').unwrap_or((spec, ""));
+            methods.push(Method::Sp(
+                label.trim().to_string(),
+                Box::new(ground_row(kvs)),
+            ));
+        }
+    }
     if let Some(only) = var("MX_INBETWEEN_METHODS") {
         let keep: Vec<String> = only
             .split(',')
@@ -259,6 +274,50 @@ fn main() {
         .unwrap_or_else(|e| panic!("{e}"));
     }
     view_worst(&cases, &p, &methods, &results);
+}
+
+/// A grounded row's options: `contact: "auto"` with `kvs`
+/// (`key=value,…`, see the module docs) changed; a bad key or value stops
+/// the run naming it.
+fn ground_row(kvs: &str) -> mx::spacetime::SpOptions {
+    let mut o = mx::spacetime::SpOptions {
+        contact: mx::spacetime::Contact::Auto,
+        ..Default::default()
+    };
+    for kv in kvs.split(',').filter(|s| !s.trim().is_empty()) {
+        let (k, v) = kv
+            .split_once('=')
+            .unwrap_or_else(|| panic!("MX_INBETWEEN_GROUND: `{kv}` is not key=value"));
+        let num = |v: &str| -> f64 {
+            v.trim()
+                .parse()
+                .unwrap_or_else(|_| panic!("MX_INBETWEEN_GROUND: {k}: `{v}` is not a number"))
+        };
+        let g = &mut o.ground;
+        match k.trim() {
+            "base" => g.base = v.split('/').filter(|s| !s.is_empty()).map(num).collect(),
+            "replans" => g.replans = num(v) as usize,
+            "prior" => g.prior_scale = num(v),
+            "example" => g.example = num(v),
+            "stance" => g.stance = num(v),
+            "floor" => g.floor = num(v),
+            "clearance" => g.clearance = num(v),
+            "friction" => g.friction = num(v),
+            "anchor" => o.prior.anchor = num(v) != 0.0,
+            "plan" => {
+                g.plan = match v.trim() {
+                    "auto" => mx::spacetime::solve::PlanSource::Auto,
+                    "context" => mx::spacetime::solve::PlanSource::Context,
+                    "example" => mx::spacetime::solve::PlanSource::Example,
+                    "steps" => mx::spacetime::solve::PlanSource::Steps,
+                    other => panic!("MX_INBETWEEN_GROUND: plan: `{other}`"),
+                }
+            }
+            "coefficients" => o.settings.coefficients = num(v) as usize,
+            other => panic!("MX_INBETWEEN_GROUND: unknown key `{other}`"),
+        }
+    }
+    o
 }
 
 /// The worst SP window (largest worst-joint error, root given) as one page:

@@ -31,7 +31,9 @@ pub mod root;
 pub mod skate;
 pub mod stance;
 
-pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
+pub use contacts::{
+    ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks, runs_of,
+};
 pub use floor::{FloorPlane, horizontal, up_direction, up_of};
 pub use points::{
     ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points,

@@ -4,6 +4,7 @@
 //! compiled with it only.
 
 mod common;
+mod contact_plans;
 mod support;
 
 mod blender_addon;
@@ -35,6 +36,7 @@ mod lang_diagnostics;
 mod lang_fuzz;
 mod lang_isolation;
 mod lang_motion;
+mod lang_records_strings;
 mod layers;
 mod library;
 mod library_shards;

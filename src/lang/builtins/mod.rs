@@ -1,5 +1,5 @@
 //! The built-in functions, one file per domain (`core.rs`, `motion.rs`,
-//! `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
+//! `strings.rs`, `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
 //! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `ground.rs`, `opensim.rs`,
 //! `spacetime.rs`, `score.rs`, `library.rs`). Each is a leaf: it imports [`Args`], [`Value`], the host
 //! types it converts (`lang::host`) and the engine, and nothing of its
@@ -29,6 +29,7 @@ pub mod opensim;
 pub mod score;
 pub mod spacetime;
 pub mod spline_joints;
+pub mod strings;
 
 pub use crate::lang::args::{ArgValue, Args, ObjRef, describe};
 pub use crate::lang::eval::{BuiltinFn, LoadFn, SaveFn};
@@ -41,6 +42,7 @@ impl Registry {
     pub fn standard() -> Self {
         let mut r = Registry::new();
         core::register(&mut r);
+        strings::register(&mut r);
         motion::register(&mut r);
         compose::register(&mut r);
         ik::register(&mut r);

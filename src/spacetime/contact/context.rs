@@ -46,7 +46,7 @@ const SAME_PLACE: f64 = 0.02;
 
 /// One side of a gap: sample times, per frame its positions at them, and
 /// the body's (its root link's) positions.
-type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Vector3<f64>>);
+pub(super) type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Vector3<f64>>);
 
 /// The link whose horizontal speed is the body's: the last link of its root
 /// chain (a BVH skeleton's hips). `None` for a body without a root chain.
@@ -57,17 +57,17 @@ pub(super) fn body_link(model: &Model, up: &Vector3<f64>) -> Option<usize> {
 
 /// The contact points of a motion around one gap and their samples.
 pub struct Context<'a> {
-    model: &'a Model,
-    up: Vector3<f64>,
+    pub(super) model: &'a Model,
+    pub(super) up: Vector3<f64>,
     /// The contact points kept (link indices).
-    frames: Vec<usize>,
+    pub(super) frames: Vec<usize>,
     /// The samples before and after the gap.
-    before: Side,
-    after: Side,
+    pub(super) before: Side,
+    pub(super) after: Side,
     /// Per point, its lowest height over both sides.
-    lowest: Vec<f64>,
+    pub(super) lowest: Vec<f64>,
     /// The gap [t0, t1].
-    span: (f64, f64),
+    pub(super) span: (f64, f64),
 }
 
 fn fk(model: &Model, q: &[f64], poses: &mut Vec<crate::lie::Se3>) -> Result<(), SpError> {
@@ -149,7 +149,7 @@ impl<'a> Context<'a> {
     }
 
     /// Stance flags of point k on one side's samples.
-    fn stance(&self, k: usize, (_, ps, body): &Side) -> Vec<bool> {
+    pub(super) fn stance(&self, k: usize, (_, ps, body): &Side) -> Vec<bool> {
         plan_stances(&ps[k], body, STEP, self.lowest[k], &self.up)
     }
 
@@ -236,7 +236,7 @@ impl<'a> Context<'a> {
 
 /// Mean durations (s) of the complete stance and swing runs (bounded by the
 /// other state on both sides) in the two sides' stance flags.
-fn durations(before: &[bool], after: &[bool]) -> (f64, f64) {
+pub(super) fn durations(before: &[bool], after: &[bool]) -> (f64, f64) {
     let mut stance = vec![];
     let mut swing = vec![];
     for flags in [before, after] {

@@ -1,18 +1,29 @@
-//! Foot contact inside SP's gaps (issue 25): the `contact:` option, the
-//! typed [`ContactPlan`] (`plan.rs`), planning it from the stances around
-//! each gap (`context.rs`), taking it as given (`given.rs`) and reading a
-//! motion's own (`capture.rs`). Floor, "up", contact points and the stance test
+//! Foot contact inside SP's gaps (issues 25, 35, 42): the `contact:`
+//! option, the typed [`ContactPlan`] (`plan.rs`), planning it from the
+//! stances around each gap (`context.rs`), from the example SP follows
+//! (`example.rs`) or, without one, a step planner (`steps.rs`), the
+//! sources merged edges first (`merge.rs`), taking it
+//! as given (`given.rs`), reading a motion's own (`capture.rs`) and
+//! re-planning from a solve's result (`replan.rs`). Floor, "up", contact points and the stance test
 //! are `ground`'s.
 
 pub mod capture;
 pub mod context;
+pub mod example;
 pub mod given;
+pub mod merge;
 pub mod plan;
+pub mod replan;
+pub mod steps;
 
-pub use capture::capture_plan;
+pub use capture::{Tracks, capture_plan};
 pub use context::Context;
+pub use example::{ExampleStances, PlanPoint, Timing, example_plan};
 pub use given::{GivenStance, plan_given};
+pub use merge::with_edges;
 pub use plan::{ContactPlan, GapPlan, PointPlan, Source, Stance};
+pub use replan::Replan;
+pub use steps::Phase;
 
 /// `SP(…, contact: …)`.
 #[derive(Clone, Debug, Default, PartialEq)]

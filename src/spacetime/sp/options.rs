@@ -6,7 +6,7 @@ use crate::spacetime::contact::Contact;
 use crate::spacetime::error::{SpError, invalid_option};
 use crate::spacetime::objective::TransitionSettings;
 use crate::spacetime::reference::LibrarySource;
-use crate::spacetime::solve::SolveOptions;
+use crate::spacetime::solve::{GroundSettings, SolveOptions};
 use nalgebra::Vector3;
 
 /// Options of `SP(m, body: b, …)`.
@@ -30,6 +30,10 @@ pub struct SpOptions {
     /// The floor's height along −gravity (`floor:`); `None`: the lowest
     /// contact point of the motion's recorded part.
     pub floor: Option<f64>,
+    /// How a standing body's groups are solved: the base term's schedule,
+    /// re-plans, the ground's weights and friction (`replan:` sets the
+    /// re-plans).
+    pub ground: GroundSettings,
 }
 
 /// Most free coefficients per DOF and gap (`coefficients:`): more buys no
