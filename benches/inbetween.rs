@@ -4,11 +4,16 @@
 //! and the natural cut (every DOF cut, the frames after the gap where they
 //! were captured); the interpolations, the capture itself (the reference
 //! row), SP at its defaults, SP as it was before grounded SP ("today's SP":
-//! `report::inbetween::todays_sp`) and SP with `contact: "auto"`, side by
-//! side on the same windows, in one run. Then: accuracy beside the ground
-//! measures (all clips, then locomotion: walk/run/dash/turn), the goals of
+//! `report::inbetween::todays_sp`), SP with `contact: "auto"` and SP with the
+//! capture's own contacts (`contact: contacts(c, b)`, each `at:` from the
+//! capture: the upper bound of any contact plan), side by side on the same
+//! windows, in one run. Every score is `compare(…)`'s (`mx::score`). Then:
+//! accuracy beside the ground measures and the contact plan's accuracy
+//! against the capture's contacts (stance edges within 0.1 s, frames that
+//! agree; all clips, then locomotion: walk/run/dash/turn), the goals of
 //! issues 35 and 36 with PASS or MISS and by how much, and the leave-one-out
-//! library rows.
+//! library rows. Rows are generic: a method pushed onto the list (an SP
+//! setting per plan source, say) gets every column.
 //!
 //! Run: `cargo bench --bench inbetween`. Fast modes for development, all by
 //! environment (combine them):

@@ -73,6 +73,8 @@ mod repl_pty;
 #[cfg(feature = "report")]
 mod report_smoke;
 #[cfg(feature = "report")]
+mod score;
+#[cfg(feature = "report")]
 mod spacetime_contact;
 mod spacetime_cyclify;
 mod spacetime_human44;
