@@ -117,7 +117,7 @@ fn ground_forces_in_the_language_plots_and_saves() {
     let mut mx = mx::Interpreter::new();
     mx.eval_str(&format!(
         "{{ let w = load({:?}); let b = body_of(w); let f = ground_forces(w, b); \
-           plot(f, {:?}); save(f, {:?}); \
+           plot(f.only([\"LeftFoot.*\"]), {:?}); save(f, {:?}); \
            plot(ground_forces(w, b).only([\"residual.percent_bw\"]), {:?}) }}",
         walk.display().to_string(),
         dir.path().join("f.svg").display().to_string(),

@@ -253,7 +253,8 @@ fn compare_holds_at_120_hz_and_on_a_z_up_copy() {
         };
         near("l2p", z.l2p(), y.l2p(), 1e-9);
         near("l2q", z.l2q(), y.l2q(), 1e-9);
-        near("npss", z.npss(), y.npss(), 1e-9);
+        // NPSS compares power spectra of the orientations' components, which
+        // turning the world mixes: it is not invariant, and is not checked here
         for reference in [false, true] {
             near("skate", z.skate(reference), y.skate(reference), 1e-9);
             near("depth", z.depth(reference), y.depth(reference), 1e-9);
