@@ -21,6 +21,7 @@ mod first_hour;
 mod gltf;
 mod graph;
 mod ground;
+mod ground_forces;
 mod grounded_terms;
 #[cfg(feature = "report")]
 mod hard_cases;
@@ -73,6 +74,8 @@ mod repl_pty;
 #[cfg(feature = "report")]
 mod report_smoke;
 #[cfg(feature = "report")]
+mod score;
+#[cfg(feature = "report")]
 mod spacetime_contact;
 mod spacetime_cyclify;
 mod spacetime_human44;
@@ -83,3 +86,4 @@ mod spline;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;
+mod viewer_ground;
