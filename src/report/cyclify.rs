@@ -52,7 +52,7 @@ pub const DEFAULT_SPACING: f64 = 1.0 / 30.0;
 pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let clip = crate::mocap::load(clip_path, Units::Auto).map_err(|source| ReportError::Clip {
         path: clip_path.to_path_buf(),
-        source,
+        source: Box::new(source),
     })?;
     let drift = floor_drift(&clip.mu);
     let rotations: Vec<String> = clip

@@ -53,16 +53,18 @@ pub enum ReportError {
     Spline(#[from] SplineError),
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// Boxed: a score error is large (clippy's result_large_err) and rare.
     #[error(transparent)]
-    Score(#[from] ScoreError),
+    Score(Box<ScoreError>),
     #[error(transparent)]
     Library(#[from] LibraryError),
     /// A clip file that could not be read.
     #[error("clip {}: {source}", path.display())]
     Clip {
         path: PathBuf,
+        /// Boxed: a mocap error is large (clippy's result_large_err).
         #[source]
-        source: MocapError,
+        source: Box<MocapError>,
     },
     /// A reference file that could not be read.
     #[error("cannot read {}: {source}", path.display())]
@@ -193,5 +195,11 @@ impl ReportError {
             clip: clip.to_string(),
             source: Box::new(e),
         }
+    }
+}
+
+impl From<ScoreError> for ReportError {
+    fn from(e: ScoreError) -> Self {
+        ReportError::Score(Box::new(e))
     }
 }

@@ -77,7 +77,7 @@ fn stats(errs: impl Iterator<Item = f64>) -> (f64, f64) {
 pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let clip = crate::mocap::load(clip_path, Units::Auto).map_err(|source| ReportError::Clip {
         path: clip_path.to_path_buf(),
-        source,
+        source: Box::new(source),
     })?;
     let chans = rotation_channels(&clip)?;
     let dt = clip.frame_time;

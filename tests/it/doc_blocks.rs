@@ -365,7 +365,7 @@ fn the_readme_opens_with_the_tour_and_what_it_prints() {
         .collect();
     assert_eq!(
         header,
-        [first_command.clone()],
+        std::slice::from_ref(&first_command),
         "README.md:{}: the first command must be the one tour.mx's header gives",
         first.line
     );

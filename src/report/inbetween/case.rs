@@ -47,7 +47,7 @@ impl Case {
     pub fn load_at(path: &Path, rate: Option<f64>) -> Result<Case, ReportError> {
         let clip = mocap::load(path, Units::Auto).map_err(|source| ReportError::Clip {
             path: path.to_path_buf(),
-            source,
+            source: Box::new(source),
         })?;
         let in_file = |e: ReportError| ReportError::InFile {
             path: path.to_path_buf(),

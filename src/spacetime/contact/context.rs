@@ -107,7 +107,7 @@ impl<'a> Context<'a> {
                 for (j, &f) in candidates.iter().enumerate() {
                     ps[j].push(poses[f].p);
                 }
-                bs.push(body.map_or_else(Se3::default, |b| poses[b].clone()));
+                bs.push(body.map_or_else(Se3::default, |b| poses[b]));
             }
             Ok((ts, ps, bs))
         };

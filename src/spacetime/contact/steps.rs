@@ -152,7 +152,7 @@ impl Context<'_> {
             self.model
                 .forward_kinematics(&q, &mut poses)
                 .map_err(SpError::Kinematics)?;
-            Ok(body.map_or_else(Se3::default, |b| poses[b].clone()))
+            Ok(body.map_or_else(Se3::default, |b| poses[b]))
         };
         let body_path = &body_path;
         let (t0, t1) = self.span;

@@ -379,9 +379,9 @@ fn a_correction_to_a_base_meets_the_end_states_and_is_the_base_at_zero() {
                 for (k, &t) in layout.nodes().0.iter().enumerate() {
                     let r = layout.rows(0, k).unwrap();
                     let s = c.eval(t).unwrap();
-                    for o in 0..3 {
+                    for (o, &want) in s.iter().enumerate().take(3) {
                         assert!(
-                            (r.value(o, &x) - s[o]).abs() < 1e-9,
+                            (r.value(o, &x) - want).abs() < 1e-9,
                             "{continuity:?} order {o} at {t}"
                         );
                     }
