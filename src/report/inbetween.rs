@@ -193,7 +193,7 @@ impl Case {
         (frame_time, frames): (f64, usize),
     ) -> Result<Case, ReportError> {
         let (body, _) =
-            mocap::body_of(&skeleton, BODY_MASS, metres_per_unit).map_err(|e| e.to_string())?;
+            mocap::body_of_motion(&skeleton, &mu, BODY_MASS, metres_per_unit).map_err(|e| e.to_string())?;
         let names = skeleton.channel_names();
         let starts = skeleton.channel_starts();
         let joint_dofs = |j: usize| -> Vec<String> {
@@ -425,11 +425,7 @@ pub fn score(
         .iter()
         .map(|&l| case.body.link(l).name.clone())
         .collect();
-    let up = if case.body.default_gravity.y.abs() >= case.body.default_gravity.z.abs() {
-        1
-    } else {
-        2
-    };
+    let up = crate::ground::up_of(&case.body.default_gravity).unwrap_or_else(Vector3::y);
     let first = start + p.context;
     let root_links: Vec<bool> = links
         .iter()
@@ -505,14 +501,13 @@ pub fn score(
     let mut skate_sum = 0.0;
     let mut skate_n = 0usize;
     for j in (0..links.len()).filter(|&j| is_foot(&joint_names[j])) {
-        let lowest = cap.iter().map(|f| f[j].p[up]).fold(f64::INFINITY, f64::min);
+        let lowest = cap.iter().map(|f| f[j].p.dot(&up)).fold(f64::INFINITY, f64::min);
         for i in 1..frames.len() {
             if !(in_gap(i) || in_gap(i - 1)) {
                 continue;
             }
-            if fil[i][j].p[up] - lowest <= 0.05 {
-                let mut d: Vector3<f64> = fil[i][j].p - fil[i - 1][j].p;
-                d[up] = 0.0;
+            if fil[i][j].p.dot(&up) - lowest <= 0.05 {
+                let d = crate::ground::horizontal(&(fil[i][j].p - fil[i - 1][j].p), &up);
                 skate_sum += d.norm() * 100.0 / case.frame_time;
                 skate_n += 1;
             }
