@@ -129,7 +129,10 @@ class Object:
 
     @property
     def type(self) -> str: ...
+    def keys(self) -> List[str]:
+        """Its field names, as mx's `keys(x)` lists them."""
     def __getattr__(self, name: str) -> Any: ...
+    def __dir__(self) -> List[str]: ...
 
 def load(path: _Path, **options: Any) -> Any:
     """A motion, body or value from a file, by extension."""

@@ -21,7 +21,6 @@ mod motion;
 mod objects;
 mod runtime;
 
-use mx::lang::builtins::sp_report;
 use pyo3::prelude::*;
 
 use crate::convert::{kwargs, to_py};
@@ -108,11 +107,9 @@ fn _sp(
     // The report reads like a record in mx; in Python it is a plain dict with
     // every field of the report's own list, so a field mx adds reaches Python.
     let dict = pyo3::types::PyDict::new(py);
-    if let mx::Value::Object(o) = &report {
-        for key in sp_report::FIELDS {
-            if let Some(v) = o.field(key) {
-                dict.set_item(key, to_py(py, &v)?)?;
-            }
+    for key in report.keys().unwrap_or_default() {
+        if let Some(v) = report.field(&key) {
+            dict.set_item(&key, to_py(py, &v)?)?;
         }
     }
     Ok((to_py(py, &filled)?, dict.into_any().unbind()))

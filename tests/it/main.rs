@@ -36,6 +36,7 @@ mod lang_diagnostics;
 mod lang_fuzz;
 mod lang_isolation;
 mod lang_motion;
+mod lang_records_strings;
 mod layers;
 mod library;
 mod library_shards;

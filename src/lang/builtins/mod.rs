@@ -1,5 +1,5 @@
 //! The built-in functions, one file per domain (`core.rs`, `motion.rs`,
-//! `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
+//! `strings.rs`, `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
 //! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `opensim.rs`,
 //! `spacetime.rs`). Each is a leaf: it imports [`Args`], [`Value`], the host
 //! types it converts (`lang::host`) and the engine, and nothing of its
@@ -28,6 +28,7 @@ pub mod motion;
 pub mod opensim;
 pub mod spacetime;
 pub mod spline_joints;
+pub mod strings;
 
 pub use crate::lang::args::{ArgValue, Args, ObjRef, describe};
 pub use crate::lang::eval::{BuiltinFn, LoadFn, SaveFn};
@@ -40,6 +41,7 @@ impl Registry {
     pub fn standard() -> Self {
         let mut r = Registry::new();
         core::register(&mut r);
+        strings::register(&mut r);
         motion::register(&mut r);
         compose::register(&mut r);
         ik::register(&mut r);

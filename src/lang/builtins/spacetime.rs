@@ -455,6 +455,14 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
             g.grad_norm
         );
     }
+    for u in &report.unplanned {
+        eprintln!(
+            "warning: SP plans no foot on the ground over [{:.4}, {:.4}] s ({:.2} s in the air); give contact: stances there if the body stands",
+            u.t0,
+            u.t1,
+            u.t1 - u.t0
+        );
+    }
     // The result keeps the input's clip (to save it as BVH) and carries the report.
     Ok(Motion::Mu(filled).with_provenance(Provenance {
         clip: provenance(&marg.value).and_then(|p| p.clip.clone()),

@@ -9,7 +9,7 @@
 //! by `ground`'s planning rule, the same one that reads a capture's own
 //! contacts ([`super::capture`]); a library example may bring the labels
 //! its library stored at build time instead
-//! ([`crate::spacetime::reference::ExampleStances`]). Each stance is
+//! ([`ExampleStances`], which `reference::ClipStretch` carries). Each stance is
 //! anchored where the laid point is on average over it, put on the height
 //! the point stands at around the gap (the floor for a toe, a few
 //! centimetres above for an ankle).
@@ -20,8 +20,18 @@ use super::plan::{GapPlan, PointPlan, Source, Stance};
 use crate::ground::runs_of;
 use crate::model::Model;
 use crate::spacetime::error::SpError;
-use crate::spacetime::reference::ExampleStances;
 use nalgebra::Vector3;
+
+/// One contact point's stances in a library example, on the gap's clock
+/// (issues 42 and 43: the library example's contacts are the gap's plan).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExampleStances {
+    /// The contact point: its joint's (link's) name, as the body names it.
+    pub point: String,
+    /// Stance intervals [t0, t1] (s, gap clock), in time order, over the
+    /// gap and the context either side.
+    pub spans: Vec<(f64, f64)>,
+}
 
 /// The points an example plan is made for: link and the height it stands at.
 pub struct PlanPoint {

@@ -18,7 +18,7 @@ pub mod steps;
 
 pub use capture::{Tracks, capture_plan};
 pub use context::Context;
-pub use example::{PlanPoint, Timing, example_plan};
+pub use example::{ExampleStances, PlanPoint, Timing, example_plan};
 pub use given::{GivenStance, plan_given};
 pub use merge::with_edges;
 pub use plan::{ContactPlan, GapPlan, PointPlan, Source, Stance};

@@ -45,7 +45,7 @@ pub use options::{
     ROOT_TOLERANCE_RELATIVE, RootFill, SP_OPTIONS, SpOptions, Support, root_tolerance,
 };
 pub use prior_weights::prior_weights;
-pub use report::{FreeRoot, PinnedRoot, RootShift, SpReport, Undefined};
+pub use report::{FreeRoot, MAX_AIR, PinnedRoot, RootShift, SpReport, Undefined, Unplanned};
 
 use crate::model::Model;
 use crate::motion::Mu;

@@ -105,6 +105,9 @@ pub(super) fn solve_transitions(
     for sol in solutions {
         write_back(f, sol)?;
     }
+    if standing.is_some() {
+        f.report.ground = Some(opts.ground.clone());
+    }
     Ok(())
 }
 
@@ -124,6 +127,7 @@ fn write_back(f: &mut Filling<'_>, sol: GroupSolution) -> Result<(), SpError> {
     }
     f.report.groups.push(report);
     if let (Some(plan), Some(contacts)) = (plan, f.contacts.as_mut()) {
+        f.report.unplanned.extend(super::report::unplanned(&plan));
         contacts.gaps.push(plan);
     }
     Ok(())
