@@ -127,7 +127,8 @@ fn main() {
                 .collect::<Vec<_>>()
                 .join(","),
         );
-        let made = heldout::variants(&cases, &speeds, mirror, zup).unwrap_or_else(|e| panic!("{e}"));
+        let made =
+            heldout::variants(&cases, &speeds, mirror, zup).unwrap_or_else(|e| panic!("{e}"));
         if var("MX_INBETWEEN_ORIGINALS").as_deref() == Some("0") {
             cases = made;
         } else {

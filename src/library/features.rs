@@ -227,10 +227,7 @@ pub fn key_positions(
 
 /// The pelvis centre and the unit across (left − right hip) and forward
 /// vectors on the floor (across `up`) of one frame's key positions.
-fn heading(
-    p: &[Vector3<f64>; 6],
-    up: &Vector3<f64>,
-) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+fn heading(p: &[Vector3<f64>; 6], up: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     let centre = (p[4] + p[5]) / 2.0;
     let across = p[4] - p[5];
     // (for up = y exactly today's numbers: the y component zeroed)

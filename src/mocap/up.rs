@@ -55,7 +55,8 @@ pub fn skeleton_up(sk: &Skeleton, motion: Option<&Mu>, metres_per_unit: f64) -> 
 /// Standard gravity (m/s²) against [`skeleton_up`] (its other components
 /// +0, as `body_of`'s y-up constant has them).
 pub fn skeleton_gravity(sk: &Skeleton, motion: Option<&Mu>, metres_per_unit: f64) -> Vector3<f64> {
-    skeleton_up(sk, motion, metres_per_unit).map(|u| if u == 0.0 { 0.0 } else { -u * STANDARD_GRAVITY })
+    skeleton_up(sk, motion, metres_per_unit)
+        .map(|u| if u == 0.0 { 0.0 } else { -u * STANDARD_GRAVITY })
 }
 
 /// The skeleton's foot joints and their nearest common ancestor; when that
@@ -259,7 +260,10 @@ mod tests {
                     _ => 0.0,
                 };
                 let iv = Interval::curve(Curve::constant(v).unwrap(), 0.0, 1.0).unwrap();
-                mu.insert(format!("{}.{}", j.name, c.name()), Dof::new(vec![iv]).unwrap());
+                mu.insert(
+                    format!("{}.{}", j.name, c.name()),
+                    Dof::new(vec![iv]).unwrap(),
+                );
             }
         }
         mu
@@ -282,13 +286,21 @@ mod tests {
         };
         for j in &sk.joints {
             let n = |c: &str| format!("{}.{c}", j.name);
-            let a = [at(&n("Zrotation")), at(&n("Xrotation")), at(&n("Yrotation"))];
+            let a = [
+                at(&n("Zrotation")),
+                at(&n("Xrotation")),
+                at(&n("Yrotation")),
+            ];
             let e = to_euler_near(ZXY, &(q * from_euler(ZXY, a) * q.inverse()), a);
             for (c, v) in ["Zrotation", "Xrotation", "Yrotation"].iter().zip(e) {
                 put(n(c), v);
             }
             if j.parent.is_none() {
-                let p = r * Vector3::new(at(&n("Xposition")), at(&n("Yposition")), at(&n("Zposition")));
+                let p = r * Vector3::new(
+                    at(&n("Xposition")),
+                    at(&n("Yposition")),
+                    at(&n("Zposition")),
+                );
                 for (c, v) in ["Xposition", "Yposition", "Zposition"].iter().zip(p.iter()) {
                     put(n(c), *v);
                 }
@@ -342,13 +354,16 @@ mod tests {
         }
     }
 
-
     #[test]
     fn a_rest_pose_that_does_not_stand_is_read_from_the_motion() {
         // legs along ±x at rest, swung down by the hip rotations
         let sk = humanoid(45.0, 0.0, true);
         let standing = motion(&sk, [-90.0, 90.0]);
-        assert_eq!(skeleton_up(&sk, None, 0.01), Vector3::y(), "no clear rest: y");
+        assert_eq!(
+            skeleton_up(&sk, None, 0.01),
+            Vector3::y(),
+            "no clear rest: y"
+        );
         assert_eq!(skeleton_up(&sk, Some(&standing), 0.01), Vector3::y());
         // the same legs swung up: the body stands on its head
         let hands = motion(&sk, [90.0, -90.0]);

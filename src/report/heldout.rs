@@ -168,9 +168,10 @@ fn turn_channels(
     for &t in times {
         let mut v = [0.0; 3];
         for (x, n) in v.iter_mut().zip(names) {
-            *x = case.capture.sample_value(n, t)?.ok_or_else(|| {
-                format!("{}: {n} is undefined at {t:.4} s", case.name)
-            })?;
+            *x = case
+                .capture
+                .sample_value(n, t)?
+                .ok_or_else(|| format!("{}: {n} is undefined at {t:.4} s", case.name))?;
         }
         let turned = if rotation {
             let m = r * from_euler(axes, v).to_rotation_matrix().matrix() * r.transpose();

@@ -192,8 +192,8 @@ impl Case {
         metres_per_unit: f64,
         (frame_time, frames): (f64, usize),
     ) -> Result<Case, ReportError> {
-        let (body, _) =
-            mocap::body_of_motion(&skeleton, &mu, BODY_MASS, metres_per_unit).map_err(|e| e.to_string())?;
+        let (body, _) = mocap::body_of_motion(&skeleton, &mu, BODY_MASS, metres_per_unit)
+            .map_err(|e| e.to_string())?;
         let names = skeleton.channel_names();
         let starts = skeleton.channel_starts();
         let joint_dofs = |j: usize| -> Vec<String> {
@@ -501,7 +501,10 @@ pub fn score(
     let mut skate_sum = 0.0;
     let mut skate_n = 0usize;
     for j in (0..links.len()).filter(|&j| is_foot(&joint_names[j])) {
-        let lowest = cap.iter().map(|f| f[j].p.dot(&up)).fold(f64::INFINITY, f64::min);
+        let lowest = cap
+            .iter()
+            .map(|f| f[j].p.dot(&up))
+            .fold(f64::INFINITY, f64::min);
         for i in 1..frames.len() {
             if !(in_gap(i) || in_gap(i - 1)) {
                 continue;

@@ -2,12 +2,12 @@
 //! context, its moving root turned and moved onto the motion's.
 
 use super::{CONTEXT, STEP};
+use crate::ground::horizontal;
 use crate::library::Match;
 use crate::library::features::KeyJoints;
 use crate::mocap::Clip;
 use crate::motion::{Curve, Dof, Interval, MotionError, Mu};
 use crate::spacetime::error::SpError;
-use crate::ground::horizontal;
 use nalgebra::{Unit, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 
