@@ -16,7 +16,10 @@
 //! Run: `cargo bench --bench library`. Environment:
 //! - `MX_LIBRARY_SIZES=100,1000,10000` (default): the library sizes (clips);
 //! - `MX_LIBRARY_SP=N`: SP windows timed per size (default 4; 0: none);
-//! - `MX_LIBRARY_DIR=PATH`: where the clips and libraries go.
+//! - `MX_LIBRARY_DIR=PATH`: where the clips and libraries go;
+//! - `MX_LIBRARY_REPEATS=1`: the generated clips are exact copies of the
+//!   shared ones (the "10⁴ files of repeats"; the goal: a ratio ≤ 2),
+//!   in a folder of their own.
 
 mod common;
 use common::shared;
@@ -123,6 +126,9 @@ fn base_clips() -> Vec<ClipInput> {
 fn generated(base: &[ClipInput], i: usize) -> (String, BvhFile) {
     let b = &base[i % base.len()];
     let round = i / base.len();
+    if repeats() {
+        return (format!("r{round:04}_{}", b.name), b.file.clone());
+    }
     let w = if round == 0 {
         1.0
     } else {
@@ -139,14 +145,20 @@ fn generated(base: &[ClipInput], i: usize) -> (String, BvhFile) {
     (format!("r{round:04}_{}", b.name), file)
 }
 
+/// Whether the generated clips are exact repeats (`MX_LIBRARY_REPEATS=1`).
+fn repeats() -> bool {
+    std::env::var("MX_LIBRARY_REPEATS").is_ok_and(|v| v == "1")
+}
+
 fn bench_dir() -> PathBuf {
-    std::env::var_os("MX_LIBRARY_DIR")
+    let dir = std::env::var_os("MX_LIBRARY_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| {
             PathBuf::from(env!("CARGO_MANIFEST_DIR"))
                 .join("target")
                 .join("library-bench")
-        })
+        });
+    if repeats() { dir.join("repeats") } else { dir }
 }
 
 /// The first `n` generated clips' files (written once; a stamp marks the

@@ -63,7 +63,7 @@ pub fn runs_of(flags: &[bool]) -> Vec<(usize, usize)> {
 }
 
 /// Runs of `true` in `flags` as intervals over `times`.
-fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
+pub fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
     runs_of(flags)
         .into_iter()
         .map(|(first, last)| ContactInterval {

@@ -7,6 +7,15 @@ use crate::model::{Model, RootCoords};
 use crate::motion::Mu;
 use nalgebra::Vector3;
 
+/// The link whose horizontal speed is the body's, which SP's planning rule
+/// ([`super::plan_stances`]) scales a point's speed limit by: the last link
+/// of the root chain (a BVH skeleton's hips). `None` for a body without a
+/// root chain.
+pub fn body_link(model: &Model, up: &Vector3<f64>) -> Option<usize> {
+    let root = RootCoords::detect(model, Some(up));
+    model.coordinate_link(*root.all.last()?)
+}
+
 /// The root of `model` as it moves in `motion` under `gravity`: leading
 /// massless single-child links whose coordinates are all constant in
 /// `motion` are skipped ([`RootCoords::detect_skipping`]). Coordinates the

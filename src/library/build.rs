@@ -5,9 +5,10 @@
 //! first in shards and merge ([`super::shards`]), and the leave-one-out
 //! benchmark can assemble many libraries from one pass over the clips.
 
-use super::clip::{ClipData, ClipInput, LibClip, Source};
+use super::clip::{ClipData, ClipInput, LabelData, LibClip, Source};
 use super::features::{self, DIM, GROUPS, KeyJoints};
 use super::index::{Library, Settings, Skipped, valid};
+use super::labels::ClipLabels;
 use super::{LibraryError, clip_name};
 use crate::mocap::bvh::{self, Units};
 use crate::mocap::{self, Clip};
@@ -53,8 +54,9 @@ fn clip_features(
     (t0, side(-1), side(1))
 }
 
-/// Indexes one clip: its key joints and raw features. A clip read from a
-/// file keeps only a reference to it; one made in memory is kept. A clip
+/// Indexes one clip: its key joints, raw features and contact labels
+/// ([`ClipLabels`]). A clip read from a file keeps only a reference to it;
+/// one made in memory is kept. A clip
 /// that cannot be matched (no key joints, too short, unreadable) is
 /// skipped with the reason.
 pub fn index_clip(input: ClipInput, settings: &Settings) -> Result<IndexedClip, Skipped> {
@@ -75,6 +77,10 @@ pub fn index_clip(input: ClipInput, settings: &Settings) -> Result<IndexedClip, 
             features::HORIZON
         )));
     }
+    let labels = match ClipLabels::of(&clip) {
+        Ok(l) => LabelData::Memory(Arc::new(l)),
+        Err(e) => LabelData::None(e.to_string()),
+    };
     let data = match &input.source {
         Some(s) => ClipData::File(s.clone()),
         None => ClipData::Memory(Arc::new(input.file)),
@@ -89,6 +95,7 @@ pub fn index_clip(input: ClipInput, settings: &Settings) -> Result<IndexedClip, 
             start,
             frames: before.len(),
             offset: 0,
+            labels,
         },
         before,
         after,

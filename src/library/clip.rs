@@ -3,6 +3,7 @@
 //! clips fits where its clips would not, and SP reads the few it follows.
 
 use super::features::KeyJoints;
+use super::labels::ClipLabels;
 use super::{LibraryError, fingerprint};
 use crate::mocap::bvh::{self, BvhFile, Units};
 use crate::mocap::{self, Clip};
@@ -115,6 +116,40 @@ impl std::fmt::Debug for SectionFile {
     }
 }
 
+/// Bytes of an `.mxlib`'s clip section: `len` at `offset`, with their
+/// fingerprint (in the header, which the checksum covers).
+#[derive(Clone, Debug)]
+pub struct Stored {
+    pub file: Arc<SectionFile>,
+    pub offset: u64,
+    pub len: u64,
+    pub fingerprint: u64,
+}
+
+impl Stored {
+    /// The bytes, checked; damaged (naming the clip and `what` of it) when
+    /// they cannot be read or do not match.
+    pub fn read(&self, name: &str, what: &str) -> Result<Vec<u8>, LibraryError> {
+        let damaged = || {
+            LibraryError::file(
+                &self.file.path,
+                format!(
+                    "{}: damaged (the clip `{name}`'s {what} does not match its checksum): rebuild it with library(…)",
+                    self.file.path.display()
+                ),
+            )
+        };
+        let bytes = self
+            .file
+            .read(self.offset, self.len)
+            .map_err(|_| damaged())?;
+        if fingerprint(&bytes) != self.fingerprint {
+            return Err(damaged());
+        }
+        Ok(bytes)
+    }
+}
+
 /// Where a clip's frames are.
 #[derive(Clone, Debug)]
 pub enum ClipData {
@@ -122,16 +157,21 @@ pub enum ClipData {
     Memory(Arc<BvhFile>),
     /// Its `.bvh` file, read when needed and refused if it changed.
     File(Source),
-    /// BVH text inside an `.mxlib` file: `len` bytes at `offset`, with their fingerprint.
-    Section {
-        file: Arc<SectionFile>,
-        offset: u64,
-        len: u64,
-        fingerprint: u64,
-    },
+    /// BVH text inside an `.mxlib` file.
+    Section(Stored),
 }
 
 impl ClipData {
+    /// The stored bytes' length and fingerprint (a file's or an `.mxlib`
+    /// section's), which identify its text; `None` for a clip in memory.
+    pub fn stamp(&self) -> Option<(u64, u64)> {
+        match self {
+            ClipData::Memory(_) => None,
+            ClipData::File(s) => Some((s.len, s.fingerprint)),
+            ClipData::Section(s) => Some((s.len, s.fingerprint)),
+        }
+    }
+
     /// The clip's BVH text as stored (`None` for a clip in memory), checked
     /// against the fingerprint taken when it was indexed or saved.
     pub fn stored_bytes(&self, name: &str) -> Result<Option<Vec<u8>>, LibraryError> {
@@ -155,27 +195,7 @@ impl ClipData {
                 }
                 Ok(Some(bytes))
             }
-            ClipData::Section {
-                file,
-                offset,
-                len,
-                fingerprint: fp,
-            } => {
-                let damaged = || {
-                    LibraryError::file(
-                        &file.path,
-                        format!(
-                            "{}: damaged (the clip `{name}` does not match its checksum): rebuild it with library(…)",
-                            file.path.display()
-                        ),
-                    )
-                };
-                let bytes = file.read(*offset, *len).map_err(|_| damaged())?;
-                if fingerprint(&bytes) != *fp {
-                    return Err(damaged());
-                }
-                Ok(Some(bytes))
-            }
+            ClipData::Section(stored) => stored.read(name, "text").map(Some),
         }
     }
 
@@ -189,6 +209,28 @@ impl ClipData {
         bvh::parse(&text)
             .map(Arc::new)
             .map_err(|e| LibraryError::new(format!("the clip `{name}`: {e}")))
+    }
+}
+
+/// Where a clip's contact labels are ([`ClipLabels`], taken when it was indexed).
+#[derive(Clone, Debug)]
+pub enum LabelData {
+    /// None: its body could not be labelled (the reason).
+    None(String),
+    /// In memory (a library built in this process).
+    Memory(Arc<ClipLabels>),
+    /// In an `.mxlib`'s clip section, after the clip's text.
+    Section(Stored),
+}
+
+impl LabelData {
+    /// The labels as they are stored (empty for none).
+    pub fn stored_bytes(&self, name: &str) -> Result<Vec<u8>, LibraryError> {
+        match self {
+            LabelData::None(_) => Ok(vec![]),
+            LabelData::Memory(l) => Ok(l.to_bytes()),
+            LabelData::Section(s) => s.read(name, "contact labels"),
+        }
     }
 }
 
@@ -209,6 +251,8 @@ pub struct LibClip {
     pub frames: usize,
     /// Index of its frame 0 in the library's feature arrays.
     pub offset: usize,
+    /// Its contact labels.
+    pub labels: LabelData,
 }
 
 impl LibClip {
@@ -222,5 +266,27 @@ impl LibClip {
         let file = self.data.bvh(&self.name)?;
         mocap::from_bvh(&file, Units::MetresPerUnit(self.metres_per_unit))
             .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", self.name)))
+    }
+
+    /// Its contact labels, read from where they are kept; `None` when it
+    /// has none (a body without foot contact points has them, empty).
+    pub fn labels(&self) -> Result<Option<Arc<ClipLabels>>, LibraryError> {
+        match &self.labels {
+            LabelData::None(_) => Ok(None),
+            LabelData::Memory(l) => Ok(Some(l.clone())),
+            LabelData::Section(s) => {
+                let bytes = s.read(&self.name, "contact labels")?;
+                ClipLabels::from_bytes(&bytes).map(|l| Some(Arc::new(l))).ok_or_else(|| {
+                    LibraryError::file(
+                        &s.file.path,
+                        format!(
+                            "{}: damaged (the clip `{}`'s contact labels do not read): rebuild it with library(…)",
+                            s.file.path.display(),
+                            self.name
+                        ),
+                    )
+                })
+            }
+        }
     }
 }

@@ -3,16 +3,17 @@
 //! Layout (little-endian): the magic `MXLIB\n` and the format version
 //! (u32); a JSON header (u64 length, then the settings, the feature
 //! definition, the normalisation, the skipped clips, and per clip its name,
-//! key joints, grid, source stamp and where its BVH text lies in the clip
-//! section); the before and after vectors of every grid frame (f32); a
-//! checksum of everything before it (u64, [`Fingerprint`]); then the clip
-//! section: every clip's BVH text back to back (a file's own bytes, a clip
-//! made in memory written as BVH with shortest round-trip numbers). The
+//! key joints, grid, source stamp and where its BVH text and contact labels
+//! lie in the clip section); the before and after vectors of every grid
+//! frame (f32); a checksum of everything before it (u64, [`Fingerprint`]);
+//! then the clip section: per clip its BVH text (a file's own bytes, a clip
+//! made in memory written as BVH with shortest round-trip numbers) and its
+//! contact labels ([`super::labels`], JSON), back to back. The
 //! file is self-contained: the clips SP follows are inside, so it loads
 //! where their files are not.
 //!
 //! `load` reads everything but the clip section and keeps the file open: a
-//! clip's text is read when a match needs it ([`ClipData::Section`]) and
+//! clip's text and labels are read when a match needs them ([`Stored`]) and
 //! checked against its fingerprint in the header, which the checksum covers.
 //! Loading 10⁴ clips reads their features, not their gigabytes of BVH.
 //!
@@ -25,7 +26,7 @@
 //! Saves stream through a temporary file renamed over the old one, so a
 //! killed or failed save leaves the old file as it was.
 
-use super::clip::{ClipData, LibClip, SectionFile, Source};
+use super::clip::{ClipData, LabelData, LibClip, SectionFile, Source, Stored};
 use super::features::{DIM, HORIZON, KeyJoints};
 use super::index::{Library, Settings, Skipped};
 use super::{Fingerprint, LibraryError, fingerprint};
@@ -40,8 +41,8 @@ const MAGIC: &[u8; 6] = b"MXLIB\n";
 
 /// The `.mxlib` format version this build writes and reads. Bump it when the
 /// layout or the feature definition changes. (1: clips inside the checksum,
-/// read whole on load.)
-pub const VERSION: u32 = 2;
+/// read whole on load; 2: no contact labels.)
+pub const VERSION: u32 = 3;
 
 #[derive(Serialize, Deserialize)]
 struct Header {
@@ -68,6 +69,9 @@ struct ClipHeader {
     offset: usize,
     /// Its BVH text in the clip section: offset, length, fingerprint.
     text: (u64, u64, u64),
+    /// Its contact labels right after the text: length (0: none),
+    /// fingerprint.
+    labels: (u64, u64),
 }
 
 /// A writer that fingerprints what passes through it.
@@ -138,33 +142,53 @@ pub(super) fn read_vectors(r: &mut impl Read, n: usize) -> io::Result<Vec<[f32; 
     Ok(out)
 }
 
-/// A clip's text as the file will hold it: made now for a clip in memory,
-/// else read when it is copied (its length and fingerprint known).
-enum Text {
-    Made(String),
+/// A clip's text or labels as the file will hold them: made now (a clip in
+/// memory, labels taken in this process), else copied from where they are
+/// stored when written (their length and fingerprint known).
+enum Bytes {
+    Made(Vec<u8>),
     Stored,
+}
+
+impl Bytes {
+    fn made(b: Vec<u8>) -> (Bytes, u64, u64) {
+        let (len, fp) = (b.len() as u64, fingerprint(&b));
+        (Bytes::Made(b), len, fp)
+    }
+}
+
+/// A clip's text: (bytes, length, fingerprint).
+fn text_of(c: &LibClip) -> Result<(Bytes, u64, u64), LibraryError> {
+    Ok(match &c.data {
+        ClipData::Memory(f) => Bytes::made(
+            bvh::to_string(f)
+                .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", c.name)))?
+                .into_bytes(),
+        ),
+        ClipData::File(s) => (Bytes::Stored, s.len, s.fingerprint),
+        ClipData::Section(s) => (Bytes::Stored, s.len, s.fingerprint),
+    })
+}
+
+/// A clip's labels: (bytes, length, fingerprint); length 0: none.
+fn labels_of(c: &LibClip) -> (Bytes, u64, u64) {
+    match &c.labels {
+        LabelData::None(_) => (Bytes::Made(vec![]), 0, 0),
+        LabelData::Memory(l) => Bytes::made(l.to_bytes()),
+        LabelData::Section(s) => (Bytes::Stored, s.len, s.fingerprint),
+    }
 }
 
 /// Writes `lib` as an `.mxlib` to `w`. A clip whose file changed since it
 /// was indexed is an error (stale), as is one that cannot be read.
 pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
     let io_err = |e: io::Error| LibraryError::new(format!("cannot write the library: {e}"));
-    let mut texts = vec![];
+    let mut bytes = vec![];
     let mut clips = vec![];
     let mut at = 0u64;
     for c in &lib.clips {
-        let (text, len, fp) = match &c.data {
-            ClipData::Memory(f) => {
-                let t = bvh::to_string(f)
-                    .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", c.name)))?;
-                let (len, fp) = (t.len() as u64, fingerprint(t.as_bytes()));
-                (Text::Made(t), len, fp)
-            }
-            ClipData::File(s) => (Text::Stored, s.len, s.fingerprint),
-            ClipData::Section {
-                len, fingerprint, ..
-            } => (Text::Stored, *len, *fingerprint),
-        };
+        let (text, len, fp) = text_of(c)?;
+        let (labels, llen, lfp) = labels_of(c);
         clips.push(ClipHeader {
             name: c.name.clone(),
             metres_per_unit: c.metres_per_unit,
@@ -174,9 +198,10 @@ pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
             frames: c.frames,
             offset: c.offset,
             text: (at, len, fp),
+            labels: (llen, lfp),
         });
-        at += len;
-        texts.push(text);
+        at += len + llen;
+        bytes.push((text, labels));
     }
     let header = Header {
         settings: lib.settings.clone(),
@@ -202,13 +227,19 @@ pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
     write_vectors(&mut h, lib.before.iter().chain(&lib.after)).map_err(io_err)?;
     let sum = h.hash.finish();
     w.write_all(&sum.to_le_bytes()).map_err(io_err)?;
-    for (c, t) in lib.clips.iter().zip(texts) {
-        match t {
-            Text::Made(s) => w.write_all(s.as_bytes()).map_err(io_err)?,
-            Text::Stored => {
-                let bytes = c.data.stored_bytes(&c.name)?.unwrap_or_default();
-                w.write_all(&bytes).map_err(io_err)?;
+    for (c, (text, labels)) in lib.clips.iter().zip(bytes) {
+        match text {
+            Bytes::Made(b) => w.write_all(&b).map_err(io_err)?,
+            Bytes::Stored => {
+                let b = c.data.stored_bytes(&c.name)?.unwrap_or_default();
+                w.write_all(&b).map_err(io_err)?;
             }
+        }
+        match labels {
+            Bytes::Made(b) => w.write_all(&b).map_err(io_err)?,
+            Bytes::Stored => w
+                .write_all(&c.labels.stored_bytes(&c.name)?)
+                .map_err(io_err)?,
         }
     }
     Ok(())
@@ -278,7 +309,10 @@ fn read(
     };
     let mut magic = [0u8; 6];
     let got = read_up_to(&mut r, &mut magic).map_err(|_| corrupt())?;
-    if got < 6 || &magic != MAGIC {
+    if got < 6 && magic[..got] == MAGIC[..got] {
+        return Err(corrupt());
+    }
+    if &magic != MAGIC {
         return Err(err(
             "not an mx clip library (.mxlib) file: save one with save(library(…), \"x.mxlib\")"
                 .into(),
@@ -341,27 +375,34 @@ fn read(
     }
     let mut clips = vec![];
     let (mut offset, mut text_at) = (0, 0);
+    let stored = |at: u64, len: u64, fingerprint: u64| Stored {
+        file: section.clone(),
+        offset: section_start + at,
+        len,
+        fingerprint,
+    };
     for c in h.clips {
         let (at, len, fp) = c.text;
+        let (llen, lfp) = c.labels;
         if c.offset != offset || at != text_at {
             return Err(corrupt());
         }
         offset += c.frames;
-        text_at += len;
+        text_at += len + llen;
         clips.push(LibClip {
             name: c.name,
             metres_per_unit: c.metres_per_unit,
-            data: ClipData::Section {
-                file: section.clone(),
-                offset: section_start + at,
-                len,
-                fingerprint: fp,
-            },
+            data: ClipData::Section(stored(at, len, fp)),
             source: c.source,
             keys: c.keys,
             start: c.start,
             frames: c.frames,
             offset: c.offset,
+            labels: if llen == 0 {
+                LabelData::None("not labelled when it was built".into())
+            } else {
+                LabelData::Section(stored(at + len, llen, lfp))
+            },
         });
     }
     if offset != h.frames || text_at != h.section || clips.is_empty() {

@@ -165,13 +165,42 @@ impl Library {
         }
     }
 
-    /// The tree and its items' frames, built over the valid before vectors
-    /// the first time they are asked for.
+    /// Per clip, whether an earlier clip holds the same text (its file's
+    /// or section's bytes: length and fingerprint, read in the same units). A repeat matches exactly
+    /// where its first copy does, so the search reads the first copy only:
+    /// a library of many copies costs a query what one copy does, and the k
+    /// answers are k distinct stretches, not k copies of one. Clips made in
+    /// memory have no stored bytes and are never repeats.
+    pub fn repeats(&self) -> Vec<bool> {
+        let mut seen = std::collections::HashSet::new();
+        self.clips
+            .iter()
+            .map(|c| {
+                c.data
+                    .stamp()
+                    .is_some_and(|k| !seen.insert((k, c.metres_per_unit.to_bits())))
+            })
+            .collect()
+    }
+
+    /// The global frames the search reads: valid, of clips that are not
+    /// repeats ([`Library::repeats`]).
+    fn searched_frames(&self) -> Vec<u32> {
+        let repeats = self.repeats();
+        self.clips
+            .iter()
+            .zip(repeats)
+            .filter(|(_, r)| !r)
+            .flat_map(|(c, _)| c.offset as u32..(c.offset + c.frames) as u32)
+            .filter(|&f| valid(&self.before[f as usize]))
+            .collect()
+    }
+
+    /// The tree and its items' frames, built over the searched frames the
+    /// first time they are asked for.
     fn tree(&self) -> &(Tree, Vec<u32>) {
         self.tree.get_or_init(|| {
-            let frames: Vec<u32> = (0..self.before.len() as u32)
-                .filter(|&f| valid(&self.before[f as usize]))
-                .collect();
+            let frames = self.searched_frames();
             let points: Vec<[f32; DIM]> = frames.iter().map(|&f| self.before[f as usize]).collect();
             (Tree::new_from_slice(&points), frames)
         })
@@ -347,16 +376,15 @@ impl Library {
         }
     }
 
-    /// The k best stretches by reading every frame: the reference the tree
-    /// search is tested against.
+    /// The k best stretches by reading every searched frame: the reference
+    /// the tree search is tested against.
     pub fn match_brute(&self, q: &Query, k: usize) -> Vec<Match> {
         let lengths = self.lengths(q);
         let mut cands = vec![];
-        for g in 0..self.before.len() {
-            if valid(&self.before[g]) {
-                let db = dist2(&self.before[g], &q.before);
-                self.candidates_at(q, &lengths, g, db, &mut cands);
-            }
+        for g in self.searched_frames() {
+            let g = g as usize;
+            let db = dist2(&self.before[g], &q.before);
+            self.candidates_at(q, &lengths, g, db, &mut cands);
         }
         self.select(cands, &lengths, k)
     }

@@ -8,6 +8,7 @@
 //!   of an `.mxlib`), read only when a match needs them;
 //! - `build`: a clip's raw features, and the library from them (normalised, the tree built);
 //! - `index`: the library, the k-d tree (kiddo) and the exact search;
+//! - `labels`: a clip's contact labels, taken when it is indexed and kept with it;
 //! - `file`: `.mxlib` files, versioned, checksummed, written atomically, clips read lazily;
 //! - `shards`: a large build split into shards (`mx library build --shard i/n`) and merged.
 //!
@@ -22,11 +23,13 @@ pub mod clip;
 pub mod features;
 pub mod file;
 pub mod index;
+pub mod labels;
 pub mod shards;
 
 pub use build::{IndexedClip, clips_in_folder, index_clip, index_files, read_clip};
-pub use clip::{ClipData, ClipInput, LibClip, Source};
+pub use clip::{ClipData, ClipInput, LabelData, LibClip, Source};
 pub use index::{Library, Match, Query, Settings, Skipped};
+pub use labels::ClipLabels;
 
 use std::path::{Path, PathBuf};
 

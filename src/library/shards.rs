@@ -13,10 +13,11 @@
 //! before and after vectors, a checksum.
 
 use super::build::{IndexedClip, index_files};
-use super::clip::{ClipData, LibClip, Source};
+use super::clip::{ClipData, LabelData, LibClip, Source};
 use super::features::{DIM, HORIZON, KeyJoints};
 use super::file::{self, HashReader, HashWriter, read_vectors, write_vectors};
 use super::index::{Library, Settings, Skipped};
+use super::labels::ClipLabels;
 use super::{Fingerprint, LibraryError, bvh_files, clip_name};
 use crate::shard::Shard;
 use serde::{Deserialize, Serialize};
@@ -83,6 +84,15 @@ struct PartClip {
     keys: KeyJoints,
     start: f64,
     frames: usize,
+    /// Its contact labels, or why it has none.
+    labels: PartLabels,
+}
+
+/// A part's clip's contact labels ([`ClipLabels`]), or why it has none.
+#[derive(Serialize, Deserialize)]
+enum PartLabels {
+    Labelled(ClipLabels),
+    Unlabelled { reason: String },
 }
 
 /// The folder of `out`'s parts.
@@ -158,6 +168,16 @@ pub fn build(o: &BuildOptions) -> Result<BuildSummary, LibraryError> {
                     keys: c.clip.keys.clone(),
                     start: c.clip.start,
                     frames: c.clip.frames,
+                    labels: match &c.clip.labels {
+                        LabelData::Memory(l) => PartLabels::Labelled((**l).clone()),
+                        LabelData::None(why) => PartLabels::Unlabelled {
+                            reason: why.clone(),
+                        },
+                        // an indexed clip's labels are taken in memory
+                        LabelData::Section(_) => PartLabels::Unlabelled {
+                            reason: "not kept".into(),
+                        },
+                    },
                 })
                 .collect(),
             skipped,
@@ -285,6 +305,12 @@ fn read_part(path: &Path) -> Result<Part, LibraryError> {
                     start: c.start,
                     frames: c.frames,
                     offset: 0,
+                    labels: match &c.labels {
+                        PartLabels::Labelled(l) => {
+                            LabelData::Memory(std::sync::Arc::new(l.clone()))
+                        }
+                        PartLabels::Unlabelled { reason } => LabelData::None(reason.clone()),
+                    },
                 },
                 before: b.to_vec(),
                 after: a.to_vec(),

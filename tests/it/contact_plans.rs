@@ -10,7 +10,7 @@ use crate::common;
 use mx::ground::FloorPlane;
 use mx::motion::{JointSampler, Mu};
 use mx::report::inbetween::{Case, Protocol, RootMode, is_locomotion};
-use mx::spacetime::contact::{GapPlan, GivenStance, Replan, Source, capture_plan};
+use mx::spacetime::contact::{GapPlan, Replan, Source, capture_plan};
 use mx::spacetime::sp::contact_floor;
 use mx::spacetime::{Contact, SpError, SpOptions};
 

@@ -253,6 +253,49 @@ fn a_saved_index_loads_back_and_answers_the_same() {
     assert_eq!(file::to_bytes(&back).unwrap(), std::fs::read(&p).unwrap());
 }
 
+/// Copies of one clip (the same bytes under other names) are searched once:
+/// the answers are the first copy's and other clips', never a second copy's
+/// (k distinct stretches, and a query that costs what one copy does), the
+/// tree agrees with brute force, and a saved and loaded library the same.
+#[test]
+fn repeated_clips_are_searched_once() {
+    let Some(dir) = mocap_dir() else { return };
+    let files = library::bvh_files(&dir).unwrap();
+    let text = |k: usize| std::fs::read_to_string(&files[k]).unwrap();
+    let d = folder(&[
+        ("a.bvh", text(0)),
+        ("b.bvh", text(0)),
+        ("c.bvh", text(0)),
+        ("d.bvh", text(1)),
+        ("e.bvh", text(1)),
+    ]);
+    let (clips, skipped) = library::clips_in_folder(d.path()).unwrap();
+    let lib = Library::build(clips, skipped, Settings::default()).unwrap();
+    assert_eq!(lib.repeats(), [false, true, true, false, true]);
+    let tmp = tempfile::tempdir().unwrap();
+    let back = file::load(&saved(&lib, tmp.path()), None).unwrap();
+    assert_eq!(back.repeats(), lib.repeats());
+    for (c, at) in [(0, 0.4), (3, 0.5)] {
+        let t0 = lib.clips[c].start + (at * lib.clips[c].frames as f64).round() / 30.0;
+        let q = self_query(&lib, c, t0, t0 + 0.5);
+        let tree = lib.match_gap(&q, 5);
+        assert_same(&tree, &lib.match_brute(&q, 5), "repeats");
+        assert_eq!((tree[0].clip, tree[0].warp), (c, 1.0), "{:?}", tree[0]);
+        assert!(tree[0].mismatch < 1e-6, "{:?}", tree[0]);
+        assert!(tree.iter().all(|m| m.clip == 0 || m.clip == 3), "{tree:?}");
+        assert_same(&back.match_gap(&q, 5), &tree, "loaded");
+    }
+    // clips made in memory have no stored bytes: never taken for repeats
+    let one = library::read_clip(&files[0]).unwrap();
+    let mem = |name: &str| ClipInput {
+        name: name.into(),
+        source: None,
+        ..one.clone()
+    };
+    let lib = Library::build(vec![mem("x"), mem("y")], vec![], Settings::default()).unwrap();
+    assert_eq!(lib.repeats(), [false, false]);
+}
+
 #[test]
 fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
     let Some(t) = template() else { return };
@@ -280,14 +323,19 @@ fn a_damaged_foreign_stale_or_other_settings_index_is_refused() {
         b[at] ^= 0x40;
         assert!(load_bytes(&b).contains("damaged"), "byte {at}");
     }
-    // in a clip's text (read when a match needs it): refused when it is read
+    // in a clip's text or its contact labels (read when a match needs
+    // them): refused when they are read
     for at in [good.len() / 2, good.len() - 20] {
         let mut b = good.clone();
         b[at] ^= 0x40;
         std::fs::write(&p, &b).unwrap();
         let e = match file::load(&p, None) {
             Err(e) => e,
-            Ok(lib) => lib.clips[0].motion().unwrap_err(),
+            Ok(lib) => {
+                let c = &lib.clips[0];
+                let e = c.motion().err().or_else(|| c.labels().err());
+                e.unwrap_or_else(|| panic!("byte {at}: the damage went unseen"))
+            }
         };
         assert!(e.to_string().contains("damaged"), "byte {at}: {e}");
     }
@@ -552,6 +600,7 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
         assert_eq!(c.name, "the same, renamed", "{}", case.name);
         // (a still stretch may match as well elsewhere: the fill below is the check)
         assert_eq!(c.warp, 1.0, "{}", case.name);
+        stances_are_the_stored_labels(&opts, &gaps, c);
         // ρ is over the context's own spread: a nearly still context (a
         // 120 Hz clip's frames 4e-5 s off the 30 Hz grid) leaves a few %
         assert!(ex.mismatch < 0.1, "{}: {}", case.name, ex.mismatch);
@@ -639,6 +688,44 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
         paths.is_empty() || tried > 0,
         "no shared clip was long enough to try"
     );
+}
+
+#[cfg(feature = "report")]
+/// The example's stances are its clip's planning labels, stored when it was
+/// indexed, over the gap and 0.3 s either side, on the gap's clock.
+fn stances_are_the_stored_labels(
+    opts: &mx::spacetime::SpOptions,
+    gaps: &[mx::spacetime::GapDof],
+    c: &mx::spacetime::reference::ClipStretch,
+) {
+    let lib = &opts.library.as_ref().unwrap().library;
+    let entry = lib.clips.iter().find(|k| k.name == c.name).unwrap();
+    let labels = entry.labels().unwrap().expect("labels stored");
+    let t0 = gaps.iter().map(|g| g.t0).fold(f64::INFINITY, f64::min);
+    let t1 = gaps.iter().map(|g| g.t1).fold(f64::NEG_INFINITY, f64::max);
+    let (from, to) = (t0 - 0.3, t1 + 0.3);
+    let on_gap = |s: f64| t0 + (s - c.time) / c.warp;
+    let stances = c.stances.as_ref().expect("the example carries stances");
+    assert_eq!(stances.len(), labels.points.len(), "{}", c.name);
+    for (s, p) in stances.iter().zip(&labels.points) {
+        assert_eq!(s.point, p.name);
+        let want: Vec<(f64, f64)> = p
+            .plan
+            .iter()
+            .map(|&[a, b]| (on_gap(labels.time(a)), on_gap(labels.time(b))))
+            .filter(|&(a, b)| b >= from - 1e-9 && a <= to + 1e-9)
+            .map(|(a, b)| (a.max(from), b.min(to)))
+            .collect();
+        assert_eq!(s.spans.len(), want.len(), "{} {}", c.name, p.name);
+        for (x, y) in s.spans.iter().zip(&want) {
+            assert!(
+                (x.0 - y.0).abs() < 1e-9 && (x.1 - y.1).abs() < 1e-9,
+                "{} {}: {x:?} vs {y:?}",
+                c.name,
+                p.name
+            );
+        }
+    }
 }
 
 /// `example: [lib, "self"]` chooses per gap by match cost: each group

@@ -21,6 +21,7 @@ mod first_hour;
 mod gltf;
 mod graph;
 mod ground;
+mod ground_forces;
 mod grounded_terms;
 #[cfg(feature = "report")]
 mod hard_cases;
@@ -39,6 +40,7 @@ mod lang_motion;
 mod lang_records_strings;
 mod layers;
 mod library;
+mod library_labels;
 mod library_shards;
 mod lie;
 mod mechanisms;
@@ -72,6 +74,8 @@ mod repl_pty;
 #[cfg(feature = "report")]
 mod report_smoke;
 #[cfg(feature = "report")]
+mod score;
+#[cfg(feature = "report")]
 mod spacetime_contact;
 mod spacetime_cyclify;
 mod spacetime_human44;
@@ -84,3 +88,4 @@ mod spline;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;
+mod viewer_ground;

@@ -29,6 +29,7 @@
 
 use super::plan::{GapPlan, PointPlan, Source, Stance};
 use crate::ground::{FloorPlane, GROUND_BAND, plan_stances};
+use crate::lie::Se3;
 use crate::model::{Model, RootCoords};
 use crate::spacetime::error::SpError;
 use nalgebra::Vector3;
@@ -45,8 +46,8 @@ const DEFAULT_SWING: f64 = 0.4;
 const SAME_PLACE: f64 = 0.02;
 
 /// One side of a gap: sample times, per frame its positions at them, and
-/// the body's (its root link's) positions.
-pub(super) type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Vector3<f64>>);
+/// the body's (its root link's) poses.
+pub(super) type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Se3>);
 
 /// The link whose horizontal speed is the body's: the last link of its root
 /// chain (a BVH skeleton's hips). `None` for a body without a root chain.
@@ -106,7 +107,7 @@ impl<'a> Context<'a> {
                 for (j, &f) in candidates.iter().enumerate() {
                     ps[j].push(poses[f].p);
                 }
-                bs.push(body.map_or_else(Vector3::zeros, |b| poses[b].p));
+                bs.push(body.map_or_else(Se3::default, |b| poses[b].clone()));
             }
             Ok((ts, ps, bs))
         };
@@ -150,7 +151,8 @@ impl<'a> Context<'a> {
 
     /// Stance flags of point k on one side's samples.
     pub(super) fn stance(&self, k: usize, (_, ps, body): &Side) -> Vec<bool> {
-        plan_stances(&ps[k], body, STEP, self.lowest[k], &self.up)
+        let body: Vec<Vector3<f64>> = body.iter().map(|b| b.p).collect();
+        plan_stances(&ps[k], &body, STEP, self.lowest[k], &self.up)
     }
 
     /// The kept points' links and the heights they stand at.

@@ -28,8 +28,11 @@ pub use steps::Phase;
 /// `SP(…, contact: …)`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub enum Contact {
-    /// The body's contact points (`ground`'s: its ankle and toe joints),
-    /// stances planned per gap.
+    /// The default (issue 42): the body's contact points (`ground`'s: its
+    /// ankle and toe joints), stances planned per gap; the body stands on
+    /// the ground wherever it has feet, gravity acts and a floor is found
+    /// (`sp::stands`), and is SP as Rose's otherwise.
+    #[default]
     Auto,
     /// `contact: ["Toes_L", …]`: these links, stances planned per gap.
     Named(Vec<String>),
@@ -37,7 +40,7 @@ pub enum Contact {
     /// the stances stated, not planned; the points named there, the others
     /// free.
     Given(Vec<GivenStance>),
-    /// No contact planning: Rose's support alone (`support:`), as before.
-    #[default]
+    /// `contact: "none"`: no contact planning, Rose's support alone
+    /// (`support:`), as before issue 42.
     None,
 }

@@ -10,20 +10,24 @@
 //! Across the gap it advances linearly from the start's phase to the end's,
 //! by the whole number of cycles that makes the cycle nearest the context's:
 //! the feet keep their cadence and alternate as they did, and the plan
-//! agrees with both edges by construction.
+//! agrees with both edges by construction. Where no point completes a
+//! stance or a swing in the context and no foot travels across the gap
+//! (slower than 0.2 m/s on average) there is no cadence (a bow, a
+//! wave): each point holds the stance it has at an edge instead of stepping.
 //!
 //! A stance inside the gap is anchored along the body's path (the start of
 //! the solve: the root's interpolated path): at its middle, the body's
 //! horizontal position plus the point's own offset from the body while it
-//! stands in the context, forward and to the side of the body's direction
-//! of travel (in the world's axes when the body barely moves), put on the
-//! point's standing height. Stances at the edges take the context's anchors
+//! stands in the context, in the body's heading frame (forward and to the
+//! side of the way its root link faces, so a walk backwards keeps its feet
+//! on their sides), put on the point's standing height. Stances at the edges take the context's anchors
 //! when the plans are merged (`merge.rs`).
 
-use super::context::{Context, STEP, Side, body_link};
+use super::context::{Context, STEP, body_link};
 use super::example::on_height;
 use super::plan::{GapPlan, PointPlan, Source, Stance};
 use crate::ground::{horizontal, runs_of};
+use crate::lie::Se3;
 use crate::spacetime::error::SpError;
 use nalgebra::Vector3;
 
@@ -31,11 +35,12 @@ use nalgebra::Vector3;
 /// walk's (the context plan's defaults).
 const DEFAULT_STANCE: f64 = 0.6;
 const DEFAULT_SWING: f64 = 0.4;
-/// Below this horizontal speed (m/s) the body has no direction of travel:
-/// offsets are taken in the world's axes.
+/// How long (s) a held foot takes to leave the floor, or to come down on
+/// it, at an edge where it is in the air: half a walk's swing.
+const LIFT: f64 = 0.5 * DEFAULT_SWING;
+/// Below this mean horizontal speed (m/s) across the gap no foot travels:
+/// without a cadence in the context, the feet hold (see [`held_runs`]).
 const MOVING: f64 = 0.2;
-/// Half-width (s) of the difference the body's direction is taken over.
-const DIRECTION_WINDOW: f64 = 0.1;
 
 /// A point's gait phase at the gap's two edges and its cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,13 +146,13 @@ impl Context<'_> {
         configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
     ) -> Result<GapPlan, SpError> {
         let body = body_link(self.model, &self.up);
-        let body_path = |t: f64| -> Result<Vector3<f64>, SpError> {
+        let body_path = |t: f64| -> Result<Se3, SpError> {
             let q = configuration(t)?;
             let mut poses = vec![];
             self.model
                 .forward_kinematics(&q, &mut poses)
                 .map_err(SpError::Kinematics)?;
-            Ok(body.map_or_else(Vector3::zeros, |b| poses[b].p))
+            Ok(body.map_or_else(Se3::default, |b| poses[b].clone()))
         };
         let body_path = &body_path;
         let (t0, t1) = self.span;
@@ -163,6 +168,12 @@ impl Context<'_> {
         let own: Vec<(Option<f64>, Option<f64>)> = (0..self.frames.len()).map(cycle).collect();
         let all_st: Vec<f64> = own.iter().filter_map(|c| c.0).collect();
         let all_sw: Vec<f64> = own.iter().filter_map(|c| c.1).collect();
+        // no point completes a stance or a swing in the context and no
+        // point travels across the gap (the hips may: a bow moves them
+        // back): there is no cadence to carry (a bow, a wave, a stand), and
+        // a walk's would invent steps the person never took
+        let gait = own.iter().any(|c| c.0.is_some() || c.1.is_some())
+            || self.travel() >= MOVING * (t1 - t0);
         let fallback = (
             mean(&all_st).unwrap_or(DEFAULT_STANCE),
             mean(&all_sw).unwrap_or(DEFAULT_SWING),
@@ -173,15 +184,15 @@ impl Context<'_> {
                 own[k].0.unwrap_or(fallback.0),
                 own[k].1.unwrap_or(fallback.1),
             );
-            let phase = Phase::across(
-                durations,
-                trailing(&flags[k].0),
-                leading(&flags[k].1),
-                t1 - t0,
-            );
+            let (before, after) = (trailing(&flags[k].0), leading(&flags[k].1));
+            let runs = if gait {
+                phase_runs(&Phase::across(durations, before, after, t1 - t0), (t0, t1))
+            } else {
+                held_runs((before.0, after.0), (t0, t1))
+            };
             let offset = self.offset(k, &flags[k]);
             let mut stances = vec![];
-            for (a, b) in phase_runs(&phase, (t0, t1)) {
+            for (a, b) in runs {
                 let mid = 0.5 * (a + b);
                 let anchor = self.anchor_at(mid, offset, body_path)?;
                 let s = Stance::planted(a, b, anchor).by(Source::Steps);
@@ -197,34 +208,40 @@ impl Context<'_> {
         Ok(GapPlan { t0, t1, points })
     }
 
-    /// Point k's mean offset from the body while it stands in the context:
-    /// `Moving(forward, side)` along the body's direction of travel, or
-    /// `Still(world)` when the body barely moves.
+    /// The farthest any point is, along the floor, at the gap's end from
+    /// where it was at its start (m).
+    fn travel(&self) -> f64 {
+        (0..self.frames.len())
+            .filter_map(|k| {
+                let (a, b) = (self.before.1[k].last()?, self.after.1[k].first()?);
+                Some(horizontal(&(b - a), &self.up).norm())
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Point k's mean offset from the body while it stands in the context,
+    /// in the body's heading frame ([`Heading`]): forward and to the side
+    /// of the way the body faces, so a walk backwards or sideways, or a bow
+    /// whose hips move back, keeps each foot on its own side.
     fn offset(&self, k: usize, (before, after): &(Vec<bool>, Vec<bool>)) -> Offset {
-        let (mut along, mut world) = (vec![], vec![]);
+        let heading = Heading::of(self.before.2.iter().chain(&self.after.2), &self.up);
+        let mut along = vec![];
         for (side, flags) in [(&self.before, before), (&self.after, after)] {
             let any_stance = flags.iter().any(|&f| f);
             for (i, &f) in flags.iter().enumerate() {
                 if any_stance && !f {
                     continue;
                 }
-                let d = horizontal(&(side.1[k][i] - side.2[i]), &self.up);
-                world.push(d);
-                if let Some((fwd, lat)) = direction(side, i, &self.up) {
-                    along.push((d.dot(&fwd), d.dot(&lat)));
-                }
+                let d = horizontal(&(side.1[k][i] - side.2[i].p), &self.up);
+                let (fwd, lat) = heading.axes(&side.2[i], &self.up);
+                along.push((d.dot(&fwd), d.dot(&lat)));
             }
         }
-        if along.len() * 2 >= world.len().max(1) {
-            let n = along.len() as f64;
-            let (f, l) = along
-                .iter()
-                .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
-            Offset::Moving(f, l)
-        } else {
-            let n = world.len().max(1) as f64;
-            Offset::Still(world.iter().sum::<Vector3<f64>>() / n)
-        }
+        let n = along.len().max(1) as f64;
+        let (f, l) = along
+            .iter()
+            .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+        Offset { heading, f, l }
     }
 
     /// Where a point with `offset` stands at time t of the gap.
@@ -232,47 +249,72 @@ impl Context<'_> {
         &self,
         t: f64,
         offset: Offset,
-        body_path: &dyn Fn(f64) -> Result<Vector3<f64>, SpError>,
+        body_path: &dyn Fn(f64) -> Result<Se3, SpError>,
     ) -> Result<Vector3<f64>, SpError> {
         let here = body_path(t)?;
-        let at = horizontal(&here, &self.up) + self.up * self.up.dot(&here);
-        match offset {
-            Offset::Still(d) => Ok(at + d),
-            Offset::Moving(f, l) => {
-                let (a, b) = (t - DIRECTION_WINDOW, t + DIRECTION_WINDOW);
-                let v = horizontal(&(body_path(b)? - body_path(a)?), &self.up) / (b - a);
-                if v.norm() < MOVING {
-                    return Ok(at);
-                }
-                let fwd = v.normalize();
-                let lat = self.up.cross(&fwd);
-                Ok(at + fwd * f + lat * l)
-            }
-        }
+        let at = horizontal(&here.p, &self.up) + self.up * self.up.dot(&here.p);
+        let (fwd, lat) = offset.heading.axes(&here, &self.up);
+        Ok(at + fwd * offset.f + lat * offset.l)
     }
 }
 
 /// A point's offset from the body while it stands (see [`Context::offset`]).
 #[derive(Clone, Copy, Debug)]
-enum Offset {
-    Moving(f64, f64),
-    Still(Vector3<f64>),
+struct Offset {
+    heading: Heading,
+    f: f64,
+    l: f64,
 }
 
-/// The body's direction of travel and the side to its left at sample i of
-/// a side, if it moves.
-fn direction(side: &Side, i: usize, up: &Vector3<f64>) -> Option<(Vector3<f64>, Vector3<f64>)> {
-    let body = &side.2;
-    let r = ((DIRECTION_WINDOW / STEP).round() as usize).max(1);
-    let (a, b) = (i.saturating_sub(r), (i + r).min(body.len() - 1));
-    if a == b {
-        return None;
+/// The body's heading: the axis of its root link that stays nearest the
+/// floor's plane over the context (a pelvis's left–right axis, which
+/// pitching in a bow and turning in a walk both keep horizontal), projected
+/// onto the floor.
+#[derive(Clone, Copy, Debug)]
+struct Heading {
+    axis: usize,
+}
+
+impl Heading {
+    fn of<'p>(poses: impl Iterator<Item = &'p Se3>, up: &Vector3<f64>) -> Heading {
+        let mut tilt = [0.0; 3];
+        for pose in poses {
+            for (k, t) in tilt.iter_mut().enumerate() {
+                *t += (pose.r.column(k).dot(up)).abs();
+            }
+        }
+        let axis = (0..3)
+            .min_by(|&a, &b| tilt[a].total_cmp(&tilt[b]))
+            .unwrap_or(0);
+        Heading { axis }
     }
-    let v = horizontal(&(body[b] - body[a]), up) / ((b - a) as f64 * STEP);
-    (v.norm() >= MOVING).then(|| {
-        let fwd = v.normalize();
-        (fwd, up.cross(&fwd))
-    })
+
+    /// The floor-plane axes (along the heading axis, and up × it) of a pose.
+    fn axes(&self, pose: &Se3, up: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+        let a = horizontal(&pose.r.column(self.axis).into_owned(), up);
+        let a = if a.norm() > 1e-9 {
+            a.normalize()
+        } else {
+            // the axis stands upright: any floor direction (never chosen on
+            // a body whose axes are not all vertical)
+            up.cross(&Vector3::new(up.z, up.x, up.y)).normalize()
+        };
+        (a, up.cross(&a))
+    }
+}
+
+/// Without a cadence, a point holds the stance it has at an edge: across
+/// the gap where it stands at both, else from (or to) its edge until
+/// [`LIFT`] s before the other edge, where it is in the air; no stance
+/// where it stands at neither.
+fn held_runs((at_t0, at_t1): (bool, bool), (t0, t1): (f64, f64)) -> Vec<(f64, f64)> {
+    let lift = LIFT.min(0.25 * (t1 - t0));
+    match (at_t0, at_t1) {
+        (true, true) => vec![(t0, t1)],
+        (true, false) => vec![(t0, t1 - lift)],
+        (false, true) => vec![(t0 + lift, t1)],
+        (false, false) => vec![],
+    }
 }
 
 /// The stance intervals of [t0, t1] under `phase`, on the planning grid,
@@ -321,6 +363,20 @@ mod tests {
         assert_eq!(runs.len(), 1, "{p:?} {runs:?}");
         let (a, b) = runs[0];
         assert!(a > 0.1 && b < 1.1 && b - a > 0.4, "{runs:?}");
+    }
+
+    #[test]
+    fn without_a_cadence_a_foot_holds_its_edge_stance_and_takes_no_step() {
+        assert_eq!(held_runs((true, true), (1.0, 2.0)), vec![(1.0, 2.0)]);
+        let lifts = held_runs((true, false), (1.0, 2.0));
+        assert_eq!(lifts.len(), 1);
+        assert!((lifts[0].0 - 1.0).abs() < 1e-12 && (lifts[0].1 - (2.0 - LIFT)).abs() < 1e-12);
+        let lands = held_runs((false, true), (1.0, 1.2));
+        assert!(
+            (lands[0].0 - 1.05).abs() < 1e-12 && lands[0].1 == 1.2,
+            "{lands:?}"
+        );
+        assert!(held_runs((false, false), (1.0, 2.0)).is_empty());
     }
 
     #[test]

@@ -60,6 +60,36 @@ pub struct ClipStretch {
     pub stances: Option<Vec<ExampleStances>>,
 }
 
+/// The clip's planning stances ([`crate::library::ClipLabels`], stored
+/// when it was indexed) over the gap and [`CONTEXT`] either side, on the
+/// gap's clock: clip time s is gap time t0 + (s − time) / warp. `None` when
+/// the clip has no labels.
+fn stances_on_gap(
+    entry: &crate::library::LibClip,
+    cand: &Match,
+    (t0, t1): (f64, f64),
+) -> Result<Option<Vec<ExampleStances>>, SpError> {
+    let Some(labels) = entry.labels()? else {
+        return Ok(None);
+    };
+    let (from, to) = (t0 - CONTEXT, t1 + CONTEXT);
+    let gap_time = |s: f64| t0 + (s - cand.time) / cand.warp;
+    let clip_time = |t: f64| cand.time + cand.warp * (t - t0);
+    Ok(Some(
+        labels
+            .plan_spans(clip_time(from), clip_time(to))
+            .into_iter()
+            .map(|(point, spans)| ExampleStances {
+                point: point.to_string(),
+                spans: spans
+                    .into_iter()
+                    .map(|(a, b)| (gap_time(a).max(from), gap_time(b).min(to)))
+                    .collect(),
+            })
+            .collect(),
+    ))
+}
+
 impl PartialEq for ClipStretch {
     fn eq(&self, o: &Self) -> bool {
         (&self.name, self.time, self.warp, self.features) == (&o.name, o.time, o.warp, o.features)
@@ -341,7 +371,7 @@ impl<'a> LibraryGap<'a> {
                 features: cand.mismatch,
                 motion: Arc::new(motion),
                 names: self.names_arc.clone(),
-                stances: None,
+                stances: stances_on_gap(entry, cand, self.span)?,
             }),
             fit: None,
         }))

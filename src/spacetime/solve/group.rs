@@ -42,7 +42,11 @@ pub(super) fn solve_group<M: TorqueModel>(
         Some(lay) => lay(&dofs)?,
         None => ExampleChoice::default(),
     };
-    if let Some((ground, settings)) = problem.ground {
+    if let Some((ground, settings)) = problem.ground
+        && ground.moves_contacts(&dofs)
+        && (settings.stand_root_given
+            || ground.free_root(&Following::of(&choice).layout(problem, &dofs)?))
+    {
         return grounded(problem, ground, settings, dofs, choice);
     }
     if let (Some(p), Some(laid)) = (prior, &choice.laid)
@@ -60,7 +64,13 @@ struct Following<'l> {
     laid: Option<&'l LaidExample>,
 }
 
-impl Following<'_> {
+impl<'l> Following<'l> {
+    fn of(choice: &'l ExampleChoice) -> Self {
+        Following {
+            laid: choice.laid.as_ref(),
+        }
+    }
+
     /// Per gap DOF, its laid curve (if it follows).
     fn bases(&self, dofs: &[GapDof]) -> Vec<Option<Arc<Curve>>> {
         dofs.iter()
@@ -186,16 +196,26 @@ fn grounded<M: TorqueModel>(
     choice: ExampleChoice,
 ) -> Result<GroupSolution, SpError> {
     let prior = problem.active_prior();
-    let following = Following {
-        laid: choice.laid.as_ref(),
-    };
+    let following = Following::of(&choice);
     let layout = following.layout(problem, &dofs)?;
     let hermite = layout.hermite_start();
     let mut x = layout.base_start();
     let mut plan = ground.plan(&dofs, &layout, &x, following.laid)?;
     let free_root = ground.free_root(&layout);
-    let scales = (settings.prior_scale, settings.example);
+    let rho = choice.laid.as_ref().map(|l| l.example.mismatch);
+    let scales = match free_root {
+        true => (settings.prior_scale, settings.example),
+        false => settings.root_given,
+    };
+    let scales = (
+        settings.scaled_by(scales.0, rho),
+        settings.scaled_by(scales.1, rho),
+    );
     let steps = settings.steps(free_root);
+    let mut opts = problem.opts.clone();
+    if let Some(w) = settings.stall_window {
+        opts.stall_window = w;
+    }
     let mut work = Work::default();
     let mut last: Option<(RunStats, Objective<'_, M>)> = None;
     for (i, s) in steps.iter().enumerate() {
@@ -210,7 +230,7 @@ fn grounded<M: TorqueModel>(
             obj = obj.with_term(term);
         }
         ground.set_forces(&plan, &mut obj, &x)?;
-        let (x1, stats) = run(&obj, x, problem.opts)?;
+        let (x1, stats) = run(&obj, x, &opts)?;
         x = x1;
         work.add(&stats);
         last = Some((stats, obj));
@@ -227,7 +247,7 @@ fn grounded<M: TorqueModel>(
     let outcome = Outcome {
         initial_energy: net_energy(&mut torque_only, ground, &plan, &hermite)?,
         energy: net_energy(&mut torque_only, ground, &plan, &x)?,
-        prior_scale: settings.prior_scale,
+        prior_scale: scales.0,
         example: choice.laid.as_ref().map(|l| l.example.clone()),
         tried: choice.tried,
     };
@@ -412,14 +432,24 @@ mod tests {
 
     #[test]
     fn with_the_root_given_the_base_is_off() {
-        let ground = Recording {
+        let ground = || Recording {
             target: 1.0,
             free: false,
             bases: Mutex::new(vec![]),
             force_calls: Mutex::new(0),
             replans: Mutex::new(0),
         };
-        let g = solve_on(&ground, &GroundSettings::default());
+        // by default a given root does not stand: no ground solve at all
+        let kinematic = ground();
+        solve_on(&kinematic, &GroundSettings::default());
+        assert!(kinematic.bases.lock().unwrap().is_empty());
+        assert_eq!(*kinematic.force_calls.lock().unwrap(), 0);
+        let ground = ground();
+        let standing = GroundSettings {
+            stand_root_given: true,
+            ..GroundSettings::default()
+        };
+        let g = solve_on(&ground, &standing);
         assert_eq!(*ground.bases.lock().unwrap(), vec![0.0, 0.0]);
         // nothing pulls: the torque-optimal elbow, not the target
         assert!(g.x.iter().all(|&c| c < 1.0), "coefficients {:?}", g.x);

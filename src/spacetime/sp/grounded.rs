@@ -100,6 +100,13 @@ impl<'a> SpGround<'a> {
 }
 
 impl<'a> GroundModel<BodyDynamics<'a>> for SpGround<'a> {
+    fn moves_contacts(&self, dofs: &[GapDof]) -> bool {
+        let model = self.body.model;
+        dofs.iter()
+            .filter_map(|d| model.coordinate_link(d.coord))
+            .any(|l| self.links.iter().any(|&c| model.is_ancestor(l, c)))
+    }
+
     fn plan(
         &self,
         dofs: &[GapDof],
