@@ -49,9 +49,12 @@
 //!   every fourth frame), so windows and gaps are the same frames and seconds
 //!   on every clip. Foot joints are found by name (`ground`: Foot, Toe,
 //!   Ankle, Heel: `Foot_L`/`Toes_L`, CMU's `LeftFoot`/`LeftToeBase`).
-//! - `MX_INBETWEEN_VARIANTS=0.8,1.25,mirror`: also clips made from each
-//!   loaded clip: played 0.8× and 1.25× as fast, and mirrored left for right
-//!   (clips no one tuned on); `MX_INBETWEEN_ORIGINALS=0` drops the originals.
+//! - `MX_INBETWEEN_VARIANTS=0.8,1.25,mirror,zup`: also clips made from each
+//!   loaded clip: played 0.8× and 1.25× as fast, mirrored left for right,
+//!   and `zup`: turned onto a z-up skeleton (`heldout::rotated_up`: offsets,
+//!   positions and every joint's rotation turned by Rx(+90°), so `body_of`
+//!   gives it −z gravity; named `CLIP~zup`) (clips no one tuned on);
+//!   `MX_INBETWEEN_ORIGINALS=0` drops the originals.
 //!
 //! Libraries (issue 36):
 //! - `MX_INBETWEEN_LIBRARY=1`: also SP following a clip library held out
@@ -119,16 +122,18 @@ fn main() {
     if let Some(v) = var("MX_INBETWEEN_VARIANTS") {
         let parts: Vec<&str> = v.split(',').map(str::trim).collect();
         let mirror = parts.contains(&"mirror");
+        let zup = parts.contains(&"zup");
         let speeds: Vec<f64> = numbers(
             "MX_INBETWEEN_VARIANTS",
             &parts
                 .iter()
-                .filter(|p| **p != "mirror")
+                .filter(|p| !["mirror", "zup"].contains(*p))
                 .copied()
                 .collect::<Vec<_>>()
                 .join(","),
         );
-        let made = heldout::variants(&cases, &speeds, mirror).unwrap_or_else(|e| panic!("{e}"));
+        let made =
+            heldout::variants(&cases, &speeds, mirror, zup).unwrap_or_else(|e| panic!("{e}"));
         if var("MX_INBETWEEN_ORIGINALS").as_deref() == Some("0") {
             cases = made;
         } else {

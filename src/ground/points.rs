@@ -15,7 +15,7 @@ use super::floor::{horizontal, up_direction};
 use super::stance::{CONTACT_HEIGHT, CONTACT_SPEED};
 use super::{GroundError, invalid, invalid_option};
 use crate::model::Model;
-use crate::model::topology::joint_points;
+use crate::model::topology::{is_foot_name, joint_points};
 use crate::motion::{Mu, grid_times, sample_period};
 use nalgebra::Vector3;
 
@@ -115,14 +115,6 @@ impl GroundOptions {
     pub fn gravity_of(&self, body: &Model) -> Vector3<f64> {
         self.gravity.unwrap_or(body.default_gravity)
     }
-}
-
-fn is_foot_name(name: &str) -> bool {
-    let n = name.to_ascii_lowercase();
-    !n.ends_with(".end")
-        && ["foot", "toe", "ankle", "heel", "calcn"]
-            .iter()
-            .any(|k| n.contains(k))
 }
 
 /// The body's ankle and toe joints (see the module doc); empty when none is named so.

@@ -44,10 +44,11 @@ fn clip_features(
         &times,
     );
     let h = settings.horizon();
+    let up = mocap::up::skeleton_up(&clip.skeleton, Some(&clip.mu), clip.units.metres_per_unit);
     let nan = [f32::NAN; DIM];
     let side = |dir: i64| -> Vec<[f32; DIM]> {
         (0..n)
-            .map(|f| features::frame_features(&pos, f, dir, h, settings.rate).unwrap_or(nan))
+            .map(|f| features::frame_features(&pos, f, dir, (h, settings.rate), &up).unwrap_or(nan))
             .collect()
     };
     (t0, side(-1), side(1))

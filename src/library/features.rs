@@ -20,7 +20,9 @@
 //! trajectory says where the body goes. Other joints follow these closely in
 //! human motion and would only dilute the distance (Clavet's set has 27
 //! numbers; this one 24, so the k-d tree stays within reach of its pruning).
-//! The skeleton's up axis is y, as in BVH.
+//! Up is the one the clip's skeleton stands along (`mocap::up`, y for the
+//! usual BVH skeleton), so a z-up copy of a clip has the features of the
+//! clip itself.
 
 use crate::mocap::bvh::{Skeleton, joint_local_transform};
 use crate::motion::Mu;
@@ -224,29 +226,34 @@ pub fn key_positions(
 }
 
 /// The pelvis centre and the unit across (left − right hip) and forward
-/// vectors on the floor of one frame's key positions.
-fn heading(p: &[Vector3<f64>; 6]) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+/// vectors on the floor (across `up`) of one frame's key positions.
+fn heading(p: &[Vector3<f64>; 6], up: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     let centre = (p[4] + p[5]) / 2.0;
-    let mut across = p[4] - p[5];
-    across.y = 0.0;
+    let across = p[4] - p[5];
+    // (for up = y exactly today's numbers: the y component zeroed)
+    let across = across - up * across.dot(up);
     let across = if across.norm() > 1e-9 {
         across.normalize()
     } else {
-        Vector3::x()
+        // any direction on the floor: x, or z when up is x
+        let x = Vector3::x();
+        let side = if up.x.abs() > 0.5 { Vector3::z() } else { x };
+        side - up * side.dot(up)
     };
-    let forward = across.cross(&Vector3::y());
+    let forward = across.cross(up);
     (centre, across, forward)
 }
 
 /// The features of grid frame `f` looking `dir` = −1 (before) or +1 (after),
 /// from key positions on a grid of `rate` Hz with `horizon` frames of
-/// trajectory; `None` where a frame they read is outside or undefined.
+/// trajectory, heights along the unit `up` (`mocap::up::skeleton_up`);
+/// `None` where a frame they read is outside or undefined.
 pub fn frame_features(
     pos: &[Option<[Vector3<f64>; 6]>],
     f: usize,
     dir: i64,
-    horizon: usize,
-    rate: f64,
+    (horizon, rate): (usize, f64),
+    up: &Vector3<f64>,
 ) -> Option<[f32; DIM]> {
     let at = |k: i64| -> Option<&[Vector3<f64>; 6]> {
         let i = f as i64 + k * dir;
@@ -258,8 +265,8 @@ pub fn frame_features(
     let p = at(0)?;
     let q = at(1)?;
     let far = at(horizon as i64)?;
-    let (c, across, fwd) = heading(p);
-    let local = |v: Vector3<f64>| [v.dot(&across), v.y, v.dot(&fwd)];
+    let (c, across, fwd) = heading(p, up);
+    let local = |v: Vector3<f64>| [v.dot(&across), v.dot(up), v.dot(&fwd)];
     let floor = |v: Vector3<f64>| [v.dot(&across), v.dot(&fwd)];
     let mut out = [0f32; DIM];
     let mut put = |at: usize, xs: &[f64]| {
@@ -275,9 +282,9 @@ pub fn frame_features(
     for j in 0..2 {
         put(12 + 3 * j, &local((q[j] - p[j]) * s));
     }
-    let (cq, _, _) = heading(q);
+    let (cq, _, _) = heading(q, up);
     put(18, &floor((cq - c) * s));
-    let (cf, _, ff) = heading(far);
+    let (cf, _, ff) = heading(far, up);
     put(20, &floor(cf - c));
     put(22, &[ff.dot(&across), ff.dot(&fwd)]);
     Some(out)

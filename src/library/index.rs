@@ -277,8 +277,9 @@ impl Library {
             &grid(t0 - h as f64 / rate),
         );
         let pos_a = features::key_positions(mu, skeleton, metres_per_unit, &keys, &grid(t1));
+        let up = crate::mocap::up::skeleton_up(skeleton, Some(mu), metres_per_unit);
         let side = |pos, f, dir, what: &str, at: f64| {
-            features::frame_features(pos, f, dir, h, rate).ok_or_else(|| {
+            features::frame_features(pos, f, dir, (h, rate), &up).ok_or_else(|| {
                 LibraryError::new(format!(
                     "the motion is not defined over the {:.3} s {what} {at} s: a match compares that much context",
                     h as f64 / rate

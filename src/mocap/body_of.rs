@@ -6,6 +6,9 @@
 //! inertias come from de Leva (1996) ([`super::segments`]) scaled by bone
 //! lengths and the total mass.
 //!
+//! Gravity is against the up the skeleton stands along ([`super::up`]): y
+//! for BVH's usual skeletons and anything without feet, z for a z-up one.
+//!
 //! Links: one per channel (massless except the last), the last named after
 //! the BVH joint and carrying its segment; a joint without channels is a
 //! fixed link; every End Site is a massless fixed link `Joint.end` (so
@@ -24,11 +27,13 @@ use super::segments::{self, Segment, Side};
 use crate::lie::Se3;
 use crate::model::joints::{Fixed, Prismatic, Revolute};
 use crate::model::{Inertia, Model};
+use crate::motion::Mu;
 use indexmap::IndexMap;
 use nalgebra::{Matrix3, Vector3};
 use std::sync::Arc;
 
-/// y-up standard gravity, the convention of mocap skeletons.
+/// y-up standard gravity, the convention of mocap skeletons (the default
+/// when a skeleton's own up says nothing: [`super::up`]).
 pub const GRAVITY_Y_UP: [f64; 3] = [0.0, -9.80665, 0.0];
 
 /// The bone of joint `i`: the vector from its origin to the distal end of its
@@ -89,9 +94,33 @@ pub struct MassReport {
 }
 
 /// Builds the body of a clip's skeleton with total mass `mass` kg.
-/// `metres_per_unit` scales the file's lengths.
+/// `metres_per_unit` scales the file's lengths. Gravity is against the up
+/// its rest pose stands along, else y ([`super::up::skeleton_up`]); with the
+/// clip's motion at hand, [`body_of_motion`] also reads a skeleton whose
+/// rest pose does not stand.
 pub fn body_of(
     sk: &Skeleton,
+    mass: f64,
+    metres_per_unit: f64,
+) -> Result<(Model, MassReport), MocapError> {
+    build(sk, None, mass, metres_per_unit)
+}
+
+/// [`body_of`] for a skeleton and a motion it drives (DOFs `Joint.channel`):
+/// where the rest pose does not stand, gravity is against the up the body
+/// stands along over the motion's frames ([`super::up::skeleton_up`]).
+pub fn body_of_motion(
+    sk: &Skeleton,
+    motion: &Mu,
+    mass: f64,
+    metres_per_unit: f64,
+) -> Result<(Model, MassReport), MocapError> {
+    build(sk, Some(motion), mass, metres_per_unit)
+}
+
+fn build(
+    sk: &Skeleton,
+    motion: Option<&Mu>,
     mass: f64,
     metres_per_unit: f64,
 ) -> Result<(Model, MassReport), MocapError> {
@@ -113,7 +142,7 @@ pub fn body_of(
         None => distribute_mass(sk, mass, metres_per_unit)?,
     };
     let mut model = Model::new("body_of");
-    model.default_gravity = Vector3::from(GRAVITY_Y_UP);
+    model.default_gravity = super::up::skeleton_gravity(sk, motion, metres_per_unit);
     let mut last_link: Vec<usize> = Vec::with_capacity(sk.joints.len());
     for (j, inertia) in sk.joints.iter().zip(inertias) {
         let parent = j.parent.map(|p| last_link[p]);

@@ -15,8 +15,9 @@ pub mod segments;
 #[cfg(feature = "report")]
 pub mod synth;
 pub mod to_motion;
+pub mod up;
 
-pub use body_of::body_of;
+pub use body_of::{body_of, body_of_motion};
 pub use error::MocapError;
 pub use positions::{Missing, Poses, Positions, frame_times, poses_at, positions, positions_at};
 pub use to_motion::{Clip, from_bvh, load};

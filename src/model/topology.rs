@@ -3,9 +3,23 @@
 //! multi-DOF joints (massless, named after their joint, one child attached with
 //! no offset) coincide with the next link and are left out. Drawing, joint
 //! positions over time (`mocap::positions`), support detection (`spacetime`)
-//! and the in-betweening scores all use this one rule.
+//! and the in-betweening scores all use this one rule. Which joints are feet
+//! goes by name ([`is_foot_name`]): `ground`'s contact points and the up a
+//! skeleton stands along (`mocap::up`) share it.
 
 use crate::model::Model;
+
+/// Whether a joint's name says it is a foot: it contains `foot`, `toe`,
+/// `ankle`, `heel` or `calcn` (Bandai's `Foot_L`/`Toes_L`, CMU's `LeftFoot`/
+/// `LeftToeBase`, OpenSim's `calcn_r`/`toes_r`), case-insensitive; End Sites
+/// (`….end`) are not joints and never count.
+pub fn is_foot_name(name: &str) -> bool {
+    let n = name.to_ascii_lowercase();
+    !n.ends_with(".end")
+        && ["foot", "toe", "ankle", "heel", "calcn"]
+            .iter()
+            .any(|k| n.contains(k))
+}
 
 /// The links reported as joints and their parents among them.
 pub fn joint_points(body: &Model) -> (Vec<usize>, Vec<Option<usize>>) {

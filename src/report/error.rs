@@ -152,6 +152,15 @@ pub enum ReportError {
     /// A clip whose joints have no left/right twins to mirror.
     #[error("{clip}: no joint has a left/right twin to mirror")]
     NoMirror { clip: String },
+    /// A joint whose position or rotation channels are not a triple, so
+    /// its frame cannot be turned within its own channels (z-up copies).
+    #[error("{clip}: joint {joint} has {count} {kind} channels; only 0 or 3 can be turned to z-up")]
+    NotTurnable {
+        clip: String,
+        joint: String,
+        count: usize,
+        kind: &'static str,
+    },
     /// A clip glob that does not parse (`MX_INBETWEEN_CLIPS`).
     #[error("clip glob `{glob}`: {source}")]
     Glob {

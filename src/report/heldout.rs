@@ -2,7 +2,7 @@
 //! hidden benchmark's recordings, `$MX_SHARED/data/mocap`'s Bandai and CMU
 //! clips), read at the protocol's 30 fps whatever rate they were captured
 //! at, and clips made from them that no one has seen: played 0.8× and 1.25×
-//! as fast, and mirrored left for right.
+//! as fast, mirrored left for right, and turned onto a z-up skeleton.
 //!
 //! A 120 Hz clip is resampled (its every fourth frame), not scored in
 //! seconds at its own rate: every method then sees the same 10 context
@@ -15,6 +15,7 @@ use super::inbetween::{Case, PROTOCOL_RATE, is_locomotion};
 use super::regrid::regrid;
 use crate::mocap::bvh::Skeleton;
 use crate::motion::channel::mirror_name;
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
 
 /// The horizontal axis that separates the skeleton's left from its right at
@@ -81,6 +82,117 @@ pub fn mirrored(case: &Case) -> Result<Case, ReportError> {
     )
 }
 
+/// R = Rx(+90°), y → z and z → −y, written exactly (a signed permutation:
+/// positions turn without rounding).
+fn y_to_z() -> Matrix3<f64> {
+    Matrix3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0)
+}
+
+/// `case` on a z-up skeleton, named `NAME~zup`: the same physical motion
+/// turned by R = Rx(+90°) (y → z). The skeleton's offsets and end sites are
+/// turned by R, every position channel triple p becomes R·p, and every
+/// joint's rotation Rj (its three Euler channels) becomes R·Rj·Rᵀ, written
+/// back in the joint's own channel order, continuous from frame to frame;
+/// every joint's world position is then R times the original's, and
+/// `body_of` reads −z gravity off the turned skeleton. A joint with one or
+/// two position channels, or with one or two rotation channels, cannot be
+/// turned within its own channels: an error naming it.
+pub fn rotated_up(case: &Case) -> Result<Case, ReportError> {
+    let r = y_to_z();
+    let mut skeleton = (*case.skeleton).clone();
+    for j in &mut skeleton.joints {
+        j.offset = r * j.offset;
+        j.end_sites.iter_mut().for_each(|e| *e = r * *e);
+    }
+    let times: Vec<f64> = (0..case.frames)
+        .map(|k| k as f64 * case.frame_time)
+        .collect();
+    let mut columns: Vec<(String, Vec<f64>)> = vec![];
+    for j in &case.skeleton.joints {
+        let of = |rotation: bool| -> (Vec<String>, Vec<usize>) {
+            j.channels
+                .iter()
+                .filter(|c| c.is_rotation() == rotation)
+                .map(|c| (format!("{}.{}", j.name, c.name()), c.axis()))
+                .unzip()
+        };
+        for rotation in [false, true] {
+            let (names, axes) = of(rotation);
+            if names.is_empty() {
+                continue;
+            }
+            let Ok(axes) = <[usize; 3]>::try_from(axes) else {
+                return Err(ReportError::NotTurnable {
+                    clip: case.name.clone(),
+                    joint: j.name.clone(),
+                    count: names.len(),
+                    kind: if rotation { "rotation" } else { "position" },
+                });
+            };
+            let turned = turn_channels(case, &names, axes, rotation, &r, &times)?;
+            columns.extend(names.into_iter().zip(turned));
+        }
+    }
+    let span = times.last().copied().unwrap_or(0.0);
+    let mut mu = crate::motion::Mu::new();
+    for (name, values) in columns {
+        let curve = crate::motion::Curve::samples(0.0, case.frame_time, values)?;
+        let interval = crate::motion::Interval::curve(curve, 0.0, span)?;
+        mu.insert(name, crate::motion::Dof::new(vec![interval])?);
+    }
+    Case::from_motion(
+        &format!("{}~zup", case.name),
+        &case.source,
+        mu,
+        std::sync::Arc::new(skeleton),
+        case.metres_per_unit,
+        (case.frame_time, case.frames),
+    )
+}
+
+/// Three channels of one joint at `times` (`axes`: each one's axis), turned
+/// by `r`: a position triple as r·p, an Euler triple (in the order
+/// the names give) as r·Rj·rᵀ, each frame's angles nearest the last frame's
+/// (the first frame's nearest the original's).
+fn turn_channels(
+    case: &Case,
+    names: &[String],
+    axes: [usize; 3],
+    rotation: bool,
+    r: &Matrix3<f64>,
+    times: &[f64],
+) -> Result<[Vec<f64>; 3], ReportError> {
+    use crate::motion::rotation::{from_euler, to_euler_near};
+    let mut out: [Vec<f64>; 3] = Default::default();
+    let mut near: Option<[f64; 3]> = None;
+    for &t in times {
+        let mut v = [0.0; 3];
+        for (x, n) in v.iter_mut().zip(names) {
+            *x = case.capture.sample_value(n, t)?.ok_or_else(|| {
+                ReportError::in_clip(&case.name, ReportError::Undefined { dof: n.clone(), t })
+            })?;
+        }
+        let turned = if rotation {
+            let m = r * from_euler(axes, v).to_rotation_matrix().matrix() * r.transpose();
+            let q = UnitQuaternion::from_matrix(&m);
+            let e = to_euler_near(axes, &q, near.unwrap_or(v));
+            near = Some(e);
+            e
+        } else {
+            let mut p = Vector3::zeros();
+            for (i, &a) in axes.iter().enumerate() {
+                p[a] = v[i];
+            }
+            let p = r * p;
+            axes.map(|a| p[a])
+        };
+        for (column, x) in out.iter_mut().zip(turned) {
+            column.push(x);
+        }
+    }
+    Ok(out)
+}
+
 /// Which clips a run takes: by name (globs on the file name without its
 /// extension, any may match; none: all) and locomotion only.
 #[derive(Clone, Debug, Default)]
@@ -140,10 +252,16 @@ fn keeps_path(filter: &ClipFilter, p: &Path) -> bool {
         .is_some_and(|s| filter.keeps(&s.to_string_lossy()))
 }
 
-/// Made-up clips of the cases: each played at every speed of `speeds` and,
-/// with `mirror`, mirrored; in the order of `cases`. A clip that cannot be
+/// Made-up clips of the cases: each played at every speed of `speeds`,
+/// with `mirror` mirrored, with `zup` turned onto a z-up skeleton
+/// ([`rotated_up`]); in the order of `cases`. A clip that cannot be
 /// mirrored (no left/right twins) is left out of the mirrors.
-pub fn variants(cases: &[Case], speeds: &[f64], mirror: bool) -> Result<Vec<Case>, ReportError> {
+pub fn variants(
+    cases: &[Case],
+    speeds: &[f64],
+    mirror: bool,
+    zup: bool,
+) -> Result<Vec<Case>, ReportError> {
     use rayon::prelude::*;
     let per_case: Vec<Result<Vec<Case>, ReportError>> = cases
         .par_iter()
@@ -154,6 +272,9 @@ pub fn variants(cases: &[Case], speeds: &[f64], mirror: bool) -> Result<Vec<Case
             }
             if mirror && lateral_axis(&c.skeleton).is_some() {
                 out.push(mirrored(c)?);
+            }
+            if zup {
+                out.push(rotated_up(c)?);
             }
             Ok(out)
         })

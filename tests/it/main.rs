@@ -82,6 +82,8 @@ mod spacetime_human44;
 mod spacetime_lang;
 mod spacetime_motion;
 mod spacetime_support;
+#[cfg(feature = "report")]
+mod spacetime_zup;
 mod spline;
 mod typed_errors;
 mod urdf_mimic;

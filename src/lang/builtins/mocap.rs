@@ -244,7 +244,7 @@ fn gltf_files(reg: &mut Registry) {
                     None => {
                         let k = clip_of(v, &motions[0], ev).ok_or_else(|| no_skeleton(span))?;
                         let mass = k.skeleton.stated_mass().unwrap_or(70.0);
-                        let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| mocap_error(e, span))?;
+                        let (model, _) = mocap::body_of::body_of_motion(&k.skeleton, &motions[0], mass, k.metres_per_unit).map_err(|e| mocap_error(e, span))?;
                         Arc::new(model)
                     }
                 };
@@ -281,13 +281,14 @@ fn bodies(reg: &mut Registry) {
     reg.add(
         "body_of(clip, mass: 70)",
         "A body whose coordinates are exactly the clip's DOFs (revolute per rotation channel, prismatic per position channel), de Leva (1996) segments scaled by bone lengths and `mass` (kg). \
+         Gravity points from the hips to the feet (joints named Foot, Toe, Ankle, Heel), snapped to an axis: y for the usual BVH skeleton, z for a z-up one; read from the rest pose, or from the clip's frames where the rest pose does not stand; y for a skeleton without feet. \
          A glTF file mx wrote carries its body's masses and inertias: body_of gives that body back (`mass:` scales it; its default is then the saved total).",
         |a, ev| {
             let arg = a.arg("clip")?;
             let m = mu_of(a, "clip", &arg)?;
             let k = clip_of(&arg.value, &m, ev).ok_or_else(|| no_skeleton(arg.span))?;
             let mass = a.number_or("mass", k.skeleton.stated_mass().unwrap_or(70.0))?;
-            let (model, _) = mocap::body_of::body_of(&k.skeleton, mass, k.metres_per_unit).map_err(|e| diagnostic(&e, a, a.call_span()))?;
+            let (model, _) = mocap::body_of::body_of_motion(&k.skeleton, &m, mass, k.metres_per_unit).map_err(|e| diagnostic(&e, a, a.call_span()))?;
             Ok(Value::object(Body {
                 model: Arc::new(model),
                 skeleton: Some((k.skeleton.clone(), k.metres_per_unit)),

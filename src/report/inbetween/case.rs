@@ -88,7 +88,7 @@ impl Case {
         metres_per_unit: f64,
         (frame_time, frames): (f64, usize),
     ) -> Result<Case, ReportError> {
-        let (body, _) = mocap::body_of(&skeleton, BODY_MASS, metres_per_unit)?;
+        let (body, _) = mocap::body_of_motion(&skeleton, &mu, BODY_MASS, metres_per_unit)?;
         let root_dofs = root_dofs(&skeleton, &mu, (frame_time, frames));
         let floor = floor_of(&mu, &body, 1.0 / frame_time)?;
         Ok(Case {

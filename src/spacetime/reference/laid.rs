@@ -2,53 +2,63 @@
 //! context, its moving root turned and moved onto the motion's.
 
 use super::{CONTEXT, STEP};
+use crate::ground::horizontal;
 use crate::library::Match;
 use crate::library::features::KeyJoints;
 use crate::mocap::Clip;
 use crate::motion::{Curve, Dof, Interval, MotionError, Mu};
 use crate::spacetime::error::SpError;
-use nalgebra::Vector3;
+use nalgebra::{Unit, UnitQuaternion, Vector3};
 use std::collections::HashMap;
 
 /// Sampling step (s) of a library example on the gap's clock: fine enough
 /// that its cubic reproduces the clip's own 30–120 Hz curves.
 const EXAMPLE_STEP: f64 = 1.0 / 240.0;
 
-/// The floor-plane map (rotation about the vertical, then translation) that
-/// takes a clip's pelvis at one frame onto the motion's at another.
+/// The floor-plane map (rotation about up, then translation along the
+/// floor) that takes a clip's pelvis at one frame onto the motion's at
+/// another. Up is the one both skeletons stand along (`mocap::up`): y for
+/// BVH's usual skeletons, z for a z-up one.
 pub(super) struct FloorMap {
-    pub(super) cos: f64,
-    pub(super) sin: f64,
+    up: Unit<Vector3<f64>>,
+    /// The turn about up (rad).
+    angle: f64,
+    /// The clip's and the motion's pelvis centres on the floor (no height).
     from: Vector3<f64>,
     to: Vector3<f64>,
 }
 
 impl FloorMap {
-    pub(super) fn between(a: &[Vector3<f64>; 6], b: &[Vector3<f64>; 6]) -> FloorMap {
+    pub(super) fn between(
+        a: &[Vector3<f64>; 6],
+        b: &[Vector3<f64>; 6],
+        up: &Vector3<f64>,
+    ) -> FloorMap {
         let flat = |p: &[Vector3<f64>; 6]| {
             let c = (p[4] + p[5]) / 2.0;
-            let mut across = p[4] - p[5];
-            across.y = 0.0;
+            let across = horizontal(&(p[4] - p[5]), up);
             let n = across.norm().max(1e-12);
-            (Vector3::new(c.x, 0.0, c.z), across / n)
+            (horizontal(&c, up), across / n)
         };
         let (ca, ua) = flat(a);
         let (cb, ub) = flat(b);
-        // (x, z) as x + i z: the turn taking ua to ub
         FloorMap {
-            cos: ua.x * ub.x + ua.z * ub.z,
-            sin: ua.x * ub.z - ua.z * ub.x,
+            up: Unit::new_normalize(*up),
+            angle: up.dot(&ua.cross(&ub)).atan2(ua.dot(&ub)),
             from: ca,
             to: cb,
         }
     }
 
-    pub(super) fn apply(&self, x: f64, z: f64) -> (f64, f64) {
-        let (dx, dz) = (x - self.from.x, z - self.from.z);
-        (
-            self.to.x + dx * self.cos - dz * self.sin,
-            self.to.z + dx * self.sin + dz * self.cos,
-        )
+    /// The turn about up.
+    pub(super) fn turn(&self) -> UnitQuaternion<f64> {
+        UnitQuaternion::from_axis_angle(&self.up, self.angle)
+    }
+
+    /// A position of the clip's (m) where the motion has it: turned about up
+    /// and moved along the floor; its height is kept.
+    pub(super) fn apply(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        self.to + self.turn() * (p - self.from)
     }
 }
 
@@ -164,9 +174,10 @@ pub(super) fn laid_on_gap(
     Ok(out)
 }
 
-/// The moving root's floor-plane position channels moved by `map`, and its
-/// Euler channels turned by the same angle about the vertical (nearest
-/// `m`'s own angles at t0, then outwards), by channel name.
+/// The moving root's position channels moved by `map` (one it lacks read as
+/// 0 and not written: a root without a vertical slide), and its Euler
+/// channels turned by the same angle about up (nearest `m`'s own angles at
+/// t0, then outwards), by channel name.
 fn aligned_root(
     clock: &Clock,
     root: &str,
@@ -174,17 +185,22 @@ fn aligned_root(
     m: &Mu,
 ) -> Result<HashMap<String, Vec<f64>>, SpError> {
     use crate::motion::rotation::{euler_joints, from_euler, to_euler_near};
-    use nalgebra::UnitQuaternion;
     let mut aligned: HashMap<String, Vec<f64>> = HashMap::new();
-    let (xn, zn) = (format!("{root}.Xposition"), format!("{root}.Zposition"));
-    if let (Ok(xs), Ok(zs)) = (clock.series(&xn), clock.series(&zn)) {
-        let (xs, zs): (Vec<f64>, Vec<f64>) =
-            xs.iter().zip(&zs).map(|(&x, &z)| map.apply(x, z)).unzip();
-        aligned.insert(xn, xs);
-        aligned.insert(zn, zs);
+    let names = ["Xposition", "Yposition", "Zposition"].map(|c| format!("{root}.{c}"));
+    let series = names.each_ref().map(|n| clock.series(n).ok());
+    if series.iter().filter(|s| s.is_some()).count() >= 2 {
+        let at = |i: usize, k: usize| series[i].as_ref().map_or(0.0, |s| s[k]);
+        let moved: Vec<Vector3<f64>> = (0..clock.n)
+            .map(|k| map.apply(&Vector3::new(at(0, k), at(1, k), at(2, k))))
+            .collect();
+        for (i, n) in names.iter().enumerate() {
+            if series[i].is_some() {
+                aligned.insert(n.clone(), moved.iter().map(|p| p[i]).collect());
+            }
+        }
     }
     let dofs: Vec<String> = clock.clip.mu.names().map(String::from).collect();
-    let turn = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -map.sin.atan2(map.cos));
+    let turn = map.turn();
     let Some(ej) = euler_joints(dofs.iter().map(String::as_str))
         .into_iter()
         .find(|e| e.joint == root)

@@ -10,6 +10,7 @@ use super::{
 use crate::library::features::{KeyJoints, key_positions};
 use crate::library::{Library, Match};
 use crate::mocap::bvh::Skeleton;
+use crate::mocap::up::skeleton_up;
 use crate::motion::Mu;
 pub use crate::spacetime::contact::ExampleStances;
 use crate::spacetime::error::SpError;
@@ -173,7 +174,8 @@ pub(super) fn search(
         ))));
     };
     let gap = match LibraryGap::new(m, names, rotation, joints, gaps, (t0, t1), mine) {
-        Ok(g) => g,
+        // the up the motion's skeleton stands along, as `body_of` reads it
+        Ok(g) => g.standing(skeleton_up(&src.skeleton, Some(m), src.metres_per_unit)),
         Err(why) => return Ok(Err(why)),
     };
     let mut best: Option<Example> = None;
@@ -206,6 +208,8 @@ struct LibraryGap<'a> {
     span: (f64, f64),
     /// The motion's key joint positions at t0.
     mine: [Vector3<f64>; 6],
+    /// The up the motion's skeleton stands along (`mocap::up`).
+    up: Vector3<f64>,
     coords: Vec<usize>,
     angles: Vec<usize>,
     /// Context times: [`CONTEXT`] either side on the [`STEP`] grid, where
@@ -261,12 +265,17 @@ impl<'a> LibraryGap<'a> {
             joints,
             span: (t0, t1),
             mine,
+            up: Vector3::y(),
             coords,
             angles,
             context,
             spread: total,
             names_arc: Arc::new(names.to_vec()),
         })
+    }
+
+    fn standing(self, up: Vector3<f64>) -> Self {
+        LibraryGap { up, ..self }
     }
 
     fn value(&self, c: usize, t: f64) -> Option<f64> {
@@ -294,7 +303,12 @@ impl<'a> LibraryGap<'a> {
         .pop() else {
             return Ok(Err(f64::INFINITY));
         };
-        let map = FloorMap::between(&theirs, &self.mine);
+        // a clip of another up has other joint frames: its channels are not
+        // the motion's poses, whatever turn lays its root
+        if skeleton_up(&clip.skeleton, Some(&clip.mu), clip.units.metres_per_unit) != self.up {
+            return Ok(Err(f64::INFINITY));
+        }
+        let map = FloorMap::between(&theirs, &self.mine, &self.up);
         let names = self.names;
         let motion = laid_on_gap(
             &clip,
