@@ -77,6 +77,7 @@ mod spacetime_lang;
 mod spacetime_motion;
 mod spacetime_support;
 mod spline;
+mod state_cache;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;

@@ -250,3 +250,31 @@ fn forces_at_the_nodes_enter_the_torque_term_and_its_gradient() {
     obj.set_forces(vec![]).unwrap();
     assert_eq!(obj.eval(&mut s, &x, None).unwrap(), e0);
 }
+
+/// A term that reads the body's passes at its node.
+struct ReadsPoses;
+
+impl Term<TwoLinkArm> for ReadsPoses {
+    fn name(&self) -> &str {
+        "reads poses"
+    }
+
+    fn node(&self, node: &mut Node<'_, TwoLinkArm>, sum: &mut NodeSum<'_>) -> Result<(), SpError> {
+        sum.add(node.poses()?.len() as f64);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_term_reading_the_bodys_passes_on_a_model_without_one_is_a_clear_error() {
+    // the two-link arm is a hand-checked model, not a multibody body: the
+    // torque term uses its own adjoint, and a term asking for link poses
+    // is told why it cannot have them
+    let arm = TwoLinkArm::default();
+    let obj = Objective::new(&arm, gaps(), &with_settings(), vec![1.0, 1.5], &known_motion)
+        .unwrap()
+        .with_term(Box::new(ReadsPoses));
+    let x = obj.hermite_start();
+    let e = obj.eval(&mut obj.scratch(), &x, None).unwrap_err();
+    assert!(e.to_string().contains("multibody"), "{e}");
+}
