@@ -4,11 +4,16 @@
 //! and the natural cut (every DOF cut, the frames after the gap where they
 //! were captured); the interpolations, the capture itself (the reference
 //! row), SP at its defaults, SP as it was before grounded SP ("today's SP":
-//! `report::inbetween::todays_sp`) and SP with `contact: "auto"`, side by
-//! side on the same windows, in one run. Then: accuracy beside the ground
-//! measures (all clips, then locomotion: walk/run/dash/turn), the goals of
+//! `report::inbetween::todays_sp`), SP with `contact: "auto"` and SP with the
+//! capture's own contacts (`contact: contacts(c, b)`, each `at:` from the
+//! capture: the upper bound of any contact plan), side by side on the same
+//! windows, in one run. Every score is `compare(…)`'s (`mx::score`). Then:
+//! accuracy beside the ground measures and the contact plan's accuracy
+//! against the capture's contacts (stance edges within 0.1 s, frames that
+//! agree; all clips, then locomotion: walk/run/dash/turn), the goals of
 //! issues 35 and 36 with PASS or MISS and by how much, and the leave-one-out
-//! library rows.
+//! library rows. Rows are generic: a method pushed onto the list (an SP
+//! setting per plan source, say) gets every column.
 //!
 //! Run: `cargo bench --bench inbetween`. Fast modes for development, all by
 //! environment (combine them):
@@ -25,6 +30,12 @@
 //! - `MX_INBETWEEN_KNOBS=1`: also a row per knob of SP's objective;
 //! - `MX_INBETWEEN_SP="label:smoothness:time_constant:coefficients[:nosupport];…"`:
 //!   extra SP settings;
+//! - `MX_INBETWEEN_GROUND="label:key=value,key=value;…"`: extra grounded SP
+//!   rows (`contact: "auto"`) with the ground's settings changed
+//!   (`GroundSettings`: `base=1e5/1e6/1e7`, `replans=1`, `prior=1e-5`,
+//!   `example=1e-5`, `given=1e-3` (both scales, root given), `stance=1e10`, `floor=1e9`, `clearance=1e9`,
+//!   `friction=0.8`, `window=25` (stall window), `bymismatch=1`, `plan=auto|context|example|steps`, and `anchor=0|1`,
+//!   `coefficients=5`);
 //! - `RAYON_NUM_THREADS=N`: windows run in parallel (each window's methods
 //!   one after the other on one thread, so their times compare); the
 //!   results do not depend on N. Rows whose SP options are identical are
@@ -177,6 +188,15 @@ fn main() {
             methods.push(Method::Sp(f[0].to_string(), Box::new(o)));
         }
     }
+    if let Some(extra) = var("MX_INBETWEEN_GROUND") {
+        for spec in extra.split(';').filter(|s| !s.trim().is_empty()) {
+            let (label, kvs) = spec.split_once(':').unwrap_or((spec, ""));
+            methods.push(Method::Sp(
+                label.trim().to_string(),
+                Box::new(ground_row(kvs)),
+            ));
+        }
+    }
     if let Some(only) = var("MX_INBETWEEN_METHODS") {
         let keep: Vec<String> = only
             .split(',')
@@ -254,6 +274,55 @@ fn main() {
         .unwrap_or_else(|e| panic!("{e}"));
     }
     view_worst(&cases, &p, &methods, &results);
+}
+
+/// A grounded row's options: `contact: "auto"` stated (a given root stands
+/// too) with `kvs`
+/// (`key=value,…`, see the module docs) changed; a bad key or value stops
+/// the run naming it.
+fn ground_row(kvs: &str) -> mx::spacetime::SpOptions {
+    let mut o = mx::spacetime::SpOptions {
+        contact: mx::spacetime::Contact::Auto,
+        ..Default::default()
+    };
+    o.ground.stand_root_given = true;
+    for kv in kvs.split(',').filter(|s| !s.trim().is_empty()) {
+        let (k, v) = kv
+            .split_once('=')
+            .unwrap_or_else(|| panic!("MX_INBETWEEN_GROUND: `{kv}` is not key=value"));
+        let num = |v: &str| -> f64 {
+            v.trim()
+                .parse()
+                .unwrap_or_else(|_| panic!("MX_INBETWEEN_GROUND: {k}: `{v}` is not a number"))
+        };
+        let g = &mut o.ground;
+        match k.trim() {
+            "base" => g.base = v.split('/').filter(|s| !s.is_empty()).map(num).collect(),
+            "replans" => g.replans = num(v) as usize,
+            "prior" => g.prior_scale = num(v),
+            "example" => g.example = num(v),
+            "given" => g.root_given = (num(v), num(v)),
+            "window" => g.stall_window = Some(num(v) as u64),
+            "bymismatch" => g.by_mismatch = num(v) != 0.0,
+            "stance" => g.stance = num(v),
+            "floor" => g.floor = num(v),
+            "clearance" => g.clearance = num(v),
+            "friction" => g.friction = num(v),
+            "anchor" => o.prior.anchor = num(v) != 0.0,
+            "plan" => {
+                g.plan = match v.trim() {
+                    "auto" => mx::spacetime::solve::PlanSource::Auto,
+                    "context" => mx::spacetime::solve::PlanSource::Context,
+                    "example" => mx::spacetime::solve::PlanSource::Example,
+                    "steps" => mx::spacetime::solve::PlanSource::Steps,
+                    other => panic!("MX_INBETWEEN_GROUND: plan: `{other}`"),
+                }
+            }
+            "coefficients" => o.settings.coefficients = num(v) as usize,
+            other => panic!("MX_INBETWEEN_GROUND: unknown key `{other}`"),
+        }
+    }
+    o
 }
 
 /// The worst SP window (largest worst-joint error, root given) as one page:

@@ -2,7 +2,7 @@
 //! engine with spline joints.
 //!
 //! Layers, each using only the ones listed before it (see ARCHITECTURE.md):
-//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `ik` → `ground` → `library` → `spacetime` → `io` → `graph` → `report` → `lang`.
+//! `lie` → `spline` → `model` → `dynamics` → `motion` → `mocap` → `ik` → `ground` → `library` → `spacetime` → `score` → `io` → `graph` → `report` → `lang`.
 //! Everything up to `io` is a library that knows nothing of the language.
 //! The report generator and the fixtures only it, the benches and tests use
 //! (`spacetime::fig8`, `spacetime::planar2`, `mocap::synth`) are behind the
@@ -25,6 +25,7 @@ pub mod motion;
 /// `mx report` (behind the `report` feature, on by default).
 #[cfg(feature = "report")]
 pub mod report;
+pub mod score;
 pub mod shard;
 pub mod spacetime;
 pub mod spline;

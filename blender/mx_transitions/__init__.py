@@ -3,7 +3,8 @@ actions and mx's motion files, inside Blender 5.
 
 Files, one job each: rotations (Euler/quaternion arrays), rig (bones <-> mx
 DOFs and the body), fcurves (F-curves <-> arrays), sources (what to fill),
-transition (SP on arrays), bake (the new action's channels), operators, ui.
+transition (SP on arrays), bake (the new action's channels), plan (SP's
+contact plan as empties on the floor), operators, ui.
 mx itself comes as a wheel (manifest `wheels`), imported when an operator runs.
 """
 

@@ -10,7 +10,7 @@ import numpy as np
 from bpy.props import EnumProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import bake, fcurves, sources, transition
+from . import bake, fcurves, plan, sources, transition
 from .rig import Rig, RigError, joint_name, location_path
 
 # The last fill: its phases in seconds, and SP's result in mx's terms (dofs,
@@ -84,10 +84,11 @@ class MX_OT_fill_transition(bpy.types.Operator):
     contact: EnumProperty(
         name="Contact",
         items=[
+            ("DEFAULT", "SP's Default", "Whatever SP does by default (standing on the ground once that is its default)"),
+            ("AUTO", "Auto", "Stand on the ground: plan foot stances from those around the gap, planted feet held"),
             ("NONE", "None", "Rose's support legs only"),
-            ("AUTO", "Auto", "Plan foot stances from those around the gap, planted feet held by IK"),
         ],
-        default="NONE",
+        default="DEFAULT",
     )
     example: EnumProperty(
         name="Example",
@@ -150,8 +151,9 @@ class MX_OT_fill_transition(bpy.types.Operator):
         return {"FINISHED"}
 
 
-def fill(context, placed, root="AUTO", contact="NONE", example="SELF"):
-    """The fill on placed clips: a new action on the active armature, returned."""
+def fill(context, placed, root="AUTO", contact="DEFAULT", example="SELF"):
+    """The fill on placed clips: a new action on the active armature, returned;
+    SP's contact plan, when it made one, as empties on the floor (`plan.py`)."""
     t0 = time.perf_counter()
     mx = _mx()
     ob = _armature(context)
@@ -175,11 +177,12 @@ def fill(context, placed, root="AUTO", contact="NONE", example="SELF"):
     _assign(ob, action, slot)
     scene = context.scene
     scene.frame_start, scene.frame_end = int(frames[0]), int(frames[-1])
+    empties = plan.show(scene, ob, report.get("contacts") or [], fps, int(frames[0]))
     t3 = time.perf_counter()
     LAST_TIMING.clear()
     LAST_TIMING.update(
         read=t1 - t0, sp=t2 - t1, write=t3 - t2, total=t3 - t0, report=report, action=action.name,
-        dofs=rig.dofs, frames=frames, values=filled,
+        dofs=rig.dofs, frames=frames, values=filled, empties=[e.name for e in empties],
         summary=f"mx SP: {action.name!r}, frames {frames[0]}-{frames[-1]} ({t3 - t0:.2f} s, SP {t2 - t1:.2f} s)",
     )
     return action

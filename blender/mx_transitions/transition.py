@@ -33,8 +33,12 @@ def grid(pieces, rotation_columns):
 
 
 def options(root, contact, example):
-    """SP's options from the panel's (lower-case mx names)."""
-    return {"root": root.lower(), "contact": contact.lower(), "example": example.lower()}
+    """SP's options from the panel's (lower-case mx names); contact "DEFAULT"
+    passes none, so the fill does what SP does by default."""
+    opts = {"root": root.lower(), "example": example.lower()}
+    if contact != "DEFAULT":
+        opts["contact"] = contact.lower()
+    return opts
 
 
 def fill(mx, dofs, frames, values, fps, body, opts):

@@ -11,7 +11,7 @@ The interpreter: ``mx.Interpreter(steps=..., root=...)`` with ``.eval``,
 :class:`mx.MxError` subclasses carrying the rendered diagnostic.
 """
 
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 from . import _mx
 from ._errors import (
@@ -43,6 +43,7 @@ __all__ = [
     "MxLimitError",
     "MxCancelledError",
     "body_of",
+    "ground_forces",
     "human",
     "load",
     "sp",
@@ -104,6 +105,26 @@ def human(motion: Motion, mass: float = 70.0) -> Body:
     return _mx.human(motion, mass)
 
 
+def ground_forces(
+    motion: Motion,
+    body: Body,
+    friction: float = 0.8,
+    points: Optional[List[str]] = None,
+    floor: Union[float, str, None] = None,
+    height: Optional[float] = None,
+) -> Dict[str, Any]:
+    """Per frame, the contact forces that best hold ``body`` up and what they leave.
+
+    Returns a dict of NumPy arrays: ``times`` [T], ``points`` (names),
+    ``forces`` [T, P, 3] (N, world axes; zero off the floor), ``in_contact``
+    [T, P], ``residual_force`` [T, 3] (N), ``residual_moment`` [T, 3] (N·m
+    about the centre of mass), ``percent_bw`` [T] (the residual force as % of
+    body weight), ``com`` [T, 3] (m), and ``weight`` (N) and ``floor`` (m).
+    The numbers of mx's ``ground_forces`` (below), from the same solve.
+    """
+    return _mx.ground_forces(motion, body, friction, points, floor, height)
+
+
 def help_text(name: str) -> Optional[str]:
     """The ``:help NAME`` text of an mx built-in (None if unknown)."""
     return _mx._doc(name)
@@ -119,3 +140,4 @@ _with_mx_doc(sp, "SP", sp.__doc__ or "")
 _with_mx_doc(load, "load", load.__doc__ or "")
 _with_mx_doc(body_of, "body_of", body_of.__doc__ or "")
 _with_mx_doc(human, "human", human.__doc__ or "")
+_with_mx_doc(ground_forces, "ground_forces", ground_forces.__doc__ or "")

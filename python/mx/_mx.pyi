@@ -129,7 +129,10 @@ class Object:
 
     @property
     def type(self) -> str: ...
+    def keys(self) -> List[str]:
+        """Its field names, as mx's `keys(x)` lists them."""
     def __getattr__(self, name: str) -> Any: ...
+    def __dir__(self) -> List[str]: ...
 
 def load(path: _Path, **options: Any) -> Any:
     """A motion, body or value from a file, by extension."""
@@ -141,5 +144,8 @@ def human(motion: Motion, mass: float = 70.0) -> Body:
     """The 44-DOF anatomical model sized from a clip."""
 
 def _sp(motion: Motion, body: Body, options: Optional[Dict[str, Any]] = None, on_tick: Optional[Callable[[float], None]] = None) -> Tuple[Motion, Dict[str, Any]]: ...
+def ground_forces(motion: Motion, body: Body, friction: float = 0.8, points: Optional[List[str]] = None, floor: Union[float, str, None] = None, height: Optional[float] = None) -> Dict[str, Any]:
+    """The contact forces per point and the residual per frame, as NumPy arrays."""
+
 def _doc(name: str) -> Optional[str]: ...
 def _builtins() -> List[Tuple[str, str, str]]: ...

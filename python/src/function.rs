@@ -46,7 +46,7 @@ impl PyObject_ {
 
     fn __getattr__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
         match &self.value {
-            Value::Object(o) => match o.field(name) {
+            Value::Object(o) => match self.value.field(name) {
                 Some(v) => to_py(py, &v),
                 None => Err(PyErr::new::<pyo3::exceptions::PyAttributeError, _>(
                     format!("{} has no field `{name}`", o.type_name()),
@@ -54,6 +54,18 @@ impl PyObject_ {
             },
             _ => Err(PyKeyError::new_err(name.to_string())),
         }
+    }
+
+    /// The value's fields, as mx's `keys(x)` lists them (what `x.name` reads).
+    fn keys(&self) -> Vec<String> {
+        self.value.keys().unwrap_or_default()
+    }
+
+    /// `dir(x)` lists the fields, so completion in IPython and Jupyter offers them.
+    fn __dir__(&self) -> Vec<String> {
+        let mut names = self.keys();
+        names.extend(["keys".to_string(), "type".to_string()]);
+        names
     }
 
     fn __repr__(&self) -> String {

@@ -21,7 +21,6 @@ mod motion;
 mod objects;
 mod runtime;
 
-use mx::lang::builtins::sp_report;
 use pyo3::prelude::*;
 
 use crate::convert::{kwargs, to_py};
@@ -108,14 +107,95 @@ fn _sp(
     // The report reads like a record in mx; in Python it is a plain dict with
     // every field of the report's own list, so a field mx adds reaches Python.
     let dict = pyo3::types::PyDict::new(py);
-    if let mx::Value::Object(o) = &report {
-        for key in sp_report::FIELDS {
-            if let Some(v) = o.field(key) {
-                dict.set_item(key, to_py(py, &v)?)?;
-            }
+    for key in report.keys().unwrap_or_default() {
+        if let Some(v) = report.field(&key) {
+            dict.set_item(&key, to_py(py, &v)?)?;
         }
     }
     Ok((to_py(py, &filled)?, dict.into_any().unbind()))
+}
+
+/// `ground_forces(motion, body, friction=0.8, points=None, floor="auto",
+/// height=0.02)`: mx's `ground_forces` as NumPy arrays — a dict with `times`
+/// [T], `points` (names), `forces` [T, P, 3] (N, world), `in_contact` [T, P],
+/// `residual_force` [T, 3] (N), `residual_moment` [T, 3] (N·m about the
+/// centre of mass), `percent_bw` [T], `com` [T, 3], `weight` (N), `floor` (m).
+#[pyfunction]
+#[pyo3(signature = (motion, body, friction = 0.8, points = None, floor = None, height = None))]
+fn ground_forces(
+    py: Python<'_>,
+    motion: &Bound<'_, PyMotion>,
+    body: &Bound<'_, PyBody>,
+    friction: f64,
+    points: Option<Vec<String>>,
+    floor: Option<&Bound<'_, PyAny>>,
+    height: Option<f64>,
+) -> PyResult<Py<PyAny>> {
+    use mx::ground::{Floor, GroundOptions};
+    use numpy::{PyArray1, PyArrayMethods};
+    let Some(mx::lang::host::Motion::Mu(m)) =
+        motion.get().value.as_object::<mx::lang::host::Motion>()
+    else {
+        return Err(errors::type_error(
+            py,
+            "`motion` must be a motion unit (Mu), e.g. mx.load(\"walk.bvh\")",
+        ));
+    };
+    let mut o = GroundOptions {
+        points,
+        ..GroundOptions::default()
+    };
+    if let Some(h) = height {
+        o.height = h;
+    }
+    match floor {
+        None => {}
+        Some(f) if f.extract::<String>().is_ok_and(|s| s == "auto") => {}
+        Some(f) => {
+            o.floor = Floor::At(f.extract::<f64>().map_err(|_| {
+                errors::type_error(py, "`floor` must be a height in metres or \"auto\"")
+            })?)
+        }
+    }
+    let (m, model) = (m.clone(), body.get().model.clone());
+    let g = py
+        .detach(move || mx::ground::ground_forces(&m, &model, &o, friction))
+        .map_err(|e| errors::value_error(py, e.to_string()))?;
+    let (t, p) = (g.times.len(), g.points.len());
+    let flat = |rows: &[nalgebra::Vector3<f64>]| {
+        rows.iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .collect::<Vec<f64>>()
+    };
+    let forces: Vec<f64> = g.forces.iter().flat_map(|fr| flat(fr)).collect();
+    let d = pyo3::types::PyDict::new(py);
+    d.set_item("times", PyArray1::from_vec(py, g.times.clone()))?;
+    d.set_item(
+        "points",
+        g.points.iter().map(|c| c.name.clone()).collect::<Vec<_>>(),
+    )?;
+    d.set_item("forces", PyArray1::from_vec(py, forces).reshape([t, p, 3])?)?;
+    let contact: Vec<bool> = g.in_contact.iter().flatten().copied().collect();
+    d.set_item(
+        "in_contact",
+        PyArray1::from_vec(py, contact).reshape([t, p])?,
+    )?;
+    d.set_item(
+        "residual_force",
+        PyArray1::from_vec(py, flat(&g.residual_force)).reshape([t, 3])?,
+    )?;
+    d.set_item(
+        "residual_moment",
+        PyArray1::from_vec(py, flat(&g.residual_moment)).reshape([t, 3])?,
+    )?;
+    d.set_item(
+        "percent_bw",
+        PyArray1::from_vec(py, (0..t).map(|k| g.percent_bw(k)).collect()),
+    )?;
+    d.set_item("com", PyArray1::from_vec(py, flat(&g.com)).reshape([t, 3])?)?;
+    d.set_item("weight", g.weight)?;
+    d.set_item("floor", g.floor)?;
+    Ok(d.into_any().unbind())
 }
 
 /// The doc string of a built-in (what `:help NAME` shows), for the Python
@@ -144,6 +224,7 @@ fn _mx(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(body_of, m)?)?;
     m.add_function(wrap_pyfunction!(human, m)?)?;
     m.add_function(wrap_pyfunction!(_sp, m)?)?;
+    m.add_function(wrap_pyfunction!(ground_forces, m)?)?;
     m.add_function(wrap_pyfunction!(_doc, m)?)?;
     m.add_function(wrap_pyfunction!(_builtins, m)?)?;
     Ok(())

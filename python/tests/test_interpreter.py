@@ -53,6 +53,9 @@ def test_motions_and_bodies_cross_the_boundary(walk_path):
     assert isinstance(b, mx.Body) and b.nq > 0
     j = i.eval("revolute([0, 0, 1])")
     assert isinstance(j, mx.Object) and j.type == "Joint"
+    # the fields are mx's keys(j): what j.name reads, listed by keys() and dir()
+    assert j.keys() == i.eval("keys(revolute([0, 0, 1]))") == ["kind", "dof"]
+    assert j.kind == "revolute" and j.dof == 1 and "kind" in dir(j)
 
 
 def test_register_python_function():

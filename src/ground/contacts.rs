@@ -42,8 +42,9 @@ pub struct Contacts {
     pub points: Vec<PointContacts>,
 }
 
-/// Runs of `true` in `flags` as intervals over `times`.
-fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
+/// The runs of `true` in `flags`: (first, last) index, inclusive. The one
+/// rule for "runs of flags" that `contacts()` and SP's plans share.
+pub fn runs_of(flags: &[bool]) -> Vec<(usize, usize)> {
     let mut out = vec![];
     let mut k = 0;
     while k < flags.len() {
@@ -55,15 +56,23 @@ fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
         while k + 1 < flags.len() && flags[k + 1] {
             k += 1;
         }
-        out.push(ContactInterval {
-            first,
-            last: k,
-            start: times[first],
-            stop: times[k],
-        });
+        out.push((first, k));
         k += 1;
     }
     out
+}
+
+/// Runs of `true` in `flags` as intervals over `times`.
+pub fn runs(flags: &[bool], times: &[f64]) -> Vec<ContactInterval> {
+    runs_of(flags)
+        .into_iter()
+        .map(|(first, last)| ContactInterval {
+            first,
+            last,
+            start: times[first],
+            stop: times[last],
+        })
+        .collect()
 }
 
 /// Contacts from tracks already sampled (SP's contact schedule reuses them).

@@ -14,25 +14,32 @@
 //! links the caller names), samples their world positions at the motion's
 //! frame rate and places the floor (the lowest height they reach);
 //! `contacts.rs` finds the intervals where each point touches the floor;
-//! `skate.rs` measures foot skate and penetration; `residual.rs` runs inverse
-//! dynamics of the floating base per frame and `cone.rs` solves the per-frame
-//! friction-cone problem (a small SOCP, by `clarabel`).
+//! `skate.rs` measures foot skate and penetration; `forces.rs` runs inverse
+//! dynamics of the floating base per frame (on `body.rs`: the floating root,
+//! the centre of mass, the length scale) and gives the best contact forces
+//! per point, which `cone.rs` solves as a small SOCP (by `clarabel`), and
+//! what they leave; `residual.rs` summarises that as the ground residual.
 //!
 //! Layering: uses `lie`, `model`, `dynamics`, `motion`; used by `spacetime`
 //! (SP's contact planning, support hold and root), `report` and `lang`.
 //! Knows nothing of the language.
 
+mod body;
 pub mod cone;
 pub mod contacts;
 pub mod floor;
+pub mod forces;
 pub mod points;
 pub mod residual;
 pub mod root;
 pub mod skate;
 pub mod stance;
 
-pub use contacts::{ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks};
+pub use contacts::{
+    ContactInterval, Contacts, PointContacts, contacts, contacts_of_tracks, runs_of,
+};
 pub use floor::{FloorPlane, horizontal, up_direction, up_of};
+pub use forces::{GroundForces, ground_forces};
 pub use points::{
     ContactPoint, Floor, GroundOptions, Tracks, contact_points, default_contact_points,
     recorded_floor, tracks,

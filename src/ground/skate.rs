@@ -119,6 +119,38 @@ pub fn penetration_of_tracks(
     })
 }
 
+/// Per step between frames (`k − 1 → k`, k ≥ 1, so one fewer than the
+/// frames): the fastest horizontal speed (cm/s) of a point that ends the step
+/// within `height` of the floor, 0 where none does — the steps
+/// [`skate_of_tracks`] averages and takes its worst from.
+pub fn skate_per_step(tr: &Tracks, opts: &GroundOptions) -> Result<Vec<f64>, GroundError> {
+    opts.check()?;
+    let floor = tr.floor(opts.floor);
+    Ok((1..tr.times.len())
+        .map(|k| {
+            (0..tr.points.len())
+                .filter(|&j| tr.height(k, j) - floor <= opts.height)
+                .map(|j| tr.step_speed(k, j) * 100.0)
+                .fold(0.0, f64::max)
+        })
+        .collect())
+}
+
+/// Per frame: how far the lowest point is below the floor (cm; 0 when none
+/// is) — the depths [`penetration_of_tracks`] takes the deepest of.
+pub fn depth_per_frame(tr: &Tracks, opts: &GroundOptions) -> Result<Vec<f64>, GroundError> {
+    opts.check()?;
+    let floor = tr.floor(opts.floor);
+    Ok((0..tr.times.len())
+        .map(|k| {
+            let low = (0..tr.points.len())
+                .map(|j| tr.height(k, j))
+                .fold(f64::INFINITY, f64::min);
+            ((floor - low) * 100.0).max(0.0)
+        })
+        .collect())
+}
+
 /// Foot skate of `m` on `body` (see the module doc).
 pub fn foot_skate(m: &Mu, body: &Model, opts: &GroundOptions) -> Result<Skate, GroundError> {
     let pts = contact_points(body, opts.points.as_deref())?;
@@ -173,5 +205,16 @@ mod tests {
         // penetration: 3 cm below a floor stated at 0
         let p = penetration_of_tracks(&sliding(-0.03), &o).unwrap();
         assert!((p.depth - 3.0).abs() < 1e-9, "{p:?}");
+        // the per-step and per-frame series are what the measures summarise
+        for h in [-0.03, 0.0, 0.01, 0.03] {
+            let tr = sliding(h);
+            let s = skate_of_tracks(&tr, &o).unwrap();
+            let steps = skate_per_step(&tr, &o).unwrap();
+            assert_eq!(steps.len(), tr.times.len() - 1);
+            assert_eq!(steps.iter().copied().fold(0.0, f64::max), s.worst);
+            let p = penetration_of_tracks(&tr, &o).unwrap();
+            let depths = depth_per_frame(&tr, &o).unwrap();
+            assert_eq!(depths.iter().copied().fold(0.0, f64::max), p.depth);
+        }
     }
 }

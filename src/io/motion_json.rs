@@ -44,11 +44,20 @@ struct File {
 #[derive(Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 enum CurveJson {
-    Constant { value: f64 },
+    Constant {
+        value: f64,
+    },
     Samples(SampledCurve),
-    Function { source: String },
+    Function {
+        source: String,
+    },
     Hermite(HermiteCurve),
     Spline(crate::spline::BSplineCurve),
+    /// A laid example plus SP's correction (`Curve::Sum`).
+    Sum {
+        base: Box<CurveJson>,
+        correction: Box<CurveJson>,
+    },
 }
 
 #[derive(Serialize, Deserialize)]
@@ -146,6 +155,10 @@ fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, ContentError> {
         Curve::Samples(s) => CurveJson::Samples(s.clone()),
         Curve::Hermite(h) => CurveJson::Hermite(h.clone()),
         Curve::Spline(c) => CurveJson::Spline(c.clone()),
+        Curve::Sum(a, b) => CurveJson::Sum {
+            base: Box::new(curve_json(a, dof)?),
+            correction: Box::new(curve_json(b, dof)?),
+        },
         Curve::Function(f) => CurveJson::Function {
             source: f.source().ok_or_else(|| {
                 ContentError::new(format!(
@@ -153,6 +166,30 @@ fn curve_json(c: &Curve, dof: &str) -> Result<CurveJson, ContentError> {
                 ))
             })?,
         },
+    })
+}
+
+/// One curve of the file (`k`: its index, for messages).
+fn curve_from_json(c: CurveJson, k: usize, compile_fn: &CompileFn) -> Result<Curve, ContentError> {
+    Ok(match c {
+        CurveJson::Constant { value } => {
+            Curve::constant(value).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
+        }
+        CurveJson::Samples(s) => Curve::Samples(s),
+        CurveJson::Hermite(h) => Curve::Hermite(
+            HermiteCurve::new(h.t0, h.q0, h.v0, h.t1, h.q1, h.v1)
+                .map_err(|e| ContentError::new(format!("curve {k}: {e}")))?,
+        ),
+        CurveJson::Spline(c) => {
+            Curve::spline(c).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
+        }
+        CurveJson::Sum { base, correction } => Curve::Sum(
+            Arc::new(curve_from_json(*base, k, compile_fn)?),
+            Arc::new(curve_from_json(*correction, k, compile_fn)?),
+        ),
+        CurveJson::Function { source } => Curve::Function(compile_fn(&source).map_err(|e| {
+            ContentError::new(format!("curve {k}: cannot compile `{source}`: {e}"))
+        })?),
     })
 }
 
@@ -174,24 +211,7 @@ pub fn from_json_str(text: &str, compile_fn: CompileFn) -> Result<Mu, ContentErr
     }
     let mut curves: Vec<Arc<Curve>> = Vec::with_capacity(file.curves.len());
     for (k, c) in file.curves.into_iter().enumerate() {
-        let curve = match c {
-            CurveJson::Constant { value } => {
-                Curve::constant(value).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
-            }
-            CurveJson::Samples(s) => Curve::Samples(s),
-            CurveJson::Hermite(h) => Curve::Hermite(
-                HermiteCurve::new(h.t0, h.q0, h.v0, h.t1, h.q1, h.v1)
-                    .map_err(|e| ContentError::new(format!("curve {k}: {e}")))?,
-            ),
-            CurveJson::Spline(c) => {
-                Curve::spline(c).map_err(|e| ContentError::new(format!("curve {k}: {e}")))?
-            }
-            CurveJson::Function { source } => {
-                Curve::Function(compile_fn(&source).map_err(|e| {
-                    ContentError::new(format!("curve {k}: cannot compile `{source}`: {e}"))
-                })?)
-            }
-        };
+        let curve = curve_from_json(c, k, &compile_fn)?;
         curves.push(Arc::new(curve));
     }
     let mut mu = Mu::new();

@@ -24,6 +24,7 @@
 //! Which curves are drawn is [`curves`]' choice.
 
 pub mod curves;
+pub mod ground;
 
 use super::plot::Series;
 use serde::Serialize;
@@ -50,6 +51,10 @@ pub struct ViewerData {
     pub up: usize,
     /// DOF curves drawn below the figure.
     pub curves: Vec<CurveData>,
+    /// The floor, footprints, contact strip and forces ([`ground`]); `None`:
+    /// a grid at the lowest point drawn.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground: Option<ground::GroundLayer>,
 }
 
 /// One motion on the page.
@@ -208,6 +213,9 @@ pub fn html(data: &ViewerData) -> Result<String, ViewerError> {
             data.up
         )));
     }
+    if let Some(g) = &data.ground {
+        g.check(data.tracks.len(), n, frames)?;
+    }
     let json = serde_json::to_string(data).map_err(|e| ViewerError::Invalid(e.to_string()))?;
     // `</script>` (or any `</`) inside the JSON would end the script element.
     let json = json.replace("</", "<\\/");
@@ -336,6 +344,7 @@ pub fn overlay(
         tracks,
         up,
         curves,
+        ground: None,
     })
 }
 
@@ -437,6 +446,7 @@ mod tests {
             }],
             up: 1,
             curves: vec![],
+            ground: None,
         }
     }
 

@@ -15,6 +15,7 @@ use indexmap::IndexMap;
 use super::args::{ArgValue, Args, describe};
 use super::ast::*;
 use super::diagnostics::{ErrorKind, MxError, MxResult, Source, did_you_mean};
+use super::fields::no_field;
 use super::registry::{Format, Registry};
 use super::session::Session;
 use super::value::{Builtin, Closure, Env, Value};
@@ -418,28 +419,7 @@ impl Evaluator {
             }
             ExprKind::Field(recv, name, nspan) => {
                 let rv = self.eval(recv, env)?;
-                match &rv {
-                    Value::Record(r) => r.get(name).cloned().ok_or_else(|| {
-                        let e = MxError::value(format!("this record has no field `{name}`")).at(*nspan).label("no such field");
-                        match did_you_mean(name, r.keys().map(String::as_str)) {
-                            Some(s) => e.help(format!("did you mean `{s}`?")),
-                            None => e.help(format!(
-                                "its fields are: {}",
-                                r.keys().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
-                            )),
-                        }
-                    }),
-                    Value::Object(o) => o.field(name).ok_or_else(|| {
-                        MxError::value(format!("a {} has no field `{name}`", o.type_name()))
-                            .at(*nspan)
-                            .label("no such field")
-                            .help(format!("to call a function on it write `{}.{name}(…)`", "x"))
-                    }),
-                    other => Err(MxError::type_error(format!("{} has no fields", describe(other)))
-                        .at(*nspan)
-                        .label(format!("field of {}", other.type_name()))
-                        .help("fields exist on records `{a: 1}`; to call a function write `x.f()`")),
-                }
+                rv.field(name).ok_or_else(|| no_field(&rv, name, *nspan))
             }
             ExprKind::Index(recv, idx) => {
                 let rv = self.eval(recv, env)?;
@@ -776,6 +756,10 @@ fn index(rv: &Value, iv: &Value, rspan: Span, ispan: Span) -> MxResult<Value> {
                 None => e.help("`keys(r)` lists a record's fields"),
             }
         }),
+        // a record-like value reads `v["name"]` as `v.name`
+        (Value::Object(_), Value::Str(k)) if rv.keys().is_some() => {
+            rv.field(k).ok_or_else(|| no_field(rv, k, ispan))
+        }
         (Value::Str(_), other) => Err(MxError::type_error(format!(
             "a string index must be a number, found {}",
             describe(other)

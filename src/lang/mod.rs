@@ -10,6 +10,7 @@ pub mod completion;
 pub mod diagnostics;
 pub mod env;
 pub mod eval;
+pub mod fields;
 pub mod help;
 pub mod host;
 pub mod interpreter;

@@ -36,8 +36,18 @@ pub trait HostObject: Send + Sync + fmt::Debug + 'static {
     ) -> Option<Result<Value, String>> {
         None
     }
-    /// `obj.name` (a property). `None` means "no such field".
-    fn field(&self, _name: &str) -> Option<Value> {
+    /// A record-like value's fields: every name `obj.name` can read on this
+    /// type, in the order `keys` lists them (empty: the value has no fields).
+    /// Field access, `keys`, `has`, the missing-field help and Python's
+    /// attributes all go through [`Value::field`] and [`Value::keys`], which
+    /// read only these names, so they cannot disagree.
+    fn field_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Reads one of [`HostObject::field_names`]; `None` when this value lacks
+    /// it (a body not read from OpenSim has no `report`). Call it through
+    /// [`Value::field`].
+    fn read_field(&self, _name: &str) -> Option<Value> {
         None
     }
     /// Structural equality with another object (default: identity only).
@@ -169,6 +179,31 @@ impl Value {
     pub fn attachment<T: 'static>(&self) -> Option<&T> {
         match self {
             Value::Object(o) => o.attachment()?.downcast_ref::<T>(),
+            _ => None,
+        }
+    }
+    /// `v.name`: a record's field, or a field a record-like host value
+    /// lists (see [`HostObject::field_names`]). `None`: no such field.
+    pub fn field(&self, name: &str) -> Option<Value> {
+        match self {
+            Value::Record(r) => r.get(name).cloned(),
+            Value::Object(o) if o.field_names().contains(&name) => o.read_field(name),
+            _ => None,
+        }
+    }
+    /// The field names of a record or of a record-like host value, in order
+    /// (a host value's optional fields only where it has them); `None` for a
+    /// value without fields.
+    pub fn keys(&self) -> Option<Vec<String>> {
+        match self {
+            Value::Record(r) => Some(r.keys().cloned().collect()),
+            Value::Object(o) if !o.field_names().is_empty() => Some(
+                o.field_names()
+                    .iter()
+                    .filter(|n| o.read_field(n).is_some())
+                    .map(|n| n.to_string())
+                    .collect(),
+            ),
             _ => None,
         }
     }

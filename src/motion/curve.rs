@@ -34,6 +34,9 @@ pub enum Curve {
     Hermite(HermiteCurve),
     /// A B-spline (spacetime transitions, cyclified motions): exact derivatives.
     Spline(crate::spline::BSplineCurve),
+    /// The sum of two curves (an SP transition that corrects a laid example:
+    /// the example plus the solved spline), exact as its parts are.
+    Sum(Arc<Curve>, Arc<Curve>),
 }
 
 impl Curve {
@@ -73,6 +76,10 @@ impl Curve {
             Curve::Function(f) => eval_function(f.as_ref(), t),
             Curve::Hermite(h) => Ok(h.eval(t)),
             Curve::Spline(c) => Ok(c.eval(t)),
+            Curve::Sum(a, b) => {
+                let (a, b) = (a.eval(t)?, b.eval(t)?);
+                Ok([a[0] + b[0], a[1] + b[1], a[2] + b[2]])
+            }
         }
     }
 
@@ -84,6 +91,7 @@ impl Curve {
             Curve::Function(f) => call(f.as_ref(), t),
             Curve::Hermite(h) => Ok(h.eval(t)[0]),
             Curve::Spline(c) => Ok(c.eval(t)[0]),
+            Curve::Sum(a, b) => Ok(a.value(t)? + b.value(t)?),
         }
     }
 
@@ -95,6 +103,7 @@ impl Curve {
             (Curve::Samples(a), Curve::Samples(b)) => a == b,
             (Curve::Hermite(a), Curve::Hermite(b)) => a == b,
             (Curve::Spline(a), Curve::Spline(b)) => a == b,
+            (Curve::Sum(a, b), Curve::Sum(c, d)) => a.same_as(c) && b.same_as(d),
             (Curve::Function(a), Curve::Function(b)) => {
                 Arc::ptr_eq(a, b) || (a.source().is_some() && a.source() == b.source())
             }

@@ -43,18 +43,24 @@ impl Dof {
     /// functions cannot be inspected and count as moving; `name` is the DOF's
     /// (for sampling).
     pub fn is_constant(&self, name: &str) -> bool {
-        let flat = |v: &[f64]| v.iter().all(|x| *x == v[0]);
-        let curves_flat =
-            self.intervals
-                .iter()
-                .flat_map(|i| &i.funcs)
-                .all(|f| match f.curve.as_ref() {
-                    Curve::Constant(_) => true,
-                    Curve::Samples(s) => flat(s.values()),
-                    Curve::Hermite(h) => h.q0 == h.q1 && h.v0 == 0.0 && h.v1 == 0.0,
-                    Curve::Spline(c) => flat(&c.coeffs),
-                    Curve::Function(_) => false,
-                });
+        fn curve_flat(c: &Curve) -> bool {
+            let flat = |v: &[f64]| v.iter().all(|x| *x == v[0]);
+            match c {
+                Curve::Constant(_) => true,
+                Curve::Samples(s) => flat(s.values()),
+                Curve::Hermite(h) => h.q0 == h.q1 && h.v0 == 0.0 && h.v1 == 0.0,
+                Curve::Spline(c) => flat(&c.coeffs),
+                // flat parts make a flat sum (non-flat ones may cancel: not
+                // worth finding out)
+                Curve::Sum(a, b) => curve_flat(a) && curve_flat(b),
+                Curve::Function(_) => false,
+            }
+        }
+        let curves_flat = self
+            .intervals
+            .iter()
+            .flat_map(|i| &i.funcs)
+            .all(|f| curve_flat(&f.curve));
         if !curves_flat {
             return false;
         }

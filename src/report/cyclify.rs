@@ -50,8 +50,10 @@ fn seam_jumps(m: &Mu) -> Result<[f64; 3], ReportError> {
 pub const DEFAULT_SPACING: f64 = 1.0 / 30.0;
 
 pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
-    let clip = crate::mocap::load(clip_path, Units::Auto)
-        .map_err(|e| format!("{}: {e}", clip_path.display()))?;
+    let clip = crate::mocap::load(clip_path, Units::Auto).map_err(|source| ReportError::Clip {
+        path: clip_path.to_path_buf(),
+        source,
+    })?;
     let drift = floor_drift(&clip.mu);
     let rotations: Vec<String> = clip
         .mu
@@ -84,36 +86,57 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
         cycle = (rep.t1, rep.t2);
         let looped = loop_motion(&cyc, 2)?;
         let seam = seam_jumps(&looped)?;
-        // departure from the clip, on a 240 Hz grid over the cycle
-        let n = ((rep.t2 - rep.t1) * 240.0).round().max(1.0) as usize;
-        let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
-        for name in &rotations {
-            for k in 0..=n {
-                let t = rep.t1 + (rep.t2 - rep.t1) * k as f64 / n as f64;
-                let a = cyc.sample_value(name, t)?;
-                let b = clip.mu.sample_value(name, t)?;
-                if let (Some(a), Some(b)) = (a, b) {
-                    let e = (a - b).abs();
-                    max = max.max(e);
-                    sum += e * e;
-                    count += 1;
-                }
-            }
-        }
+        let (max, rms) = departure(&cyc, &clip.mu, &rotations, (rep.t1, rep.t2))?;
         rows.push(Row {
             knot_spacing: h,
             coefficients: rep.coefficients,
             max_deg: max.to_degrees(),
-            rms_deg: (sum / count.max(1) as f64).sqrt().to_degrees(),
+            rms_deg: rms.to_degrees(),
             seam,
             ms: secs * 1e3,
         });
         tick();
     }
+    Ok(Outcome {
+        cycle,
+        figures: figures(&rows),
+        rows,
+    })
+}
+
+/// How far the cyclified motion departs from the clip over the cycle
+/// [t1, t2], on a 240 Hz grid, over the rotation channels `rotations`: the
+/// largest and the root-mean-square difference (rad).
+fn departure(
+    cyc: &crate::motion::Mu,
+    clip: &crate::motion::Mu,
+    rotations: &[String],
+    (t1, t2): (f64, f64),
+) -> Result<(f64, f64), ReportError> {
+    let n = ((t2 - t1) * 240.0).round().max(1.0) as usize;
+    let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0usize);
+    for name in rotations {
+        for k in 0..=n {
+            let t = t1 + (t2 - t1) * k as f64 / n as f64;
+            let a = cyc.sample_value(name, t)?;
+            let b = clip.sample_value(name, t)?;
+            if let (Some(a), Some(b)) = (a, b) {
+                let e = (a - b).abs();
+                max = max.max(e);
+                sum += e * e;
+                count += 1;
+            }
+        }
+    }
+    Ok((max, (sum / count.max(1) as f64).sqrt()))
+}
+
+/// Departure against cyclify time, the default knot spacing ringed.
+fn figures(rows: &[Row]) -> Vec<Figure> {
     let default_at = rows
         .iter()
         .position(|r| (r.knot_spacing - DEFAULT_SPACING).abs() < 1e-12);
-    let figures = vec![Figure {
+    vec![Figure {
         file: "cyclify.svg".into(),
         title: "walk.bvh: cyclify knot spacing → departure from the clip".into(),
         x_label: "cyclify time (ms, this machine)".into(),
@@ -130,10 +153,5 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
                 default_at,
             },
         ],
-    }];
-    Ok(Outcome {
-        cycle,
-        rows,
-        figures,
-    })
+    }]
 }

@@ -1,6 +1,8 @@
 //! The report's markdown under construction: numbers (remembered for the
 //! smoke test's finiteness check), tables, figures and pending sections.
 
+use super::error::ReportError;
+use super::ground_plot::{self, GroundFigure};
 use super::plot::{self, Figure};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -57,14 +59,27 @@ impl Doc {
 
     pub fn figure(&mut self, f: &Figure) {
         self.numbers.extend(f.values());
-        match plot::draw(f, &self.out) {
+        let drawn = plot::draw(f, &self.out);
+        self.link_figure(&f.file, &f.title, drawn);
+    }
+
+    /// A figure of per-frame ground measures ([`ground_plot`]).
+    pub fn ground_figure(&mut self, f: &GroundFigure) {
+        self.numbers.extend(f.values());
+        let drawn = ground_plot::draw(f, &self.out);
+        self.link_figure(&f.file, &f.title, drawn);
+    }
+
+    /// The markdown link to a drawn figure, or why it could not be drawn.
+    fn link_figure(&mut self, file: &str, title: &str, drawn: Result<(), ReportError>) {
+        match drawn {
             Ok(()) => {
-                self.figures.push(self.out.join(&f.file));
-                let _ = writeln!(self.md, "\n![{}]({})\n", f.title, f.file);
+                self.figures.push(self.out.join(file));
+                let _ = writeln!(self.md, "\n![{title}]({file})\n");
             }
             Err(e) => {
-                self.pending.push(format!("figure {}: {e}", f.file));
-                let _ = writeln!(self.md, "\n*Figure {} could not be drawn: {e}*\n", f.file);
+                self.pending.push(format!("figure {file}: {e}"));
+                let _ = writeln!(self.md, "\n*Figure {file} could not be drawn: {e}*\n");
             }
         }
     }

@@ -41,10 +41,32 @@ pub const NOISE_SEED: u64 = 2024;
 
 pub const DEFAULT_FRAMES: usize = 8;
 
+/// The knee samples fitted with each count of control frames
+/// ([`frame_rows`]), their noisy copy smoothed at each weight
+/// ([`smoothing_rows`]), and the two [`figures`].
 pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let path = shared.join("data/opensim/knee_r_gait2392_samples.json");
-    let clean = JointSamples::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let (a, b) = clean.range();
+    let clean = JointSamples::load(&path).map_err(|e| ReportError::InFile {
+        path: path.clone(),
+        source: Box::new(e.into()),
+    })?;
+    let frames = frame_rows(&clean, smoke, tick)?;
+    let noisy_frames = 16;
+    let smoothing = smoothing_rows(&clean, noisy_frames, smoke, tick)?;
+    Ok(Outcome {
+        figures: figures(&frames, &smoothing, noisy_frames),
+        frames,
+        smoothing,
+        noisy_frames,
+    })
+}
+
+/// Per count of control frames: the fit's error on the samples and its time.
+fn frame_rows(
+    clean: &JointSamples,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) -> Result<Vec<FrameRow>, ReportError> {
     let counts: &[usize] = if smoke {
         &[4, 8]
     } else {
@@ -56,9 +78,9 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
             frames: n,
             ..Default::default()
         };
-        let (r, secs) = timed(|| fit_spline_joint(&clean, &opt));
-        let r = r.map_err(|e| format!("fit with {n} frames: {e}"))?;
-        let e = joint_error(&r.joint, &clean)?;
+        let (r, secs) = timed(|| fit_spline_joint(clean, &opt));
+        let r = r.map_err(|source| ReportError::Fit { frames: n, source })?;
+        let e = joint_error(&r.joint, clean)?;
         frames.push(FrameRow {
             frames: n,
             max_mm: e.max_mm,
@@ -69,7 +91,19 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
         });
         tick();
     }
-    let noisy_frames = 16;
+    Ok(frames)
+}
+
+/// Per smoothing weight: `noisy_frames` control frames fitted to the
+/// samples with noise ([`NOISE_M`], [`NOISE_DEG`]), the curve's ∫‖∇S‖² and
+/// its error to the clean samples.
+fn smoothing_rows(
+    clean: &JointSamples,
+    noisy_frames: usize,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) -> Result<Vec<SmoothRow>, ReportError> {
+    let (a, b) = clean.range();
     let dirty = clean.with_noise(NOISE_M, NOISE_DEG.to_radians(), NOISE_SEED);
     let weights: &[f64] = if smoke {
         &[0.0, 1e-3]
@@ -84,8 +118,8 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
             ..Default::default()
         };
         let (r, secs) = timed(|| fit_spline_joint(&dirty, &opt));
-        let r = r.map_err(|e| format!("smoothing weight {w}: {e}"))?;
-        let e = joint_error(&r.joint, &clean)?;
+        let r = r.map_err(|source| ReportError::Smoothing { weight: w, source })?;
+        let e = joint_error(&r.joint, clean)?;
         smoothing.push(SmoothRow {
             weight: w,
             energy: hessian_energy(&r.joint, a, b, if smoke { 200 } else { 2000 }),
@@ -96,13 +130,18 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
         });
         tick();
     }
+    Ok(smoothing)
+}
+
+/// Error against fit time per frame count; error against smoothness per weight.
+fn figures(frames: &[FrameRow], smoothing: &[SmoothRow], noisy_frames: usize) -> Vec<Figure> {
     let d = frames.iter().position(|r| r.frames == DEFAULT_FRAMES);
     let col = |label: &str, f: &dyn Fn(&FrameRow) -> f64| Series {
         label: label.into(),
         points: frames.iter().map(|r| (r.ms, f(r))).collect(),
         default_at: d,
     };
-    let figures = vec![
+    vec![
         Figure {
             file: "fit_frames.svg".into(),
             title: "Knee spline joint: control frames → error vs fit time".into(),
@@ -133,11 +172,5 @@ pub fn run(shared: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome
                 },
             ],
         },
-    ];
-    Ok(Outcome {
-        frames,
-        smoothing,
-        noisy_frames,
-        figures,
-    })
+    ]
 }

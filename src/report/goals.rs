@@ -131,96 +131,138 @@ pub fn goals(rows: &[Summary]) -> Vec<Goal> {
     }
     let mut out = vec![];
     for (root, gap) in keys {
-        let get = |m: &str| row(rows, root, gap, m);
-        let (sp, today, cap) = (
-            get(SP_DEFAULTS),
-            get(TODAYS_SP),
-            get(Method::Capture.label()),
-        );
-        let (hermite, slerp) = (get(Method::Hermite.label()), get(Method::Slerp.label()));
-        let mut goal = |issue: u32, what: &str, measured: Option<f64>, bound: Option<f64>| {
-            out.push(Goal {
-                issue,
-                root,
-                gap,
-                what: what.into(),
-                bound,
-                measured,
-                verdict: Verdict::at_most(measured, bound),
-            })
+        let mut at = Setting {
+            rows,
+            root,
+            gap,
+            out: &mut out,
         };
-        goal(
+        at.issue_35();
+        at.issue_36();
+    }
+    out
+}
+
+/// The goals of one (root, gap), collected into `out`.
+struct Setting<'a> {
+    rows: &'a [Summary],
+    root: RootMode,
+    gap: usize,
+    out: &'a mut Vec<Goal>,
+}
+
+impl<'a> Setting<'a> {
+    fn get(&self, method: &str) -> Option<&'a Summary> {
+        row(self.rows, self.root, self.gap, method)
+    }
+
+    fn goal(&mut self, issue: u32, what: &str, measured: Option<f64>, bound: Option<f64>) {
+        self.out.push(Goal {
+            issue,
+            root: self.root,
+            gap: self.gap,
+            what: what.into(),
+            bound,
+            measured,
+            verdict: Verdict::at_most(measured, bound),
+        })
+    }
+
+    /// `s`'s L2P ÷ Hermite's on the same windows.
+    fn vs_hermite(&self, s: Option<&Summary>) -> Option<f64> {
+        both(s, self.get(Method::Hermite.label())).and_then(|(s, h)| ratio(s.l2p, h.l2p))
+    }
+
+    /// Issue 35: `SP defaults` against the capture, Hermite and today's SP.
+    fn issue_35(&mut self) {
+        let (sp, today, cap) = (
+            self.get(SP_DEFAULTS),
+            self.get(TODAYS_SP),
+            self.get(Method::Capture.label()),
+        );
+        self.goal(
             35,
             "skate ÷ capture's",
-            both(sp, cap).and_then(|(s, c)| ratio(s.ground_skate, c.ground_skate)),
+            both(sp, cap).and_then(|(s, c)| ratio(s.skate, c.skate)),
             Some(SKATE_RATIO),
         );
-        goal(
+        self.goal(
             35,
             "worst depth below the floor (cm)",
             sp.map(|s| s.penetration_worst),
             Some(DEPTH_CM),
         );
-        goal(
+        self.goal(
             35,
             "residual − capture's (% BW)",
             both(sp, cap).map(|(s, c)| s.residual - c.residual),
             Some(RESIDUAL_EXCESS),
         );
-        let vs_hermite =
-            |s: Option<&Summary>| both(s, hermite).and_then(|(s, h)| ratio(s.l2p, h.l2p));
-        match root {
-            RootMode::Filled => goal(
+        let l2p = self.vs_hermite(sp);
+        match self.root {
+            RootMode::Filled => self.goal(
                 35,
                 "natural cut: L2P ÷ Hermite's",
-                vs_hermite(sp),
+                l2p,
                 Some(NATURAL_CUT_VS_HERMITE),
             ),
-            RootMode::Given => goal(
-                35,
-                "root given: L2P ÷ Hermite's (bound: today's SP's)",
-                vs_hermite(sp),
-                vs_hermite(today),
-            ),
+            RootMode::Given => {
+                let bound = self.vs_hermite(today);
+                self.goal(
+                    35,
+                    "root given: L2P ÷ Hermite's (bound: today's SP's)",
+                    l2p,
+                    bound,
+                )
+            }
         }
-        goal(35, "blow-ups", sp.map(|s| s.blowups as f64), Some(0.0));
-        goal(
+        self.goal(35, "blow-ups", sp.map(|s| s.blowups as f64), Some(0.0));
+        self.goal(
             35,
             "not converged (flagged)",
             sp.map(|s| s.not_converged as f64),
             Some(0.0),
         );
-        goal(
+        self.goal(
             35,
             "largest bone-length change (m)",
             sp.map(|s| s.bone),
             Some(BONE_M),
         );
-        goal(
+        self.goal(
             35,
             "s per solve ÷ today's SP's",
             both(sp, today).and_then(|(s, t)| ratio(s.seconds, t.seconds)),
             Some(TIME_RATIO),
         );
-        let (lib, lib_self) = (get(SP_LIBRARY), get(SP_LIBRARY_SELF));
+    }
+
+    /// Issue 36: the leave-one-out library rows, where they ran, against
+    /// slerp (root given), Hermite (natural cut) and `SP defaults`.
+    fn issue_36(&mut self) {
+        let (lib, lib_self) = (self.get(SP_LIBRARY), self.get(SP_LIBRARY_SELF));
         if lib.is_none() && lib_self.is_none() {
-            continue;
+            return;
         }
-        match root {
-            RootMode::Given => goal(
+        let (sp, slerp) = (self.get(SP_DEFAULTS), self.get(Method::Slerp.label()));
+        match self.root {
+            RootMode::Given => self.goal(
                 36,
                 "library L2P ÷ slerp's",
                 both(lib, slerp).and_then(|(l, s)| ratio(l.l2p, s.l2p)),
                 Some(LIBRARY_VS_SLERP),
             ),
-            RootMode::Filled => goal(
-                36,
-                "natural cut: library L2P ÷ Hermite's",
-                vs_hermite(lib),
-                Some(LIBRARY_VS_HERMITE),
-            ),
+            RootMode::Filled => {
+                let l2p = self.vs_hermite(lib);
+                self.goal(
+                    36,
+                    "natural cut: library L2P ÷ Hermite's",
+                    l2p,
+                    Some(LIBRARY_VS_HERMITE),
+                )
+            }
         }
-        goal(
+        self.goal(
             36,
             "[lib, \"self\"] L2P ÷ the better of lib and \"self\"",
             lib_self
@@ -229,7 +271,7 @@ pub fn goals(rows: &[Summary]) -> Vec<Goal> {
                 .and_then(|((ls, l), s)| ratio(ls.l2p, l.l2p.min(s.l2p))),
             Some(BETTER_OF_TWO),
         );
-        goal(
+        self.goal(
             36,
             "library blow-ups (both rows)",
             lib.zip(lib_self)
@@ -237,7 +279,6 @@ pub fn goals(rows: &[Summary]) -> Vec<Goal> {
             Some(0.0),
         );
     }
-    out
 }
 
 /// The goals as a Markdown table, one line each: issue, root, gap, goal,
@@ -276,14 +317,14 @@ mod tests {
             worst_at: String::new(),
             l2q: 0.1,
             npss: 0.01,
-            skate: 30.0,
             bone: 1e-15,
             energy: 1e5,
-            ground_skate: 10.0,
+            skate: 10.0,
             penetration: 0.0,
             penetration_worst: 0.0,
             residual: 8.0,
             residual_worst: 50.0,
+            plan: None,
             beats_hermite: 0,
             cheaper_than_hermite: 0,
             blowups: 0,
@@ -312,7 +353,7 @@ mod tests {
             slerp.l2p = 8.0;
             let mut sp = summary(root, 30, SP_DEFAULTS);
             sp.l2p = 7.5; // 0.75 × Hermite
-            sp.ground_skate = 16.0; // 1.6 × the capture's: a miss by 0.1
+            sp.skate = 16.0; // 1.6 × the capture's: a miss by 0.1
             sp.penetration_worst = 0.4;
             sp.residual = 12.0; // + 4 % BW: a miss by 1
             sp.seconds = 2.5;

@@ -15,7 +15,7 @@ use crate::model::joint_fit::{FitOptions, fit_spline_joint};
 use crate::model::joints::{EulerOrder, JointSamples, Revolute, Spherical};
 use crate::model::{Inertia, Model};
 use crate::motion::{Dof, Interval, Mu};
-use crate::report::error::ReportError;
+use crate::report::error::{ReportError, ZERO_AXIS};
 use crate::spacetime::planar2::TwoLinkArm;
 use crate::spacetime::{
     Continuity, EndState, GapDof, Objective, SolveOptions, TransitionCurve, TransitionSettings,
@@ -198,7 +198,10 @@ pub fn vanishing_jacobian() -> HardCase {
 /// (the chain of `tests/it/dynamics.rs`).
 pub fn chain(n: usize, masses: &[f64]) -> Result<Model, ReportError> {
     if masses.is_empty() {
-        return Err("chain needs at least one link mass".into());
+        return Err(ReportError::BadModel {
+            model: "chain",
+            why: "needs at least one link mass",
+        });
     }
     let mut m = Model::new("chain");
     for i in 0..n {
@@ -218,7 +221,7 @@ pub fn chain(n: usize, masses: &[f64]) -> Result<Model, ReportError> {
             &format!("l{i}"),
             if i == 0 { None } else { Some(i - 1) },
             &format!("j{i}"),
-            Arc::new(Revolute::new(axis).ok_or("zero revolute axis")?),
+            Arc::new(Revolute::new(axis).ok_or(ZERO_AXIS)?),
             off,
             inertia,
         )?;
@@ -315,7 +318,7 @@ pub fn euler_100ms() -> HardCase {
                 &format!("rod{i}"),
                 if i == 0 { None } else { Some(i - 1) },
                 &format!("j{i}"),
-                Arc::new(Revolute::new(Vector3::z()).ok_or("zero revolute axis")?),
+                Arc::new(Revolute::new(Vector3::z()).ok_or(ZERO_AXIS)?),
                 Se3::from_translation(Vector3::new(0.0, if i == 0 { 0.0 } else { -0.5 }, 0.0)),
                 inertia,
             )?;
@@ -473,10 +476,13 @@ pub fn wrapped_euler_angles() -> HardCase {
         let mut prev: Option<f64> = None;
         let mut worst = 0.0f64;
         for k in 0..vals.len() {
-            let y = dof
-                .sample(&name, k as f64 * clip.frame_time)?
-                .ok_or("undefined frame")?[0]
-                .to_degrees();
+            let y =
+                dof.sample(&name, k as f64 * clip.frame_time)?
+                    .ok_or(ReportError::Undefined {
+                        dof: name.clone(),
+                        t: k as f64 * clip.frame_time,
+                    })?[0]
+                    .to_degrees();
             if let Some(p) = prev {
                 worst = worst.max((y - p).abs());
             }
@@ -551,12 +557,17 @@ pub fn malformed_bvh() -> HardCase {
 pub fn malformed_urdf() -> HardCase {
     let dir = std::env::temp_dir().join(format!("mx-hard-case-{}", std::process::id()));
     let r = (|| -> Result<(), ReportError> {
-        std::fs::create_dir_all(&dir)?;
+        let write = |path: &std::path::Path| {
+            let path = path.to_path_buf();
+            move |source| ReportError::Write { path, source }
+        };
+        std::fs::create_dir_all(&dir).map_err(write(&dir))?;
         let p = dir.join("broken.urdf");
         std::fs::write(
             &p,
             "<robot name=\"r\"><link name=\"a\"><inertial><mass value=\"oops\"/></inertial></link>",
-        )?;
+        )
+        .map_err(write(&p))?;
         Model::from_urdf_file(&p)
             .map(|_| ())
             .map_err(ReportError::from)

@@ -8,7 +8,7 @@ use crate::dynamics::{Integrator, LimitPenalty, Scene, State, simulate};
 use crate::lie::{Se3, exp_so3};
 use crate::model::joints::{EulerOrder, FrameGrid, Revolute, SplineLoopJoint, SplineSurfaceJoint};
 use crate::model::{Inertia, Model};
-use crate::report::error::ReportError;
+use crate::report::error::{ReportError, ZERO_AXIS};
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -43,7 +43,7 @@ pub fn beads_euler_100ms() -> HardCase {
             "wire",
             None,
             "wire",
-            Arc::new(Revolute::new(Vector3::y()).ok_or("zero axis")?),
+            Arc::new(Revolute::new(Vector3::y()).ok_or(ZERO_AXIS)?),
             Se3::identity(),
             frame,
         )?;
@@ -85,7 +85,11 @@ pub fn beads_euler_100ms() -> HardCase {
             tr.v.iter()
                 .flat_map(|v| v[1..].iter().map(|x| x.abs()))
                 .fold(0.0, f64::max);
-        let spin_err = (tr.q.last().ok_or("no samples")?[0] - 45.0).abs();
+        let spin_err = (tr.q.last().ok_or(ReportError::Empty {
+            what: "the bead's trajectory",
+        })?[0]
+            - 45.0)
+            .abs();
         Ok(case(
             name,
             "dynamics",

@@ -66,9 +66,11 @@ pub fn warped(case: &Case, speed: f64) -> Result<Case, ReportError> {
 /// `case` mirrored left for right ([`crate::motion::compose::mirror`] in
 /// the plane normal to its [`lateral_axis`]), named `NAME~mirror`.
 pub fn mirrored(case: &Case) -> Result<Case, ReportError> {
-    let axis = lateral_axis(&case.skeleton)
-        .ok_or_else(|| format!("{}: no joint has a left/right twin to mirror", case.name))?;
-    let mu = crate::motion::compose::mirror(&case.capture, axis).map_err(|e| e.to_string())?;
+    let axis = lateral_axis(&case.skeleton).ok_or_else(|| ReportError::NoMirror {
+        clip: case.name.clone(),
+    })?;
+    let mu = crate::motion::compose::mirror(&case.capture, axis)
+        .map_err(|e| ReportError::in_clip(&case.name, e.into()))?;
     Case::from_motion(
         &format!("{}~mirror", case.name),
         &case.source,
@@ -94,7 +96,12 @@ impl ClipFilter {
             .split(',')
             .map(str::trim)
             .filter(|g| !g.is_empty())
-            .map(|g| glob::Pattern::new(g).map_err(|e| format!("clip glob `{g}`: {e}")))
+            .map(|g| {
+                glob::Pattern::new(g).map_err(|source| ReportError::Glob {
+                    glob: g.to_string(),
+                    source,
+                })
+            })
             .collect::<Result<_, _>>()?;
         Ok(ClipFilter { globs, locomotion })
     }
@@ -112,12 +119,15 @@ pub fn clip_paths(dirs: &[PathBuf], filter: &ClipFilter) -> Result<Vec<PathBuf>,
     let mut out = vec![];
     for dir in dirs {
         let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map_err(|e| format!("{}: {e}", dir.display()))?
+            .map_err(|source| ReportError::Folder {
+                path: dir.clone(),
+                source,
+            })?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh")))
             .collect();
         if paths.is_empty() {
-            return Err(format!("no .bvh clips in {}", dir.display()).into());
+            return Err(ReportError::NoClips { path: dir.clone() });
         }
         paths.sort();
         out.extend(paths.into_iter().filter(|p| keeps_path(filter, p)));

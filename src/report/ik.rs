@@ -26,8 +26,9 @@ pub struct Outcome {
 pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
     let (model, walk) = crate::spacetime::fig8::example_walk()?;
     let later = affine(-0.3, 1.0, &walk)?;
-    let (s, e) = later.span().ok_or("empty walk")?;
-    let e = e.min(walk.span().ok_or("empty walk")?.1);
+    let empty = || ReportError::Empty { what: "the walk" };
+    let (s, e) = later.span().ok_or_else(empty)?;
+    let e = e.min(walk.span().ok_or_else(empty)?.1);
     let ts = grid_times((s.max(0.0), e), 60.0)?;
     let p = crate::mocap::positions_at(&later, &model, ts.clone(), crate::mocap::Missing::Error)?;
     let target = |link: &str| -> Result<Target, ReportError> {
@@ -35,11 +36,13 @@ pub fn run(smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> 
             .names
             .iter()
             .position(|n| n == link)
-            .ok_or(format!("no link {link}"))?;
+            .ok_or_else(|| ReportError::NoLink { link: link.into() })?;
         let axis = |k: usize| -> Result<Dof, ReportError> {
             let v: Vec<f64> = p.points.iter().map(|f| f[j][k]).collect();
             let c = Curve::samples(ts[0], ts[1] - ts[0], v)?;
-            let stop = *ts.last().ok_or("no frames")?;
+            let stop = *ts.last().ok_or(ReportError::Empty {
+                what: "the walk's grid",
+            })?;
             Ok(Dof::from(Interval::curve(c, ts[0], stop)?))
         };
         Ok(Target {

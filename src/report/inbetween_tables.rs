@@ -16,21 +16,28 @@ fn over(a: f64, b: Option<f64>) -> String {
     b.filter(|b| *b > 0.0).map_or("–".into(), |b| short(a / b))
 }
 
-/// One row per (root, gap, method): L2P and its ratio to Hermite's, L2Q,
-/// NPSS; skate within 2 cm of the floor and its ratio to the capture's,
-/// depth below the floor (mean, worst window), ground residual (mean, its
-/// excess over the capture's, worst frame); blow-ups, solves not converged,
-/// evaluations and seconds per solve.
+/// A share (0–1) as a percentage, "–" without one.
+fn percent(v: Option<f64>) -> String {
+    v.map_or("–".into(), |v| format!("{:.0} %", 100.0 * v))
+}
+
+/// One row per (root, gap, method), whatever methods ran: L2P and its ratio
+/// to Hermite's, L2Q, NPSS; skate within 2 cm of the floor and its ratio to
+/// the capture's, depth below the floor (mean, worst window), ground
+/// residual (mean, its excess over the capture's, worst frame); the contact
+/// plan against the capture's (stance edges within 0.1 s, frames that
+/// agree; "–" for a method that plans none); blow-ups, solves not
+/// converged, evaluations and seconds per solve.
 pub fn accuracy_and_ground(rows: &[Summary]) -> String {
     let mut s = String::from(
-        "| root | gap | method | windows | L2P cm | ×Hermite | L2Q | NPSS | skate cm/s | ×capture | below floor cm (worst) | residual % BW | − capture | worst frame % BW | blow-ups | not converged | evals | s/solve |\n\
-         |---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| root | gap | method | windows | L2P cm | ×Hermite | L2Q | NPSS | skate cm/s | ×capture | below floor cm (worst) | residual % BW | − capture | worst frame % BW | plan edges ≤ 0.1 s | plan frames | blow-ups | not converged | evals | s/solve |\n\
+         |---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let h = same(rows, r, Method::Hermite.label()).map(|h| h.l2p);
         let cap = same(rows, r, Method::Capture.label());
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.2} | {} | {:.3} | {:.4} | {:.1} | {} | {:.2} ({:.2}) | {:.1} | {} | {:.1} | {} | {} | {:.0} | {:.3} |\n",
+            "| {} | {} | {} | {} | {:.2} | {} | {:.3} | {:.4} | {:.1} | {} | {:.2} ({:.2}) | {:.1} | {} | {:.1} | {} | {} | {} | {} | {:.0} | {:.3} |\n",
             r.root.label(),
             r.gap,
             r.method,
@@ -39,13 +46,15 @@ pub fn accuracy_and_ground(rows: &[Summary]) -> String {
             over(r.l2p, h),
             r.l2q,
             r.npss,
-            r.ground_skate,
-            over(r.ground_skate, cap.map(|c| c.ground_skate)),
+            r.skate,
+            over(r.skate, cap.map(|c| c.skate)),
             r.penetration,
             r.penetration_worst,
             r.residual,
             cap.map_or("–".into(), |c| format!("{:+.1}", r.residual - c.residual)),
             r.residual_worst,
+            percent(r.plan.and_then(|p| p.edges())),
+            percent(r.plan.and_then(|p| p.agreement())),
             r.blowups,
             r.not_converged,
             r.evaluations,

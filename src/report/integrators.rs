@@ -10,7 +10,7 @@ use crate::dynamics::{Integrator, Scene, SceneWorkspace, State, simulate};
 use crate::lie::Se3;
 use crate::model::joints::{FunctionJoint, Revolute};
 use crate::model::{Inertia, Model};
-use crate::report::error::ReportError;
+use crate::report::error::{ReportError, ZERO_AXIS};
 use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
 use serde_json::Value;
 use std::path::Path;
@@ -35,12 +35,18 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), ReportEr
     let dir = shared.join("data/opensim");
     let read = |f: &str| -> Result<Value, ReportError> {
         let p = dir.join(f);
-        let t = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-        serde_json::from_str(&t).map_err(|e| ReportError::Check(format!("{}: {e}", p.display())))
+        let t = std::fs::read_to_string(&p).map_err(|source| ReportError::Read {
+            path: p.clone(),
+            source,
+        })?;
+        serde_json::from_str(&t).map_err(|source| ReportError::Json { path: p, source })
     };
     let samples = read("knee_r_gait2392_samples.json")?;
     let pend = read("knee_r_gait2392_pendulum.json")?;
-    let bad = |what: &str| format!("knee_r_gait2392_pendulum.json: missing or malformed {what}");
+    let bad = |what: &str| ReportError::Field {
+        file: "knee_r_gait2392_pendulum.json",
+        field: what.to_string(),
+    };
     let run = pend["runs"]
         .as_array()
         .and_then(|r| {
@@ -58,7 +64,7 @@ pub fn knee_pendulum(shared: &Path) -> Result<(Scene, State, Vec<f64>), ReportEr
         let t = rows(&b["T_tibia_body"]);
         let c = floats(&b["com_in_body"]);
         if i.len() != 9 || t.len() != 16 || c.len() != 3 {
-            return Err(bad("body inertia / frame / com").into());
+            return Err(bad("body inertia / frame / com"));
         }
         let local = Inertia::from_com(
             b["mass"].as_f64().ok_or_else(|| bad("mass"))?,
@@ -101,7 +107,7 @@ pub fn double_pendulum() -> Result<(Scene, State), ReportError> {
             &format!("l{i}"),
             if i == 0 { None } else { Some(0) },
             &format!("j{i}"),
-            Arc::new(Revolute::new(Vector3::z()).ok_or("zero revolute axis")?),
+            Arc::new(Revolute::new(Vector3::z()).ok_or(ZERO_AXIS)?),
             Se3::from_translation(Vector3::new(0.0, if i == 0 { 0.0 } else { -1.0 }, 0.0)),
             inertia,
         )?;
@@ -192,6 +198,9 @@ fn grid_error(q: &[Vec<f64>], dt: f64, q_ref: &[f64], ref_dt: f64) -> f64 {
     if shared == 0 { f64::INFINITY } else { worst }
 }
 
+/// Every integrator setting of [`cases`] on the knee pendulum against the
+/// reference ([`reference`]) and on the double pendulum's energy, and the
+/// two [`figures`].
 pub fn run(
     shared: Option<&Path>,
     smoke: bool,
@@ -199,33 +208,7 @@ pub fn run(
 ) -> Result<Outcome, ReportError> {
     let tok = CancelToken::new();
     let duration = if smoke { 0.3 } else { 1.0 };
-    let (scene, init, q_ref, reference) = match shared.map(knee_pendulum) {
-        Some(Ok((s, i, q))) => (
-            s,
-            i,
-            q,
-            "OpenSim 4 knee pendulum, accuracy 1e-12 (`$MX_SHARED/data/opensim/knee_r_gait2392_pendulum.json`)".to_string(),
-        ),
-        other => {
-            let why = match other {
-                Some(Err(e)) => e,
-                _ => "MX_SHARED not found".into(),
-            };
-            // Fallback: the double pendulum against our own tight run.
-            let (s, i) = double_pendulum()?;
-            let r = simulate(
-                &s,
-                duration,
-                1e-3,
-                Integrator::DormandPrince { rtol: 1e-13, atol: 1e-13 },
-                &i,
-                &tok,
-                &mut |_| {},
-            )?;
-            let q = r.q.iter().map(|x| x[0]).collect();
-            (s, i, q, format!("self-computed Dormand–Prince tol 1e-13 reference on a double pendulum (OpenSim data unavailable: {why})"))
-        }
-    };
+    let (scene, init, q_ref, reference) = reference(shared, duration, &tok)?;
     let (dp, dp0) = double_pendulum()?;
     let mut sw = SceneWorkspace::new(&dp);
     let e0 = dp.energy(&mut sw, &dp0.q, &dp0.v)?;
@@ -258,6 +241,59 @@ pub fn run(
         });
         tick();
     }
+    Ok(Outcome {
+        figures: figures(&rows, duration),
+        rows,
+        reference,
+    })
+}
+
+/// The scene every setting is scored on, its initial state, the reference
+/// q on a 1 ms grid and a sentence saying what the reference is: OpenSim's
+/// knee pendulum where `$MX_SHARED` has it, else a double pendulum against
+/// our own Dormand–Prince run at tolerance 1e-13 (saying why).
+fn reference(
+    shared: Option<&Path>,
+    duration: f64,
+    tok: &CancelToken,
+) -> Result<(Scene, State, Vec<f64>, String), ReportError> {
+    let why = match shared.map(knee_pendulum) {
+        Some(Ok((s, i, q))) => return Ok((
+            s,
+            i,
+            q,
+            "OpenSim 4 knee pendulum, accuracy 1e-12 (`$MX_SHARED/data/opensim/knee_r_gait2392_pendulum.json`)".to_string(),
+        )),
+        Some(Err(e)) => e.to_string(),
+        None => "MX_SHARED not found".to_string(),
+    };
+    let (s, i) = double_pendulum()?;
+    let r = simulate(
+        &s,
+        duration,
+        1e-3,
+        Integrator::DormandPrince {
+            rtol: 1e-13,
+            atol: 1e-13,
+        },
+        &i,
+        tok,
+        &mut |_| {},
+    )?;
+    let q = r.q.iter().map(|x| x[0]).collect();
+    Ok((
+        s,
+        i,
+        q,
+        format!(
+            "self-computed Dormand–Prince tol 1e-13 reference on a double pendulum (OpenSim data unavailable: {why})"
+        ),
+    ))
+}
+
+/// Error and energy drift against wall time, one curve per integrator, the
+/// default ringed.
+fn figures(rows: &[Row], duration: f64) -> Vec<Figure> {
     let series = |f: &dyn Fn(&Row) -> (f64, f64)| -> Vec<Series> {
         ["euler", "semi_implicit_euler", "rk4", "dopri5"]
             .iter()
@@ -273,7 +309,7 @@ pub fn run(
             })
             .collect()
     };
-    let figures = vec![
+    vec![
         Figure {
             file: "integrators_error.svg".into(),
             title: format!("Knee pendulum: max |q − q_ref| over {duration} s"),
@@ -288,10 +324,5 @@ pub fn run(
             y_label: "max |E − E₀| / |E₀|".into(),
             series: series(&|r| (r.drift_ms, r.energy_drift)),
         },
-    ];
-    Ok(Outcome {
-        rows,
-        reference,
-        figures,
-    })
+    ]
 }

@@ -49,9 +49,10 @@ fn rotation_channels(clip: &crate::mocap::Clip) -> Result<Vec<Vec<f64>>, ReportE
         let mut v = Vec::with_capacity(clip.frames);
         for k in 0..clip.frames {
             let t = k as f64 * clip.frame_time;
-            let s = dof
-                .sample(name, t)?
-                .ok_or_else(|| format!("{name} undefined at frame {k}"))?;
+            let s = dof.sample(name, t)?.ok_or_else(|| ReportError::Undefined {
+                dof: name.clone(),
+                t,
+            })?;
             v.push(s[0]);
         }
         out.push(v);
@@ -69,68 +70,113 @@ fn stats(errs: impl Iterator<Item = f64>) -> (f64, f64) {
     (m.to_degrees(), (s / n.max(1) as f64).sqrt().to_degrees())
 }
 
-// Long (about 170 lines): the clip's rotation channels, loaded once, measured three
-// ways (clamped and periodic fits per coefficient rate, resampling against a 240 Hz
-// grid) into one list of rows, which the figures then draw.
+/// The clip's rotation channels, loaded once, measured three ways: clamped
+/// and periodic fits per coefficient rate ([`spline_rows`]), resampling
+/// against a 240 Hz grid ([`sampling_rows`]), into one list of rows, which
+/// the figures then draw ([`figures`]).
 pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outcome, ReportError> {
-    let clip = crate::mocap::load(clip_path, Units::Auto)
-        .map_err(|e| format!("{}: {e}", clip_path.display()))?;
+    let clip = crate::mocap::load(clip_path, Units::Auto).map_err(|source| ReportError::Clip {
+        path: clip_path.to_path_buf(),
+        source,
+    })?;
     let chans = rotation_channels(&clip)?;
     let dt = clip.frame_time;
     let duration = (clip.frames - 1) as f64 * dt;
-    let ts: Vec<f64> = (0..clip.frames).map(|k| k as f64 * dt).collect();
-    let mut rows = Vec::new();
+    let mut rows = spline_rows(&chans, dt, smoke, tick)?;
+    rows.extend(sampling_rows(&chans, dt, smoke, tick)?);
+    let frame_rate = 1.0 / dt;
+    Ok(Outcome {
+        clip: clip_path.display().to_string(),
+        channels: chans.len(),
+        frames: clip.frames,
+        duration,
+        frame_rate,
+        figures: figures(&rows, frame_rate),
+        rows,
+    })
+}
+
+/// One fit's row (`method`, coefficients per second, coefficients): every
+/// channel fitted on `basis` through its first `fit_frames` frames (times
+/// `ts`), its error measured at every frame.
+fn fit_row(
+    (method, rate, count): (&'static str, f64, usize),
+    basis: &BSplineBasis,
+    chans: &[Vec<f64>],
+    ts: &[f64],
+    fit_frames: usize,
+) -> Result<Row, ReportError> {
+    let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
+        let mut errs = Vec::new();
+        for y in chans {
+            let c = fit_least_squares(basis, &ts[..fit_frames], &y[..fit_frames])?;
+            errs.extend(ts.iter().zip(y).map(|(t, v)| c.eval(*t)[0] - v));
+        }
+        Ok(errs)
+    });
+    let (max_deg, rms_deg) = stats(r?.into_iter());
+    Ok(Row {
+        method,
+        rate,
+        count,
+        max_deg,
+        rms_deg,
+        ms: secs * 1e3,
+    })
+}
+
+/// Per coefficient rate (per second): a clamped cubic through every frame,
+/// and a periodic one (cyclified: one cycle is the whole clip, the last
+/// frame the first again).
+fn spline_rows(
+    chans: &[Vec<f64>],
+    dt: f64,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) -> Result<Vec<Row>, ReportError> {
+    let frames = chans.first().map_or(0, Vec::len);
+    let duration = (frames - 1) as f64 * dt;
+    let ts: Vec<f64> = (0..frames).map(|k| k as f64 * dt).collect();
     let rates: &[f64] = if smoke {
         &[4.0, 12.0]
     } else {
         &[2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0]
     };
+    let mut rows = Vec::new();
     for &cps in rates {
-        let n = ((cps * duration).round() as usize + 3).clamp(4, clip.frames);
-        // Clamped cubic through every frame.
+        let n = ((cps * duration).round() as usize + 3).clamp(4, frames);
         let basis = BSplineBasis::clamped_uniform(3, n, 0.0, duration)?;
-        let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
-            let mut errs = Vec::new();
-            for y in &chans {
-                let c = fit_least_squares(&basis, &ts, y)?;
-                errs.extend(ts.iter().zip(y).map(|(t, v)| c.eval(*t)[0] - v));
-            }
-            Ok(errs)
-        });
-        let (max_deg, rms_deg) = stats(r?.into_iter());
-        rows.push(Row {
-            method: "clamped B-spline",
-            rate: cps,
-            count: n,
-            max_deg,
-            rms_deg,
-            ms: secs * 1e3,
-        });
-        // Periodic (cyclified): one cycle = the whole clip; the last frame is the first again.
-        let np = ((cps * duration).round() as usize).clamp(4, clip.frames - 1);
+        rows.push(fit_row(
+            ("clamped B-spline", cps, n),
+            &basis,
+            chans,
+            &ts,
+            frames,
+        )?);
+        let np = ((cps * duration).round() as usize).clamp(4, frames - 1);
         let pb = BSplineBasis::periodic_uniform(3, np, 0.0, duration)?;
-        let body = &ts[..clip.frames - 1];
-        let (r, secs) = timed(|| -> Result<Vec<f64>, ReportError> {
-            let mut errs = Vec::new();
-            for y in &chans {
-                let c = fit_least_squares(&pb, body, &y[..body.len()])?;
-                errs.extend(ts.iter().zip(y).map(|(t, v)| c.eval(*t)[0] - v));
-            }
-            Ok(errs)
-        });
-        let (max_deg, rms_deg) = stats(r?.into_iter());
-        rows.push(Row {
-            method: "periodic B-spline (cyclified)",
-            rate: cps,
-            count: np,
-            max_deg,
-            rms_deg,
-            ms: secs * 1e3,
-        });
+        rows.push(fit_row(
+            ("periodic B-spline (cyclified)", cps, np),
+            &pb,
+            chans,
+            &ts,
+            frames - 1,
+        )?);
         tick();
     }
-    // Sampling rate: resample the clip's own curve at `sps`, rebuild a sampled
-    // curve, compare with the original on a 240 Hz grid.
+    Ok(rows)
+}
+
+/// Per sampling rate: the clip's own curve resampled, rebuilt as a sampled
+/// curve and compared with the original on a 240 Hz grid.
+fn sampling_rows(
+    chans: &[Vec<f64>],
+    dt: f64,
+    smoke: bool,
+    tick: &mut dyn FnMut(),
+) -> Result<Vec<Row>, ReportError> {
+    let frames = chans.first().map_or(0, Vec::len);
+    let duration = (frames - 1) as f64 * dt;
     let fine: Vec<f64> = (0..=(duration * 240.0).round() as usize)
         .map(|k| k as f64 / 240.0)
         .collect();
@@ -143,6 +189,7 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
     } else {
         &[5.0, 7.5, 10.0, 15.0, 30.0, 60.0, 120.0]
     };
+    let mut rows = Vec::new();
     for &sps in sps_list {
         let n = (duration * sps).round() as usize;
         let h = duration / n as f64;
@@ -171,7 +218,11 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
         });
         tick();
     }
-    let frame_rate = 1.0 / dt;
+    Ok(rows)
+}
+
+/// The section's two figures: B-spline fits and sampled curves, error against time.
+fn figures(rows: &[Row], frame_rate: f64) -> Vec<Figure> {
     let series =
         |label: &str, m: &str, f: &dyn Fn(&Row) -> (f64, f64), default_rate: Option<f64>| {
             let rs: Vec<&Row> = rows.iter().filter(|r| r.method == m).collect();
@@ -182,23 +233,19 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
                     .and_then(|d| rs.iter().position(|r| (r.rate - d).abs() < 1e-9)),
             }
         };
-    let figures = vec![
+    let max = |r: &Row| (r.ms, r.max_deg);
+    vec![
         Figure {
             file: "mocap_bspline.svg".into(),
             title: "walk.bvh: B-spline coefficients → max error at the frames".into(),
             x_label: "fit time, all rotation channels (ms, this machine)".into(),
             y_label: "max error (°)".into(),
             series: vec![
-                series(
-                    "clamped B-spline",
-                    "clamped B-spline",
-                    &|r| (r.ms, r.max_deg),
-                    None,
-                ),
+                series("clamped B-spline", "clamped B-spline", &max, None),
                 series(
                     "periodic B-spline (cyclified)",
                     "periodic B-spline (cyclified)",
-                    &|r| (r.ms, r.max_deg),
+                    &max,
                     None,
                 ),
             ],
@@ -212,7 +259,7 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
                 series(
                     "sampled curve, max",
                     "sampled curve",
-                    &|r| (r.ms, r.max_deg),
+                    &max,
                     Some(frame_rate),
                 ),
                 series(
@@ -223,14 +270,5 @@ pub fn run(clip_path: &Path, smoke: bool, tick: &mut dyn FnMut()) -> Result<Outc
                 ),
             ],
         },
-    ];
-    Ok(Outcome {
-        clip: clip_path.display().to_string(),
-        channels: chans.len(),
-        frames: clip.frames,
-        duration,
-        frame_rate,
-        rows,
-        figures,
-    })
+    ]
 }

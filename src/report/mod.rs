@@ -11,18 +11,19 @@ mod doc;
 pub mod error;
 pub mod fit;
 pub mod goals;
+pub mod ground_plot;
 mod hard_case;
 pub mod hard_cases;
 pub mod hard_mechanisms;
 pub mod heldout;
 pub mod ik;
 pub mod inbetween;
+pub mod inbetween_figures;
 mod inbetween_section;
 pub mod inbetween_tables;
 pub mod integrators;
 pub mod leave_one_out;
 pub mod machine;
-pub mod metrics;
 pub mod mocap;
 pub mod perf;
 pub mod plot;
@@ -89,33 +90,38 @@ pub struct Summary {
     pub hard_cases: Vec<hard_cases::HardCase>,
 }
 
-/// Regenerates the report. Errors only for the output folder itself; a
-/// section that cannot run is listed as pending in the report and the summary.
-pub fn generate(opts: &Options) -> Result<Summary, ReportError> {
-    std::fs::create_dir_all(&opts.out)
-        .map_err(|e| format!("cannot create {}: {e}", opts.out.display()))?;
-    // From scratch: old figures must not survive a run that no longer makes them.
-    if let Ok(rd) = std::fs::read_dir(&opts.out) {
+/// The output folder, made if missing, without the figures of an earlier
+/// run (a run that no longer makes one must not leave it behind).
+fn fresh_output(out: &std::path::Path) -> Result<(), ReportError> {
+    std::fs::create_dir_all(out).map_err(|source| ReportError::Write {
+        path: out.to_path_buf(),
+        source,
+    })?;
+    if let Ok(rd) = std::fs::read_dir(out) {
         for e in rd.flatten() {
             if e.path().extension().is_some_and(|x| x == "svg") {
                 let _ = std::fs::remove_file(e.path());
             }
         }
     }
-    let pb = if opts.progress {
-        let pb = ProgressBar::new(0);
-        pb.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}",
-            )
+    Ok(())
+}
+
+/// The report's progress bar on stderr, or a hidden one.
+fn progress_bar(shown: bool) -> ProgressBar {
+    if !shown {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new(0);
+    pb.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} {msg}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        pb
-    } else {
-        ProgressBar::hidden()
-    };
-    let smoke = opts.smoke;
-    let mut d = Doc::new(opts.out.clone());
+    );
+    pb
+}
+
+/// The page's title and what it was measured on.
+fn heading(d: &mut Doc, smoke: bool) {
     let machine = machine::describe();
     let _ = writeln!(
         d.md,
@@ -136,6 +142,16 @@ pub fn generate(opts: &Options) -> Result<Summary, ReportError> {
             "*Smoke mode: fewer points per curve, same code path.*\n"
         );
     }
+}
+
+/// Regenerates the report. Errors only for the output folder itself; a
+/// section that cannot run is listed as pending in the report and the summary.
+pub fn generate(opts: &Options) -> Result<Summary, ReportError> {
+    fresh_output(&opts.out)?;
+    let pb = progress_bar(opts.progress);
+    let smoke = opts.smoke;
+    let mut d = Doc::new(opts.out.clone());
+    heading(&mut d, smoke);
 
     let mut run = sections::Run {
         opts,
@@ -162,8 +178,7 @@ pub fn generate(opts: &Options) -> Result<Summary, ReportError> {
     }
     pb.finish_with_message("done");
     let markdown = opts.out.join("accuracy.md");
-    crate::io::atomic::write_atomic(&markdown, d.md.as_bytes())
-        .map_err(|e| format!("cannot write {}: {e}", markdown.display()))?;
+    crate::io::atomic::write_atomic(&markdown, d.md.as_bytes())?;
     Ok(Summary {
         markdown,
         figures: d.figures,

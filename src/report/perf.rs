@@ -203,10 +203,10 @@ pub fn per_call_of(
 /// and their difference gives instructions per call.
 pub fn drive(model: &Model, algorithm: &str, n_calls: usize) -> Result<(), ReportError> {
     let k = TIMED.iter().position(|a| *a == algorithm).ok_or_else(|| {
-        format!(
-            "unknown algorithm `{algorithm}`; one of {}",
-            TIMED.join(", ")
-        )
+        ReportError::UnknownAlgorithm {
+            name: algorithm.to_string(),
+            known: TIMED.join(", "),
+        }
     })?;
     let mut calls = Calls::new(model, 64);
     for i in 0..n_calls {

@@ -11,10 +11,11 @@ use crate::motion::{Curve, Dof, Interval, Mu};
 /// DOF becomes one sampled curve. Returns the motion and its frame count.
 pub fn regrid(mu: &Mu, span: f64, speed: f64, dt: f64) -> Result<(Mu, usize), ReportError> {
     if !(speed.is_finite() && speed > 0.0 && dt.is_finite() && dt > 0.0 && span >= 0.0) {
-        return Err(format!(
-            "regrid needs a positive speed and step and a span ≥ 0, found speed {speed}, step {dt}, span {span}"
-        )
-        .into());
+        return Err(ReportError::Grid {
+            speed,
+            step: dt,
+            span,
+        });
     }
     // frames whose source time k·dt·speed stays within the span (to rounding)
     let frames = (span / (speed * dt) + 1e-6).floor() as usize + 1;
@@ -24,7 +25,10 @@ pub fn regrid(mu: &Mu, span: f64, speed: f64, dt: f64) -> Result<(Mu, usize), Re
         for k in 0..frames {
             let t = (k as f64 * dt * speed).min(span);
             let Some(s) = mu.sample(name, t)? else {
-                return Err(format!("{name} is undefined at t = {t:.4} s").into());
+                return Err(ReportError::Undefined {
+                    dof: name.clone(),
+                    t,
+                });
             };
             values.push(s[0]);
         }

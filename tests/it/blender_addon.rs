@@ -174,6 +174,32 @@ fn check_fill(mode: &str) {
     }
 }
 
+/// Standing on the ground (contact AUTO): the plan shows as one empty per
+/// stance, named by point and source, at the plan's anchor within 1 mm, the
+/// foot bone there while the stance holds (within the report's own `error`
+/// and 1 cm); a fill without contact leaves none.
+#[test]
+fn the_fill_operator_shows_the_contact_plan_as_empties_on_the_floor() {
+    let Some((c, stdout)) = drive("plan") else {
+        return;
+    };
+    eprintln!("{stdout}");
+    let get = |k: &str| {
+        *c.get(k)
+            .unwrap_or_else(|| panic!("no CHECK {k}:\n{stdout}"))
+    };
+    assert!(get("plan_stances") > 0.0, "SP planned no stance");
+    assert_eq!(get("plan_empties"), get("plan_stances"));
+    assert_eq!(get("plan_named"), get("plan_stances"));
+    assert!(get("plan_anchor_max") < 1e-3, "{}", get("plan_anchor_max"));
+    assert!(
+        get("plan_bone_beyond_error_max") < 0.01,
+        "{}",
+        get("plan_bone_beyond_error_max")
+    );
+    assert_eq!(get("plan_after_none"), 0.0);
+}
+
 /// The operator on a 1 s gap of three walks (two 30 Hz Bandai clips, a
 /// 120 Hz CMU clip) against `mx.sp` from Python on the same problem, warm,
 /// interleaved, best of five. The goal is 1.5×; on this shared 2-core

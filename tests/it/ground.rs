@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, Vector3};
 use std::path::Path;
 use std::sync::Arc;
 
-fn load(path: &Path) -> (Mu, Model, f64) {
+pub(crate) fn load(path: &Path) -> (Mu, Model, f64) {
     let clip = mocap::load(path, Units::Auto).unwrap();
     let (body, _) = mocap::body_of(&clip.skeleton, 70.0, clip.units.metres_per_unit).unwrap();
     (clip.mu, body, clip.frame_time)
@@ -127,7 +127,7 @@ fn a_motion_with_a_gap_is_a_clear_error() {
 
 /// `body`'s coordinates held at their values at `t` in `m`, over 2 s, with
 /// `edit` applied to each (name, value).
-fn held(m: &Mu, body: &Model, t: f64, edit: impl Fn(&str, f64) -> Curve) -> Mu {
+pub(crate) fn held(m: &Mu, body: &Model, t: f64, edit: impl Fn(&str, f64) -> Curve) -> Mu {
     let mut out = Mu::new();
     for name in body.coordinate_names() {
         let v = m.sample(name, t).unwrap().unwrap()[0];
@@ -137,7 +137,7 @@ fn held(m: &Mu, body: &Model, t: f64, edit: impl Fn(&str, f64) -> Curve) -> Mu {
     out
 }
 
-fn standing() -> Option<(Mu, Model, f64)> {
+pub(crate) fn standing() -> Option<(Mu, Model, f64)> {
     let path = shared_files("inbetween", ".bvh")
         .into_iter()
         .find(|p| p.to_string_lossy().contains("bow_active_001"))?;
@@ -148,7 +148,7 @@ fn standing() -> Option<(Mu, Model, f64)> {
 
 /// All four foot joints count as on the floor when standing (the ankle
 /// joints stand ~8 cm above the toe joints).
-fn flat_feet() -> GroundOptions {
+pub(crate) fn flat_feet() -> GroundOptions {
     GroundOptions {
         height: 0.15,
         ..Default::default()

@@ -225,7 +225,6 @@ fn results_do_not_depend_on_the_thread_count() {
             (a.skate, b.skate),
             (a.bone, b.bone),
             (a.energy, b.energy),
-            (a.ground_skate, b.ground_skate),
             (a.penetration, b.penetration),
             (a.residual, b.residual),
             (a.residual_worst, b.residual_worst),

@@ -595,10 +595,13 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
             mean(&d) * 1e3,
             worst(&d) * 1e3
         );
-        // Issue 36 asks for 1 cm here; it holds on most clips (bow 0.04 mm,
-        // bye 0.9 mm) but not yet on every one (a dance: 12.8 mm, cause not
-        // found), so what every clip must meet is that the anchored fill is
-        // nearer the capture than Hermite's, and the 1 cm misses are printed.
+        // Issue 42 asks for 1 cm (the transition now corrects the laid
+        // example, so a perfect one is followed whatever the basis); what
+        // every clip must meet until the dance's does is to be nearer the
+        // capture than Hermite, and a 1 cm miss is printed (the dance, 12.8
+        // mm: the cut's one-sided end velocities differ from the capture's by
+        // up to 5 rad/s at 30 Hz, and the blend that meets them spreads that
+        // over the gap).
         let hermite = mx::motion::fill::fill_hermite(&m).unwrap();
         let by_hermite = mean(&distances(&pos(&hermite)));
         assert!(
@@ -610,7 +613,7 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
         );
         if mean(&d) >= 0.01 {
             println!(
-                "{}: above issue 36's 1 cm (Hermite {:.2} cm)",
+                "{}: above issue 42's 1 cm (Hermite {:.2} cm)",
                 case.name,
                 100.0 * by_hermite
             );
@@ -628,11 +631,7 @@ fn a_gap_whose_continuation_is_in_the_library_is_filled_from_it() {
             assert_eq!(g.tried.len(), 1, "only the library asked");
             assert!(matches!(g.tried[0], (Origin::Library, Ok(rho)) if rho < 0.1));
             assert!(g.why_no_example().is_none());
-            assert_eq!(
-                g.solves, 2,
-                "{}: the anchor, then the anchored solve",
-                case.name
-            );
+            assert_eq!(g.solves, 1, "{}: the anchored solve", case.name);
         }
     }
     println!("{tried} gaps offered their continuation");

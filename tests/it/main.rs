@@ -4,6 +4,7 @@
 //! compiled with it only.
 
 mod common;
+mod contact_plans;
 mod support;
 
 mod blender_addon;
@@ -20,6 +21,7 @@ mod first_hour;
 mod gltf;
 mod graph;
 mod ground;
+mod ground_forces;
 mod grounded_terms;
 #[cfg(feature = "report")]
 mod hard_cases;
@@ -35,6 +37,7 @@ mod lang_diagnostics;
 mod lang_fuzz;
 mod lang_isolation;
 mod lang_motion;
+mod lang_records_strings;
 mod layers;
 mod library;
 mod library_shards;
@@ -70,6 +73,8 @@ mod repl_pty;
 #[cfg(feature = "report")]
 mod report_smoke;
 #[cfg(feature = "report")]
+mod score;
+#[cfg(feature = "report")]
 mod spacetime_contact;
 mod spacetime_cyclify;
 mod spacetime_human44;
@@ -81,3 +86,4 @@ mod state_cache;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;
+mod viewer_ground;

@@ -185,3 +185,40 @@ fn tab_completes_paths_and_dof_names_inside_strings() {
     p.send_line(":quit").unwrap();
     p.expect(Eof).unwrap();
 }
+
+/// A line that begins with an operator continues the one above within one
+/// input (a block still open, or lines pasted together); at the prompt, with
+/// nothing above it, the error says why; a glued minus stays unary.
+#[test]
+fn a_line_may_begin_with_an_operator_in_the_repl() {
+    let data = tempfile::tempdir().unwrap();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_mx"));
+    cmd.env("XDG_DATA_HOME", data.path())
+        .env("HOME", data.path())
+        .env("NO_COLOR", "1")
+        .env("TERM", "xterm");
+    let mut p = Session::spawn(cmd).expect("spawn mx in a pty");
+    p.set_expect_timeout(Some(Duration::from_secs(20)));
+    p.expect("mx> ").unwrap();
+    // typed line by line while the block is open; each input prints a word its
+    // echo does not contain, so the next is typed once it has run
+    p.send_line("let f = fn(x) {").unwrap();
+    p.send_line("  x").unwrap();
+    p.send_line("    + 1").unwrap();
+    p.send_line("}; print(\"typed\" + \"!\", f(41))").unwrap();
+    p.expect("typed! 42").unwrap();
+    // lines pasted at once (bracketed paste), then Enter
+    p.send("\x1b[200~let y = 40\n  + 2\nprint(\"pasted\" + \"!\", y)\x1b[201~")
+        .unwrap();
+    p.send("\r").unwrap();
+    p.expect("pasted! 42").unwrap();
+    // nothing open above: the error explains
+    p.send_line("+ 1").unwrap();
+    p.expect("continues the expression on the line above")
+        .unwrap();
+    // a glued minus is a new statement's unary minus
+    p.send_line("-y").unwrap();
+    p.expect("-42").unwrap();
+    p.send_line(":quit").unwrap();
+    p.expect(Eof).unwrap();
+}

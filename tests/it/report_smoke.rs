@@ -36,7 +36,8 @@ fn smoke_report_produces_every_figure_with_finite_numbers() {
             "{f} has no points"
         );
     }
-    assert_eq!(s.figures.len(), want.len());
+    // the named figures and the per-gap in-betweening ones beside them
+    assert!(s.figures.len() >= want.len(), "{:?}", s.figures);
     let md = std::fs::read_to_string(&s.markdown).expect("accuracy.md");
     for section in [
         "## Spacetime",

@@ -117,10 +117,15 @@ fn walk_gaps_get_a_contact_schedule_and_keep_their_context() {
         let cut = case.cut(start, p.context, 30, RootMode::Filled).unwrap();
         // the gap's frames and the context frame on each side
         let (k0, k1) = (start + p.context - 1, start + p.context + 30);
-        let opts = |contact: Contact| SpOptions {
-            root: RootFill::Pinned,
-            contact,
-            ..Default::default()
+        let opts = |contact: Contact| {
+            let mut o = SpOptions {
+                root: RootFill::Pinned,
+                contact,
+                ..Default::default()
+            };
+            // a kinematic root stands only when contact: is stated
+            o.ground.stand_root_given = true;
+            o
         };
         let (with_none, _) = sp(&cut, &case.body, &opts(Contact::None)).unwrap();
         let (with_auto, report) = sp(&cut, &case.body, &opts(Contact::Auto)).unwrap();
@@ -144,7 +149,8 @@ fn walk_gaps_get_a_contact_schedule_and_keep_their_context() {
                 );
             }
         }
-        // contact: "none" is SP as it was (the default options)
+        // with the root pinned (kinematic) the default options do not stand:
+        // they are contact: "none"
         let (default, _) = sp(
             &cut,
             &case.body,

@@ -317,7 +317,7 @@ fn bandai_walk_to_run() {
         &format!(
             "{BANDAI_PRELUDE}
 let gapped = with_fixed(gap_between(clip(0s, 1s, moving(a)), clip(0s, 0.6s, moving(b)), 0.4s))
-let filled = SP(gapped, body: body, coefficients: 3, samples: 8)
+let filled = SP(gapped, body: body, coefficients: 3, samples: 8, contact: \"none\")
 print(\"torque energy: SP\", torque_energy(filled, body), \"Hermite\", torque_energy(fill(gapped, \"hermite\"), body))
 "
         ),
@@ -332,7 +332,7 @@ fn bandai_kick_to_walk() {
         &format!(
             "{BANDAI_PRELUDE}
 let gapped = with_fixed(gap_between(clip(0s, 1s, moving(a)), clip(0s, 0.6s, moving(b)), 0.4s))
-let filled = SP(gapped, body: body, coefficients: 3, samples: 8)
+let filled = SP(gapped, body: body, coefficients: 3, samples: 8, contact: \"none\")
 print(\"torque energy: SP\", torque_energy(filled, body), \"Hermite\", torque_energy(fill(gapped, \"hermite\"), body))
 "
         ),
@@ -562,7 +562,7 @@ fn bandai_natural_cut_keeps_the_frames_after_the_hole_where_they_were_recorded()
     let src = "
 let w = load(\"$a\")
 let cut = w - clip_in_place(1s, 1.5s, w)
-let filled = SP(cut, body: body_of(w), coefficients: 3, samples: 8)
+let filled = SP(cut, body: body_of(w), coefficients: 3, samples: 8, contact: \"none\")
 print(sp_report(filled))
 ";
     let Some((mx, text)) = run_bandai("1_walk_normal", "1_walk_normal", src) else {
@@ -658,10 +658,11 @@ print(sp_report(filled))
     }
 }
 
-/// `contact:` as the issue writes it: `"none"` is the default (the same
-/// transition to the bit), `"auto"` plans the feet (the plan is in
-/// `sp_report(m).contacts`, the hole stays filled and continuous), and the
-/// option's misuses are errors that point at it.
+/// `contact:` as the issues write it: `"auto"` is the default (the same
+/// transition to the bit: the body stands, its plan in
+/// `sp_report(m).contacts`, the hole filled and continuous), `"none"` is
+/// Rose's (the feet not planned), and the option's misuses are errors that
+/// point at it.
 #[test]
 fn sp_contact_option_in_the_language() {
     let src = "
@@ -671,23 +672,31 @@ let plain = SP(cut, body: body_of(w), coefficients: 3, samples: 8)
 let none = SP(cut, body: body_of(w), coefficients: 3, samples: 8, contact: \"none\")
 let planned = SP(cut, body: body_of(w), coefficients: 3, samples: 8, contact: \"auto\", floor: \"auto\")
 let plan = sp_report(planned).contacts
+let rose = sp_report(none).contacts
 ";
     let Some((mut mx, _)) = run_bandai("1_walk_normal", "1_walk_normal", src) else {
         return;
     };
-    let (plain, none) = (mu(&mx.get("plain").unwrap()), mu(&mx.get("none").unwrap()));
+    let (plain, planned) = (
+        mu(&mx.get("plain").unwrap()),
+        mu(&mx.get("planned").unwrap()),
+    );
     let (_, end) = plain.span().unwrap();
     for k in 0..=40 {
         let t = end * k as f64 / 40.0;
         for name in plain.dofs.keys() {
             assert_eq!(
                 plain.sample(name, t).unwrap(),
-                none.sample(name, t).unwrap(),
+                planned.sample(name, t).unwrap(),
                 "{name} at {t}"
             );
         }
     }
-    let planned = mu(&mx.get("planned").unwrap());
+    assert_eq!(
+        mx.get("rose").unwrap().repr(),
+        "[]",
+        "contact: \"none\" plans nothing"
+    );
     assert!(mx::motion::gaps(&planned).is_empty());
     let [jq, jv, _] = jumps(&planned);
     assert!(jq <= 1e-9 && jv <= 1e-6, "jumps {jq} {jv}");

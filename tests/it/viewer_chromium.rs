@@ -11,7 +11,7 @@ use mx::mocap::bvh;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn chromium() -> PathBuf {
+pub(crate) fn chromium() -> PathBuf {
     for c in [
         "/usr/bin/chromium",
         "/usr/bin/chromium-browser",
@@ -28,8 +28,21 @@ fn chromium() -> PathBuf {
 
 /// Runs Chromium on `page` (with a URL fragment such as `#t=3.5`, or "");
 /// returns (dumped DOM, stderr) and checks the screenshot.
-fn open_at(page: &Path, fragment: &str) -> (String, String) {
+pub(crate) fn open_at(page: &Path, fragment: &str) -> (String, String) {
+    open_page(page, fragment, true, 1000)
+}
+
+/// As [`open_at`]; `virtual_time` false runs the page on the real clock (a
+/// timing measured in the page is then real), scripts running only at load;
+/// the window `width` px wide.
+pub(crate) fn open_page(
+    page: &Path,
+    fragment: &str,
+    virtual_time: bool,
+    width: u32,
+) -> (String, String) {
     let dir = page.parent().unwrap();
+    let size = format!("--window-size={width},800");
     let profile = dir.join("profile");
     let shot = dir.join("shot.png");
     let base = [
@@ -42,8 +55,12 @@ fn open_at(page: &Path, fragment: &str) -> (String, String) {
         "--disable-component-update",
         "--disable-sync",
         "--enable-logging=stderr",
-        "--window-size=1000,800",
-        "--virtual-time-budget=2000",
+        size.as_str(),
+        if virtual_time {
+            "--virtual-time-budget=2000"
+        } else {
+            "--disable-extensions"
+        },
     ];
     let url = format!("file://{}{fragment}", page.display());
     let dom = Command::new(chromium())
@@ -79,7 +96,7 @@ fn check(page_text: &str, min_pixels: usize) -> String {
 
 /// Opens a written page (at `fragment`), checks it drew at least
 /// `min_pixels` without a script error, and returns its self-check title.
-fn check_page(page: &Path, fragment: &str, min_pixels: usize) -> String {
+pub(crate) fn check_page(page: &Path, fragment: &str, min_pixels: usize) -> String {
     let (dom, stderr) = open_at(page, fragment);
     let title = dom
         .split("<title>")
@@ -109,7 +126,7 @@ fn check_page(page: &Path, fragment: &str, min_pixels: usize) -> String {
 }
 
 /// The value of `key=` in the page's self-check title.
-fn field<'a>(title: &'a str, key: &str) -> &'a str {
+pub(crate) fn field<'a>(title: &'a str, key: &str) -> &'a str {
     title
         .split_whitespace()
         .find_map(|w| w.strip_prefix(&format!("{key}=")))
@@ -150,6 +167,7 @@ fn synthetic_figure_is_drawn() {
         }],
         up: 1,
         curves: vec![],
+        ground: None,
     };
     check(&html(&data).unwrap(), 300);
 }
@@ -185,6 +203,7 @@ fn shared_clip_is_drawn() {
         }],
         up: 1,
         curves: vec![],
+        ground: None,
     };
     let page = html(&data).unwrap();
     if let Ok(out) = std::env::var("MX_VIEWER_OUT") {
@@ -205,7 +224,7 @@ fn example_walk_on_its_body_is_drawn() {
     check(&html(&data).unwrap(), 500);
 }
 
-fn walk_path() -> String {
+pub(crate) fn walk_path() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("examples/data/walk.bvh")
         .display()
@@ -214,7 +233,7 @@ fn walk_path() -> String {
 
 /// Runs `script` with `w` bound to the example walk and `PAGE` replaced by
 /// the quoted path of `page` (the script writes it with `view`).
-fn view_walk(script: &str, page: &Path) {
+pub(crate) fn view_walk(script: &str, page: &Path) {
     let mut mx = mx::Interpreter::new();
     let script = script.replace("PAGE", &format!("{:?}", page.display().to_string()));
     mx.eval_str(&format!("{{ let w = load({:?}); {script} }}", walk_path()))
@@ -375,7 +394,7 @@ fn bandai_still_massless_root_is_not_drawn_as_a_bone() {
 }
 
 /// The JSON the page embeds.
-fn page_data(page: &Path) -> serde_json::Value {
+pub(crate) fn page_data(page: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(page).unwrap();
     let json = text
         .split("const DATA = ")
@@ -490,8 +509,10 @@ fn keys_buttons_and_the_slider_update_the_view_and_the_address() {
     }
     assert_eq!(steps[0][3], half_pi, "side looks along x: {report}");
     assert_eq!(steps[1][4], half_pi, "top looks down: {report}");
-    // Orbiting leaves the preset: the address keeps only the time.
-    assert_eq!(steps[4][..3], ["orbit", "", "#t=1"], "{report}");
+    // Orbiting leaves the preset: the address keeps the camera instead.
+    assert_eq!(steps[4][..2], ["orbit", ""], "{report}");
+    let cam = format!("#cam={},{}&t=1", steps[4][3], steps[4][4]);
+    assert_eq!(steps[4][2], cam, "{report}");
 }
 
 #[test]

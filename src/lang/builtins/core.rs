@@ -421,24 +421,25 @@ fn records(reg: &mut Registry) {
     reg.topic(Topic::Language);
     reg.add(
         "keys(r)",
-        "The field names of a record, in order.",
+        "The field names of a record, in order, or of a value with fields (an SP report, an IK report, a body, a library…): exactly the names `r.name` reads.",
         |a, _| {
-            let r = a.record("r")?;
-            Ok(Value::list(r.keys().map(Value::str).collect()))
+            let r = a.arg("r")?;
+            match r.value.keys() {
+                Some(k) => Ok(Value::list(k.into_iter().map(Value::str).collect())),
+                None => Err(a.type_error("r", "a record or a value with fields (an SP report)", &r)),
+            }
         },
     );
     reg.add(
         "has(r, key)",
-        "Whether `r` has the field `key`: a record's fields, or what `.key` reads on a value that has fields (an SP report, a body).",
+        "Whether `r` has the field `key`: one of `keys(r)`, what `r.key` reads (a record, or a value with fields such as an SP report or a body).",
         |a, _| {
             let r = a.arg("r")?;
             let k = a.string("key")?;
-            match &r.value {
-                Value::Record(m) => Ok(Value::Bool(m.contains_key(k.as_ref()))),
-                // a value with fields answers `.key` itself (`sp_report(m).groups`)
-                Value::Object(o) => Ok(Value::Bool(o.field(&k).is_some())),
-                _ => Err(a.type_error("r", "a record or a value with fields (an SP report)", &r)),
+            if r.value.keys().is_none() {
+                return Err(a.type_error("r", "a record or a value with fields (an SP report)", &r));
             }
+            Ok(Value::Bool(r.value.field(&k).is_some()))
         },
     );
     reg.add(

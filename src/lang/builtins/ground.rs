@@ -1,5 +1,5 @@
 //! Ground built-ins: `contacts`, `foot_skate`, `penetration`,
-//! `ground_residual`. The work is done by `crate::ground`; this file reads
+//! `ground_residual`, `ground_forces`. The work is done by `crate::ground`; this file reads
 //! the shared options (`points:`, `floor:`, `height:`, `speed:`,
 //! `friction:`), converts errors and returns records.
 
@@ -9,8 +9,8 @@ use crate::ground::{self, Floor, GroundError, GroundOptions};
 use crate::lang::args::Args;
 use crate::lang::ast::Span;
 use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
-use crate::lang::host::Body;
 use crate::lang::host::errors::diagnostic;
+use crate::lang::host::{Body, Motion};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
 use crate::lang::value::Value;
@@ -204,6 +204,22 @@ pub fn register(reg: &mut Registry) {
                 ("floor", num(r.floor)),
                 ("unsolved", num(r.unsolved as f64)),
             ]))
+        },
+    );
+    reg.add(
+        "ground_forces(m, body, friction: 0.8, points: [...], floor: \"auto\", height: 0.02, speed: 0.3)",
+        "Per frame of m, the contact forces that best hold body up and what they leave: the same friction-cone solve as `ground_residual` (contact points within `height` of the floor push, \
+         each inside its cone of coefficient `friction`; a point farther away carries nothing). A motion on m's frames, one DOF per number: `POINT.Fx`, `.Fy`, `.Fz` per contact point \
+         (N, world axes, the force on the body), `residual.Fx/Fy/Fz` (N) and `residual.Mx/My/Mz` (N·m about the centre of mass), what no contact force supplies, and \
+         `residual.percent_bw` (the residual force as % of body weight). `plot` and `save(…, \"x.csv\")` take it as any motion; a body standing still gets its weight from its feet.",
+        |a, _| {
+            let (m, body) = motion_and_body(a)?;
+            let friction = a.named_number_or("friction", 0.8)?;
+            let o = options(a)?;
+            let span = a.call_span();
+            let g = ground::ground_forces(&m, &body.model, &o, friction).map_err(|e| ground_error(e, a, span))?;
+            let mu = g.to_motion().map_err(|e| ground_error(e, a, span))?;
+            Ok(Value::object(Motion::Mu(mu)))
         },
     );
 }

@@ -64,7 +64,20 @@ impl HostObject for IkReportValue {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &[
+            "targets",
+            "max",
+            "frames",
+            "iterations",
+            "mean_iterations",
+            "unconverged",
+            "dofs",
+            "tolerance",
+            "text",
+        ]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         let r = &self.0;
         Some(match name {
             "targets" => Value::list(

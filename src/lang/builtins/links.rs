@@ -49,7 +49,10 @@ impl HostObject for LinkSpec {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &["name", "parent", "mass"]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         match name {
             "name" => Some(Value::str(&self.name)),
             "parent" => Some(Value::str(self.parent.as_deref().unwrap_or("world"))),

@@ -1,5 +1,5 @@
 //! Motion-capture built-ins: the `.bvh` format of `load`/`save`, `bvh_info`,
-//! `body_of`, `human`, `fit`, `positions`, `plot`, `view`. The work is done by
+//! `body_of`, `human`, `fit`, `positions`, `plot` (`view` is `view.rs`). The work is done by
 //! `crate::mocap` and `crate::io::{plot, viewer}`; this file converts values
 //! and errors.
 //!
@@ -17,7 +17,6 @@ use crate::lang::diagnostics::{ErrorKind, MxError, MxResult};
 use crate::lang::eval::Evaluator;
 use crate::lang::host::errors::{diagnostic, error_at, file_error};
 use crate::lang::host::motion::{ClipSource, LoadedClips, Provenance, provenance};
-use crate::lang::host::sp_report::report_of;
 use crate::lang::host::{Body, Motion};
 use crate::lang::registry::Registry;
 use crate::lang::topic::Topic;
@@ -379,138 +378,6 @@ fn pictures(reg: &mut Registry) {
             Ok(Value::Nil)
         },
     );
-    reg.add(
-        "view(m, body, path, labels: [...], curves: [...])",
-        "Write a self-contained HTML viewer of m played on body (3D figure, play/pause, slider, orbit; camera presets front/side/top, \
-         keys 1/2/3; DOF curves below) over m's own span. The page's address keeps the view and time (`view.html#view=side&t=2.5`). \
-         m may be a list of motions of one body: they share the stage and one clock, each in its own colour, named in a legend by `labels` \
-         (default \"motion 1\", …). `curves` chooses the curves: DOF names, joint names (all their DOFs) or globs (`\"*Knee.Xrotation\"`); \
-         by default the DOFs that move most, fingers, thumbs and toes left out. Undefined stretches are gaps in the curves and hold the \
-         last pose, marked undefined; the gaps an SP result filled are shaded.",
-        |a, ev| {
-            let marg = a.arg("m")?;
-            let mus: Vec<Mu> = match &marg.value {
-                Value::List(items) => {
-                    if items.is_empty() {
-                        return Err(a.type_error("m", "a motion unit (Mu) or a non-empty list of them", &marg));
-                    }
-                    items
-                        .iter()
-                        .map(|v| match v.as_object::<Motion>() {
-                            Some(Motion::Mu(m)) => Ok(m.clone()),
-                            _ => Err(a.type_error("m", "a list of motion units (Mu)", &marg)),
-                        })
-                        .collect::<MxResult<_>>()?
-                }
-                _ => vec![mu_of(a, "m", &marg)?],
-            };
-            let barg = a.arg("body")?;
-            let body = body_of_arg(a, "body", &barg)?;
-            let parg = a.arg("path")?;
-            let Value::Str(p) = &parg.value else { return Err(a.type_error("path", "an .html file name", &parg)) };
-            let path = ev.resolve_path(p, parg.span)?;
-            let title = path.file_stem().map(|s| s.to_string_lossy().to_string()).unwrap_or_default();
-            let labels: Vec<String> = match a.opt_named("labels") {
-                None if mus.len() == 1 => vec![title.clone()],
-                None => (1..=mus.len()).map(|k| format!("motion {k}")).collect(),
-                Some(l) => {
-                    let bad = |a: &Args| a.type_error("labels", &format!("a list of {} strings, one per motion", mus.len()), &l);
-                    let Value::List(items) = &l.value else { return Err(bad(a)) };
-                    if items.len() != mus.len() {
-                        return Err(bad(a));
-                    }
-                    items.iter().map(|v| match v { Value::Str(s) => Ok(s.to_string()), _ => Err(bad(a)) }).collect::<MxResult<_>>()?
-                }
-            };
-            let chosen = view_curves(a, &mus)?;
-            let chosen: Vec<&str> = chosen.iter().map(String::as_str).collect();
-            let tracks: Vec<(&str, &Mu)> = labels.iter().map(String::as_str).zip(mus.iter()).collect();
-            let mut data = crate::io::viewer::overlay(&body.model, &tracks, &title, &chosen)
-                .map_err(|e| MxError::new(ErrorKind::Value, e.to_string()).at(a.call_span()))?;
-            // the gaps each SP result filled, shaded on its curves
-            let values: Vec<&Value> = match &marg.value {
-                Value::List(items) => items.iter().collect(),
-                v => vec![v],
-            };
-            for (track, v) in data.tracks.iter_mut().zip(values) {
-                track.filled = report_of(v).map(|r| filled_spans(&r)).unwrap_or_default();
-            }
-            super::core::create_parent_folder(&path, parg.span)?;
-            crate::io::viewer::write_html(&data, &path).map_err(|e| MxError::new(ErrorKind::Io, e.to_string()).at(parg.span))?;
-            Ok(Value::Nil)
-        },
-    );
-}
-
-/// The DOFs `view`'s `curves:` asks for (names, joint names, globs; see
-/// `io::viewer::curves::select`) among the motions' DOFs; empty when not
-/// given (the viewer's default choice).
-fn view_curves(a: &mut Args, mus: &[Mu]) -> MxResult<Vec<String>> {
-    let Some(c) = a.opt_named("curves") else {
-        return Ok(vec![]);
-    };
-    let bad = |a: &Args| {
-        a.type_error(
-            "curves",
-            "a list of DOF names, joint names or globs (strings)",
-            &c,
-        )
-    };
-    let Value::List(items) = &c.value else {
-        return Err(bad(a));
-    };
-    let patterns: Vec<&str> = items
-        .iter()
-        .map(|v| match v {
-            Value::Str(s) => Ok(&**s),
-            _ => Err(bad(a)),
-        })
-        .collect::<MxResult<_>>()?;
-    let mut names: Vec<&str> = Vec::new();
-    for m in mus {
-        for n in m.dofs.keys() {
-            if !names.contains(&n.as_str()) {
-                names.push(n);
-            }
-        }
-    }
-    crate::io::viewer::curves::select(&names, &patterns)
-        .map(|v| v.into_iter().map(str::to_string).collect())
-        .map_err(|u| {
-            let p = &u.pattern;
-            let e = MxError::new(ErrorKind::Value, u.to_string()).at(c.span).label("matches nothing");
-            let joints = names.iter().map(|n| crate::io::viewer::curves::joint_of(n));
-            match crate::lang::diagnostics::did_you_mean(p, names.iter().copied().chain(joints)) {
-                Some(s) => e.help(format!("did you mean `{s}`? (`*` and `?` are wildcards)")),
-                None => e.help("give DOF names (`\"Hips.Xrotation\"`), joint names (`\"LeftKnee\"`) or globs (`\"*Knee*\"`); `dofs(m)` lists them"),
-            }
-        })
-}
-
-/// The spans an SP result filled: each solved gap group's, and the DOFs
-/// SP filled by Hermite or held constant, merged where they overlap.
-fn filled_spans(r: &crate::spacetime::SpReport) -> Vec<[f64; 2]> {
-    let mut spans: Vec<[f64; 2]> = r
-        .groups
-        .iter()
-        .map(|g| [g.t0, g.t1])
-        .chain(
-            r.hermite
-                .iter()
-                .chain(&r.constant)
-                .map(|u| [u.start, u.stop]),
-        )
-        .filter(|[a, b]| a.is_finite() && b.is_finite() && a <= b)
-        .collect();
-    spans.sort_by(|x, y| x[0].total_cmp(&y[0]));
-    let mut merged: Vec<[f64; 2]> = Vec::new();
-    for s in spans {
-        match merged.last_mut() {
-            Some(last) if s[0] <= last[1] => last[1] = last[1].max(s[1]),
-            _ => merged.push(s),
-        }
-    }
-    merged
 }
 
 /// Joint positions as an Mu: `Joint.x/.y/.z`, sampled curves over the times.

@@ -1,7 +1,7 @@
 //! The built-in functions, one file per domain (`core.rs`, `motion.rs`,
-//! `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
-//! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `opensim.rs`,
-//! `spacetime.rs`). Each is a leaf: it imports [`Args`], [`Value`], the host
+//! `strings.rs`, `compose.rs`, `ik.rs`, `joints.rs`, `spline_joints.rs`, `links.rs`,
+//! `mechanics.rs`, `dynamics.rs`, `mocap.rs`, `view.rs`, `ground.rs`, `opensim.rs`,
+//! `spacetime.rs`, `score.rs`, `library.rs`). Each is a leaf: it imports [`Args`], [`Value`], the host
 //! types it converts (`lang::host`) and the engine, and nothing of its
 //! siblings, and registers its functions under their `:help` topic with one
 //! line per function:
@@ -26,8 +26,11 @@ pub mod mechanics;
 pub mod mocap;
 pub mod motion;
 pub mod opensim;
+pub mod score;
 pub mod spacetime;
 pub mod spline_joints;
+pub mod strings;
+pub mod view;
 
 pub use crate::lang::args::{ArgValue, Args, ObjRef, describe};
 pub use crate::lang::eval::{BuiltinFn, LoadFn, SaveFn};
@@ -40,6 +43,7 @@ impl Registry {
     pub fn standard() -> Self {
         let mut r = Registry::new();
         core::register(&mut r);
+        strings::register(&mut r);
         motion::register(&mut r);
         compose::register(&mut r);
         ik::register(&mut r);
@@ -49,9 +53,11 @@ impl Registry {
         mechanics::register(&mut r);
         dynamics::register(&mut r);
         mocap::register(&mut r);
+        view::register(&mut r);
         ground::register(&mut r);
         opensim::register(&mut r);
         spacetime::register(&mut r);
+        score::register(&mut r);
         library::register(&mut r);
         // Functions an embedder registers later are listed with the language.
         r.topic(crate::lang::topic::Topic::Language);

@@ -376,7 +376,7 @@ fn queries(reg: &mut Registry) {
 fn formats(reg: &mut Registry) {
     reg.saver(
         "csv",
-        "Motion CSV: `save(m, \"x.csv\", rate: R)` samples at whole multiples of 1/R.",
+        "Motion CSV: `save(m, \"x.csv\", rate: R)` samples at whole multiples of 1/R (default: the motion's own frame rate, when it is sampled).",
         |v, path, a, ev| {
             let Some(Motion::Mu(m)) = v.as_object::<Motion>() else {
                 return Err(a.error(
@@ -398,14 +398,20 @@ fn formats(reg: &mut Registry) {
                     }
                 });
             }
-            let Some(rate) = rate else {
-                return Err(a.error(
-                    ErrorKind::Arity,
-                    "saving CSV needs a sampling rate: `save(m, \"x.csv\", rate: 30)`",
-                ));
-            };
-            let Value::Number(rate) = rate.value else {
-                return Err(a.type_error("rate", "a number (Hz)", &rate));
+            // without `rate`, a motion sampled on a grid (a clip, `ground_forces`) keeps its own
+            let own = crate::motion::sample_period(m).map(|dt| 1.0 / dt);
+            let rate = match (rate, own) {
+                (Some(r), _) => match &r.value {
+                    Value::Number(x) => *x,
+                    _ => return Err(a.type_error("rate", "a number (Hz)", &r)),
+                },
+                (None, Some(x)) => x,
+                (None, None) => {
+                    return Err(a.error(
+                        ErrorKind::Arity,
+                        "saving CSV needs a sampling rate: `save(m, \"x.csv\", rate: 30)`",
+                    ));
+                }
             };
             let span = a.call_span();
             crate::io::csv::save_csv_cancellable(m, path, rate, Some(&ev.ctx.cancel))

@@ -207,7 +207,8 @@ fn given_stances(a: &Args, arg: &ArgValue) -> MxResult<Vec<GivenStance>> {
     }
 }
 
-/// `contact: "none"` (the default: Rose's supports alone), `"auto"` (a
+/// `contact: "auto"` (the default: the body stands where it can), `"none"`
+/// (Rose's supports alone), `"auto"` (a
 /// stance schedule planned per gap for the frames near the floor, held by the
 /// support IK with the floor below), `["Toes_L", …]` (those frames), or the
 /// stances themselves: `[{point, from, to, at}, …]` or `contacts(capture, b)`.
@@ -386,8 +387,18 @@ fn sp_options(a: &mut Args, ev: &Evaluator, (m, marg): (&Mu, &ArgValue)) -> MxRe
     if let Some(g) = a.opt_named("gravity") {
         o.gravity = Some(vec3(a, &g, "gravity")?);
     }
+    // an explicit `contact: "auto"` beside a `support:` asks for both; the
+    // default contact gives way to a stated support (Rose's, not standing)
+    let (contact_given, support_given) = (a.has_named("contact"), a.has_named("support"));
     o.support = support(a)?;
     o.contact = contact(a)?;
+    let explicit_auto = contact_given && o.contact == Contact::Auto;
+    // stated, it stands a given root too (see GroundSettings::stand_root_given)
+    o.ground.stand_root_given = contact_given;
+    if explicit_auto && support_given && o.support != Support::default() {
+        let span = a.span_of("contact").unwrap_or(a.call_span());
+        return Err(sp_error(SpError::ContactReplacesSupport, a, span));
+    }
     o.floor = floor(a)?;
     o.root = root_fill(a)?;
     let mut library = None;
@@ -453,6 +464,14 @@ fn run_sp(a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
             g.coords.len(),
             g.stop,
             g.grad_norm
+        );
+    }
+    for u in &report.unplanned {
+        eprintln!(
+            "warning: SP plans no foot on the ground over [{:.4}, {:.4}] s ({:.2} s in the air); give contact: stances there if the body stands",
+            u.t0,
+            u.t1,
+            u.t1 - u.t0
         );
     }
     // The result keeps the input's clip (to save it as BVH) and carries the report.

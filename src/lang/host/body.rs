@@ -106,7 +106,18 @@ impl HostObject for Body {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &[
+            "name",
+            "mass",
+            "coordinates",
+            "nq",
+            "links",
+            "report",
+            "defaults",
+        ]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         match name {
             "coordinates" => Some(Value::list(
                 self.coordinate_names().iter().map(Value::str).collect(),

@@ -23,6 +23,7 @@ use crate::model::link_tree::TreeError;
 use crate::model::{InertiaError, ModelError};
 use crate::motion::MotionError;
 use crate::motion::cyclify::CyclifyError;
+use crate::score::ScoreError;
 use crate::shard::ShardError;
 use crate::spacetime::{SpError, SpOptions};
 use crate::spline::SplineError;
@@ -421,4 +422,34 @@ pub fn dyn_error(e: DynamicsError, a: &Args) -> MxError {
     MxError::new(e.kind(), e.to_string())
         .at(a.call_span())
         .help(format!("usage: {}", a.signature()))
+}
+
+impl EngineError for ScoreError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            ScoreError::Motion { source, .. } => source.kind(),
+            ScoreError::Ground { source, .. } => source.kind(),
+            ScoreError::Plan(e) => e.kind(),
+            ScoreError::Undefined { .. } => ErrorKind::Motion,
+            _ => ErrorKind::Value,
+        }
+    }
+    fn advice(&self) -> Option<&'static str> {
+        match self {
+            ScoreError::NoFilledGaps { .. } => Some(
+                "compare(m, reference, body, t0, t1) scores the gap [t0, t1]; `sp_report(m).groups` lists the gaps SP filled",
+            ),
+            ScoreError::BadSpan { .. } | ScoreError::NoFrames { .. } => Some(
+                "t0 is the last frame before the gap and t1 the first after it, as `sp_report(m).groups` gives them",
+            ),
+            ScoreError::Undefined { .. } => Some(
+                "both motions need every coordinate of the body over the gap; `gaps(m)` lists the holes",
+            ),
+            ScoreError::Motion { source, .. } => source.advice(),
+            _ => None,
+        }
+    }
+    fn argument(&self) -> Option<&'static str> {
+        ScoreError::argument(self)
+    }
 }

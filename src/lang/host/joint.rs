@@ -56,7 +56,10 @@ impl HostObject for JointValue {
     fn as_any(&self) -> &dyn Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &["kind", "dof", "frames", "smooth", "knots", "domain"]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         match name {
             "kind" => Some(Value::str(self.joint.kind())),
             "dof" => Some(Value::Number(self.joint.dof() as f64)),
@@ -90,7 +93,10 @@ impl HostObject for SamplesValue {
     fn as_any(&self) -> &dyn Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &["q", "count", "transforms"]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         match name {
             "q" => Some(numbers(&self.0.q)),
             "count" => Some(Value::Number(self.0.len() as f64)),

@@ -38,7 +38,10 @@ impl HostObject for LibraryValue {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &["clips", "skipped", "frames", "rate", "warps"]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         let l = &self.0;
         match name {
             "clips" => Some(Value::list(

@@ -281,8 +281,11 @@ impl HostObject for Sourced {
     fn binary(&self, op: BinOp, other: &Value, self_left: bool) -> Option<Result<Value, String>> {
         self.motion.binary(op, other, self_left)
     }
-    fn field(&self, name: &str) -> Option<Value> {
-        self.motion.field(name)
+    fn field_names(&self) -> &'static [&'static str] {
+        self.motion.field_names()
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
+        self.motion.read_field(name)
     }
     fn equals(&self, other: &dyn HostObject) -> bool {
         self.motion.equals(other)

@@ -56,7 +56,10 @@ impl HostObject for SceneValue {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &["body", "coordinates"]
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         match name {
             "body" => Some(Value::object(Body::from_model(self.scene.model.clone()))),
             "coordinates" => Some(names_value(&self.scene.model)),

@@ -232,7 +232,7 @@ impl SpReportValue {
 type Getter = fn(&SpReportValue) -> Value;
 
 /// The fields of `sp_report(m)`, in the order `keys` would show them, each
-/// with how it is read: the one list that [`HostObject::field`] answers from
+/// with how it is read: the one list that [`HostObject::read_field`] answers from
 /// and the Python bindings build their report dict from (`mx.sp`), so a
 /// field added here reaches both.
 const TABLE: [(&str, Getter); 8] = [
@@ -267,7 +267,10 @@ impl HostObject for SpReportValue {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
-    fn field(&self, name: &str) -> Option<Value> {
+    fn field_names(&self) -> &'static [&'static str] {
+        &FIELDS
+    }
+    fn read_field(&self, name: &str) -> Option<Value> {
         TABLE
             .iter()
             .find(|(n, _)| *n == name)

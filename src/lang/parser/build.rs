@@ -422,11 +422,7 @@ impl Builder<'_> {
                     )
                     .at(span)
                 })?;
-                let x = match it.next().map(|u| u.as_str()) {
-                    Some("ms") => x / 1000.0,
-                    Some("deg") => x.to_radians(),
-                    _ => x, // s and rad are the base units
-                };
+                let x = in_base_units(x, it.next().map(|u| u.as_str()));
                 if !x.is_finite() {
                     return Err(MxError::new(ErrorKind::Syntax, "number too large")
                         .at(span)
@@ -539,4 +535,14 @@ fn internal(span: Span) -> MxError {
     )
     .at(span)
     .help("please report this script as a bug")
+}
+
+/// A number literal's value with its unit suffix applied: seconds and
+/// radians are the base units (`250ms` is 0.25, `90deg` is π/2).
+pub(super) fn in_base_units(x: f64, unit: Option<&str>) -> f64 {
+    match unit {
+        Some("ms") => x / 1000.0,
+        Some("deg") => x.to_radians(),
+        _ => x, // s and rad are the base units
+    }
 }

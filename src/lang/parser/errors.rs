@@ -230,11 +230,38 @@ fn syntax_help(src: &str, from: usize, pos: usize, rest: &str) -> String {
         "numbers take the unit suffixes s, ms, deg and rad (e.g. `2s`, `90deg`); write `2 * x` to multiply".into()
     } else if before.ends_with("let") || before.ends_with("fn") {
         "names start with a letter or `_` and may not be keywords (let, fn, if, else, true, false, and, or, not)".into()
+    } else if let Some(op) = leading_operator(before_raw, rest) {
+        format!(
+            "a line that begins with `{op}` continues the expression on the line above, and none is open here \
+             (in the REPL the line above has already run: enter both lines as one input, the first ending \
+             with the operator or inside `( … )`)"
+        )
     } else if c_is_newline(rest) || rest.is_empty() {
-        "the statement ends here; to continue an expression on the next line, end this line with an operator or keep a bracket open".into()
+        "the statement ends here; to continue an expression on the next line, begin that line with the operator (`+ b`, `- b` with a space), end this line with one, or keep a bracket open".into()
     } else if unclosed_bracket(before_raw).is_some_and(|(_, c)| c != '{') {
         "inside brackets, separate items with `,`: `f(a, b)`, `[1, 2]`".into()
     } else {
         "statements are separated by newlines or `;`; calls look like `f(x, name: value)`".into()
     }
+}
+
+/// The infix operator (or `.`) `rest` begins with, when it is the first token
+/// on its line: such a line continues the expression above it, so a syntax
+/// error there means no expression was open (see `line_cont` in mx.pest).
+fn leading_operator<'a>(before: &str, rest: &'a str) -> Option<&'a str> {
+    let line_start = before.rsplit('\n').next().unwrap_or("");
+    if !line_start.trim().is_empty() || rest.starts_with("//") || rest.starts_with("/*") {
+        return None;
+    }
+    let ops = [
+        "==", "!=", "<=", ">=", "&&", "||", "and", "or", "+", "*", "/", "%", "&", "<", ">", "×",
+        "∧", "≤", "≥", ".",
+    ];
+    let op = ops.into_iter().find(|op| rest.starts_with(op))?;
+    let word = op.chars().all(char::is_alphabetic);
+    let after = rest[op.len()..].chars().next();
+    if word && after.is_some_and(|c| c.is_alphanumeric() || c == '_') {
+        return None; // `order`, `and_then`: a name, not the operator
+    }
+    Some(&rest[..op.len()])
 }

@@ -102,6 +102,27 @@ pub fn parse_expr(src: &str, file: SourceId) -> MxResult<Expr> {
     }
 }
 
+/// The value of `text` read as a number literal of the language (`3.2`,
+/// `1e-3`, `.5`, `250ms`, `90deg`: the grammar's own `number` rule, units
+/// applied), with an optional sign in front (`-2`, `+2`, `−2`); `None` for
+/// anything else. `number("…")` reads text this way, so a string holding
+/// what a script could write as a literal reads as that literal does.
+pub fn number_literal(text: &str) -> Option<f64> {
+    let (sign, digits) = match text.chars().next()? {
+        '-' | '−' => (-1.0, &text[text.chars().next()?.len_utf8()..]),
+        '+' => (1.0, &text[1..]),
+        _ => (1.0, text),
+    };
+    let pair = MxParser::parse(Rule::number, digits).ok()?.next()?;
+    if pair.as_str().len() != digits.len() {
+        return None;
+    }
+    let mut it = pair.into_inner();
+    let x: f64 = it.next()?.as_str().parse().ok()?;
+    let x = build::in_base_units(x, it.next().map(|u| u.as_str()));
+    x.is_finite().then_some(sign * x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -139,6 +160,7 @@ mod tests {
                         .join(", ")
                 )
             }
+            ExprKind::Field(r, n, _) => format!("{}.{n}", show(r)),
             other => format!("{other:?}"),
         }
     }
@@ -188,6 +210,91 @@ mod tests {
         assert_eq!(prog.stmts.len(), 3);
         // A newline ends a statement: `a` then `-1`.
         assert_eq!(p("a\n-1").stmts.len(), 2);
+    }
+
+    fn stmts(src: &str) -> Vec<String> {
+        p(src)
+            .stmts
+            .iter()
+            .map(|s| match s {
+                Stmt::Expr(e) => show(e),
+                Stmt::Let(name, _, value) => format!("let {name} = {}", show(value)),
+                other => format!("{other:?}"),
+            })
+            .collect()
+    }
+
+    /// A line that begins with an infix operator continues the line above;
+    /// a leading minus does so only when whitespace follows it.
+    #[test]
+    fn a_line_may_begin_with_an_operator() {
+        assert_eq!(stmts("a\n  + b"), ["(a + b)"]);
+        assert_eq!(stmts("let x = a\n  + b\n  * c"), ["let x = (a + (b * c))"]);
+        assert_eq!(stmts("a\n- b"), ["(a - b)"]);
+        assert_eq!(stmts("a\n−\tb"), ["(a - b)"]);
+        for op in [
+            "/", "%", "&", "∧", "×", "==", "!=", "<", "<=", ">", ">=", "≤", "≥", "&&", "||", "and",
+            "or",
+        ] {
+            let want = stmts(&format!("a {op} b"));
+            assert_eq!(stmts(&format!("a\n  {op} b")), want, "{op}");
+            assert_eq!(stmts(&format!("a\r\n  {op} b")), want, "{op} after CRLF");
+        }
+        // past blank and comment lines, and inside brackets and blocks
+        assert_eq!(stmts("a\n\n  // why\n  + b"), ["(a + b)"]);
+        assert_eq!(stmts("f(a\n  + b)"), ["f((a + b))"]);
+        assert_eq!(stmts("{ let y = 1\n  y\n  + 2 }").len(), 1);
+        // a field or method on the next line
+        assert_eq!(stmts("r\n  .a\n  .b"), ["r.a.b"]);
+        assert_eq!(stmts("x\n  .f(1)\n  + 2"), ["(x.f(1) + 2)"]);
+    }
+
+    /// The ambiguous cases: a minus glued to its operand is unary and starts a
+    /// new statement, as in Python, Julia and Kotlin; so is `!x`, `not x`, a
+    /// name that begins with `and`/`or`, and a `.5` literal.
+    #[test]
+    fn a_leading_unary_operator_starts_a_statement() {
+        assert_eq!(stmts("a\n-b"), ["a", "(-b)"]);
+        assert_eq!(stmts("a\n  -1"), ["a", "-1"]);
+        assert_eq!(stmts("a\n−b"), ["a", "(-b)"]);
+        assert_eq!(stmts("let y = 2\n-y"), ["let y = 2", "(-y)"]);
+        assert_eq!(stmts("{ let y = 2\n  -y }").len(), 1, "a block's value");
+        assert_eq!(stmts("a\n!b"), ["a", "(!b)"]);
+        assert_eq!(stmts("a\nnot b"), ["a", "(!b)"]);
+        assert_eq!(stmts("a\norder"), ["a", "order"]);
+        assert_eq!(stmts("a\nandy"), ["a", "andy"]);
+        assert_eq!(stmts("a\n.5"), ["a", "0.5"]);
+        // a minus then another minus: binary, then unary
+        assert_eq!(stmts("a\n- -b"), ["(a - (-b))"]);
+    }
+
+    #[test]
+    fn a_leading_operator_with_nothing_above_says_why() {
+        for src in ["+ 1", "* 2", "fn f() { 1 }\n+ 1", ".a", "let x = 1;\n== 2"] {
+            let err = parse_program(src, 0).unwrap_err();
+            let help = err.help.clone().unwrap_or_default();
+            assert!(
+                help.contains("continues the expression on the line above"),
+                "{src:?}: {help}"
+            );
+        }
+    }
+
+    #[test]
+    fn number_literals_read_from_text() {
+        assert_eq!(number_literal("3.2"), Some(3.2));
+        assert_eq!(number_literal("-1e-3"), Some(-1e-3));
+        assert_eq!(number_literal("+.5"), Some(0.5));
+        assert_eq!(number_literal("−2"), Some(-2.0));
+        assert_eq!(number_literal("250ms"), Some(0.25));
+        assert_eq!(number_literal("90deg"), Some(std::f64::consts::FRAC_PI_2));
+        assert_eq!(number_literal("-0").map(f64::is_sign_negative), Some(true));
+        for bad in [
+            "", "-", "3,2", "3.", "1e", "nan", "inf", "0x10", "2 s", "2sec", "1e999", "--1",
+            "3.2.1", "½",
+        ] {
+            assert_eq!(number_literal(bad), None, "{bad:?}");
+        }
     }
 
     #[test]

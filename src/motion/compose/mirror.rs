@@ -12,6 +12,32 @@ use super::super::interval::Interval;
 use super::super::mu::Mu;
 use super::err;
 
+/// `c` negated (exact: coefficients and samples negated, not resampled).
+fn negated(c: &Curve) -> Result<Curve, MotionError> {
+    Ok(match c {
+        Curve::Constant(v) => Curve::Constant(-v),
+        Curve::Samples(s) => Curve::Samples(SampledCurve::new(
+            s.t0(),
+            s.dt(),
+            s.values().iter().map(|v| -v).collect(),
+        )?),
+        Curve::Hermite(h) => Curve::Hermite(HermiteCurve {
+            q0: -h.q0,
+            v0: -h.v0,
+            q1: -h.q1,
+            v1: -h.v1,
+            ..h.clone()
+        }),
+        Curve::Spline(c) => {
+            let mut c = c.clone();
+            c.coeffs.iter_mut().for_each(|v| *v = -*v);
+            Curve::Spline(c)
+        }
+        Curve::Sum(a, b) => Curve::Sum(Arc::new(negated(a)?), Arc::new(negated(b)?)),
+        Curve::Function(g) => Curve::Function(Arc::new(Negated(g.clone()))),
+    })
+}
+
 /// `d` with every value negated (exact: curves are negated, not resampled).
 fn negate(d: &Dof) -> Result<Dof, MotionError> {
     let intervals = d
@@ -22,27 +48,7 @@ fn negate(d: &Dof) -> Result<Dof, MotionError> {
                 .funcs
                 .iter()
                 .map(|f| {
-                    let curve = match f.curve.as_ref() {
-                        Curve::Constant(v) => Curve::Constant(-v),
-                        Curve::Samples(s) => Curve::Samples(SampledCurve::new(
-                            s.t0(),
-                            s.dt(),
-                            s.values().iter().map(|v| -v).collect(),
-                        )?),
-                        Curve::Hermite(h) => Curve::Hermite(HermiteCurve {
-                            q0: -h.q0,
-                            v0: -h.v0,
-                            q1: -h.q1,
-                            v1: -h.v1,
-                            ..h.clone()
-                        }),
-                        Curve::Spline(c) => {
-                            let mut c = c.clone();
-                            c.coeffs.iter_mut().for_each(|v| *v = -*v);
-                            Curve::Spline(c)
-                        }
-                        Curve::Function(g) => Curve::Function(Arc::new(Negated(g.clone()))),
-                    };
+                    let curve = negated(&f.curve)?;
                     Ok(Func {
                         curve: Arc::new(curve),
                         shift: f.shift,

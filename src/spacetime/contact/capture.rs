@@ -1,15 +1,104 @@
 //! A motion's own contacts inside a span as a gap's plan: what a capture did
-//! where SP is asked to fill. It is the known answer a planned gap is
-//! measured against, and a plan a user can give SP (`contact:` with a
-//! capture's contacts): the same planning stance rule as the context's
-//! ([`plan_stances`]), applied to the motion's own samples through the span.
+//! where SP is asked to fill, or what the example SP follows does there
+//! (`example.rs`), or what a solve made (`replan.rs`). The same planning
+//! stance rule as the context's ([`plan_stances`]), applied to the motion's
+//! own samples through the span and around it.
+//!
+//! It is the known answer a planned gap is measured against, and a plan a
+//! user can give SP (`contact:` with a capture's contacts).
 
 use super::context::{CONTEXT, STEP, body_link};
 use super::plan::{GapPlan, PointPlan, Source, Stance};
-use crate::ground::{FloorPlane, plan_stances};
+use crate::ground::{FloorPlane, plan_stances, runs_of};
 use crate::model::Model;
 use crate::spacetime::error::SpError;
 use nalgebra::Vector3;
+
+/// Contact points' and the body's world positions on the planning grid
+/// ([`STEP`]) over a stretch of a motion, where it is defined.
+pub struct Tracks {
+    pub times: Vec<f64>,
+    /// Per point, its positions at `times`.
+    pub points: Vec<Vec<Vector3<f64>>>,
+    /// The body's (its root chain's last link's) positions at `times`.
+    pub body: Vec<Vector3<f64>>,
+}
+
+impl Tracks {
+    /// The positions of `links` over [a, b] as `configuration` moves them
+    /// (samples where it is undefined are skipped, but it must be defined
+    /// over `need`: an error names the first time it is not).
+    pub fn sample(
+        model: &Model,
+        up: &Vector3<f64>,
+        links: &[usize],
+        (a, b): (f64, f64),
+        need: (f64, f64),
+        configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
+    ) -> Result<Tracks, SpError> {
+        let body = body_link(model, up);
+        let n = ((b - a) / STEP).round().max(0.0) as usize;
+        let mut poses = vec![];
+        let mut out = Tracks {
+            times: vec![],
+            points: vec![vec![]; links.len()],
+            body: vec![],
+        };
+        for k in 0..=n {
+            let t = a + k as f64 * STEP;
+            let q = configuration(t)?;
+            if !q.iter().all(|v| v.is_finite()) {
+                if (need.0..=need.1).contains(&t) {
+                    return Err(SpError::Incomplete(format!(
+                        "contact: the motion's own contacts need it at {t:.4} s inside [{}, {}]",
+                        need.0, need.1
+                    )));
+                }
+                continue;
+            }
+            model
+                .forward_kinematics(&q, &mut poses)
+                .map_err(SpError::Kinematics)?;
+            out.times.push(t);
+            for (j, &f) in links.iter().enumerate() {
+                out.points[j].push(poses[f].p);
+            }
+            out.body
+                .push(body.map_or_else(Vector3::zeros, |l| poses[l].p));
+        }
+        Ok(out)
+    }
+
+    /// Point j's lowest height along `up`.
+    pub fn lowest(&self, j: usize, up: &Vector3<f64>) -> f64 {
+        self.points[j]
+            .iter()
+            .map(|x| up.dot(x))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Point j's stance flags by the planning rule, standing at `stand`.
+    pub fn flags(&self, j: usize, stand: f64, up: &Vector3<f64>) -> Vec<bool> {
+        plan_stances(&self.points[j], &self.body, STEP, stand, up)
+    }
+
+    /// Point j's mean position over samples [a, b] (inclusive).
+    pub fn mean(&self, j: usize, a: usize, b: usize) -> Vector3<f64> {
+        self.points[j][a..=b].iter().sum::<Vector3<f64>>() / (b - a + 1) as f64
+    }
+
+    /// The stances of point j from its stance flags, cut to [t0, t1]: each
+    /// run of flags that meets the span, anchored at the point's mean
+    /// position over the whole run (also outside the span).
+    pub fn stances(&self, j: usize, flags: &[bool], (t0, t1): (f64, f64)) -> Vec<Stance> {
+        let ts = &self.times;
+        runs_of(flags)
+            .into_iter()
+            .filter(|&(a, b)| ts[b] >= t0 && ts[a] <= t1)
+            .map(|(a, b)| Stance::planted(ts[a].max(t0), ts[b].min(t1), self.mean(j, a, b)))
+            .collect()
+    }
+}
 
 /// The stances of `points` (links) inside [t0, t1] as `configuration` (the
 /// whole motion, defined through the span) moves them: each point stands at
@@ -24,44 +113,18 @@ pub fn capture_plan(
     configuration: &dyn Fn(f64) -> Result<Vec<f64>, SpError>,
 ) -> Result<GapPlan, SpError> {
     let up = floor.up;
-    let body = body_link(model, &up);
-    let n = ((t1 - t0 + 2.0 * CONTEXT) / STEP).round() as usize;
-    let mut poses = vec![];
-    let (mut ts, mut ps, mut bs) = (vec![], vec![vec![]; points.len()], vec![]);
-    for k in 0..=n {
-        let t = t0 - CONTEXT + k as f64 * STEP;
-        let q = configuration(t)?;
-        let defined = q.iter().all(|v| v.is_finite());
-        if !defined && (t0..=t1).contains(&t) {
-            return Err(SpError::Incomplete(format!(
-                "contact: a motion's own contacts need the motion at {t:.4} s inside [{t0}, {t1}]"
-            )));
-        }
-        if !defined {
-            continue;
-        }
-        model
-            .forward_kinematics(&q, &mut poses)
-            .map_err(SpError::Kinematics)?;
-        ts.push(t);
-        for (j, &f) in points.iter().enumerate() {
-            ps[j].push(poses[f].p);
-        }
-        bs.push(body.map_or_else(Vector3::zeros, |b| poses[b].p));
-    }
+    let span = (t0 - CONTEXT, t1 + CONTEXT);
+    let tracks = Tracks::sample(model, &up, points, span, (t0, t1), configuration)?;
     let points = points
         .iter()
-        .zip(&ps)
-        .map(|(&link, p)| {
-            let stand = p.iter().map(|x| up.dot(x)).fold(f64::INFINITY, f64::min);
-            let flags = plan_stances(p, &bs, STEP, stand, &up);
-            let stances = runs(&flags)
+        .enumerate()
+        .map(|(j, &link)| {
+            let stand = tracks.lowest(j, &up);
+            let flags = tracks.flags(j, stand, &up);
+            let stances = tracks
+                .stances(j, &flags, (t0, t1))
                 .into_iter()
-                .filter(|&(a, b)| ts[b] >= t0 && ts[a] <= t1)
-                .map(|(a, b)| {
-                    let anchor = p[a..=b].iter().sum::<Vector3<f64>>() / (b - a + 1) as f64;
-                    Stance::planted(ts[a].max(t0), ts[b].min(t1), anchor).by(Source::Given)
-                })
+                .map(|s| s.by(Source::Given))
                 .collect();
             PointPlan {
                 name: model.link(link).name.clone(),
@@ -72,21 +135,4 @@ pub fn capture_plan(
         })
         .collect();
     Ok(GapPlan { t0, t1, points })
-}
-
-/// The runs of `true` in `flags`: (first, last) sample, inclusive.
-pub(super) fn runs(flags: &[bool]) -> Vec<(usize, usize)> {
-    let mut out = vec![];
-    let mut k = 0;
-    while k < flags.len() {
-        if flags[k] {
-            let first = k;
-            while k + 1 < flags.len() && flags[k + 1] {
-                k += 1;
-            }
-            out.push((first, k));
-        }
-        k += 1;
-    }
-    out
 }

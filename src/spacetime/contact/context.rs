@@ -29,6 +29,7 @@
 
 use super::plan::{GapPlan, PointPlan, Source, Stance};
 use crate::ground::{FloorPlane, GROUND_BAND, plan_stances};
+use crate::lie::Se3;
 use crate::model::{Model, RootCoords};
 use crate::spacetime::error::SpError;
 use nalgebra::Vector3;
@@ -45,8 +46,8 @@ const DEFAULT_SWING: f64 = 0.4;
 const SAME_PLACE: f64 = 0.02;
 
 /// One side of a gap: sample times, per frame its positions at them, and
-/// the body's (its root link's) positions.
-type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Vector3<f64>>);
+/// the body's (its root link's) poses.
+pub(super) type Side = (Vec<f64>, Vec<Vec<Vector3<f64>>>, Vec<Se3>);
 
 /// The link whose horizontal speed is the body's: the last link of its root
 /// chain (a BVH skeleton's hips). `None` for a body without a root chain.
@@ -57,17 +58,17 @@ pub(super) fn body_link(model: &Model, up: &Vector3<f64>) -> Option<usize> {
 
 /// The contact points of a motion around one gap and their samples.
 pub struct Context<'a> {
-    model: &'a Model,
-    up: Vector3<f64>,
+    pub(super) model: &'a Model,
+    pub(super) up: Vector3<f64>,
     /// The contact points kept (link indices).
-    frames: Vec<usize>,
+    pub(super) frames: Vec<usize>,
     /// The samples before and after the gap.
-    before: Side,
-    after: Side,
+    pub(super) before: Side,
+    pub(super) after: Side,
     /// Per point, its lowest height over both sides.
-    lowest: Vec<f64>,
+    pub(super) lowest: Vec<f64>,
     /// The gap [t0, t1].
-    span: (f64, f64),
+    pub(super) span: (f64, f64),
 }
 
 fn fk(model: &Model, q: &[f64], poses: &mut Vec<crate::lie::Se3>) -> Result<(), SpError> {
@@ -106,7 +107,7 @@ impl<'a> Context<'a> {
                 for (j, &f) in candidates.iter().enumerate() {
                     ps[j].push(poses[f].p);
                 }
-                bs.push(body.map_or_else(Vector3::zeros, |b| poses[b].p));
+                bs.push(body.map_or_else(Se3::default, |b| poses[b].clone()));
             }
             Ok((ts, ps, bs))
         };
@@ -149,8 +150,9 @@ impl<'a> Context<'a> {
     }
 
     /// Stance flags of point k on one side's samples.
-    fn stance(&self, k: usize, (_, ps, body): &Side) -> Vec<bool> {
-        plan_stances(&ps[k], body, STEP, self.lowest[k], &self.up)
+    pub(super) fn stance(&self, k: usize, (_, ps, body): &Side) -> Vec<bool> {
+        let body: Vec<Vector3<f64>> = body.iter().map(|b| b.p).collect();
+        plan_stances(&ps[k], &body, STEP, self.lowest[k], &self.up)
     }
 
     /// The kept points' links and the heights they stand at.
@@ -236,7 +238,7 @@ impl<'a> Context<'a> {
 
 /// Mean durations (s) of the complete stance and swing runs (bounded by the
 /// other state on both sides) in the two sides' stance flags.
-fn durations(before: &[bool], after: &[bool]) -> (f64, f64) {
+pub(super) fn durations(before: &[bool], after: &[bool]) -> (f64, f64) {
     let mut stance = vec![];
     let mut swing = vec![];
     for flags in [before, after] {

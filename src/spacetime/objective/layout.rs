@@ -6,8 +6,10 @@
 
 use super::super::error::{SpError, invalid};
 use super::super::quadrature::GaussLegendre;
-use super::super::transition::{Continuity, TransitionCurve};
+use super::super::transition::{Continuity, EndState, TransitionCurve};
 use super::{GapDof, TransitionSettings};
+use crate::motion::Curve;
+use std::sync::Arc;
 
 /// Fewest Gauss points on one polynomial piece of a transition. With fewer,
 /// the optimiser hides torque between nodes (aliasing): on the Fig. 8 case
@@ -92,6 +94,12 @@ pub struct GapLayout {
     pub(crate) active: Vec<Vec<Option<NodeRows>>>,
     /// The extra unknowns' starting values (their number is its length).
     pub(crate) extras_start: Vec<f64>,
+    /// Per gap DOF, the curve its transition corrects, if any (a laid
+    /// example, [`GapLayout::with_bases`]): q = base(t) + spline(x).
+    pub(crate) bases: Vec<Option<Arc<Curve>>>,
+    /// Per gap DOF, the end states its spline meets: the gap's, less the
+    /// base's there.
+    pub(crate) ends: Vec<(EndState, EndState)>,
 }
 
 impl GapLayout {
@@ -99,23 +107,48 @@ impl GapLayout {
     /// DOF's basis rows at every node of its gap. The gaps are taken as
     /// given (the objective checks them against its body first).
     pub fn new(dofs: Vec<GapDof>, settings: &TransitionSettings) -> Result<Self, SpError> {
+        let bases = vec![None; dofs.len()];
+        Self::with_bases(dofs, settings, bases)
+    }
+
+    /// The layout whose gap DOF d is a correction to `bases[d]` where it is
+    /// `Some` (a laid example, defined over the gap): q = base(t) + s(t), the
+    /// spline s meeting the differences of the end states, so x = 0 is the
+    /// base itself and a perfect example is reproduced by construction,
+    /// whatever the number of coefficients (issue 42: five per DOF cannot
+    /// hold a punch, so a basis alone followed an exact example 7.6 cm off).
+    pub fn with_bases(
+        dofs: Vec<GapDof>,
+        settings: &TransitionSettings,
+        bases: Vec<Option<Arc<Curve>>>,
+    ) -> Result<Self, SpError> {
+        if bases.len() != dofs.len() {
+            return Err(invalid(format!(
+                "{} base curves for {} gap DOFs",
+                bases.len(),
+                dofs.len()
+            )));
+        }
         let curves = dofs
             .iter()
             .map(|d| TransitionCurve::new(d.t0, d.t1, settings.coefficients, settings.continuity))
             .collect::<Result<Vec<_>, _>>()?;
+        let ends = dofs
+            .iter()
+            .zip(&bases)
+            .map(|(d, b)| spline_ends(d, b.as_deref()))
+            .collect::<Result<Vec<_>, _>>()?;
         let (nodes, qweights) = composite_nodes(&curves, settings.samples)?;
         let n_free = settings.coefficients;
-        let active = dofs
-            .iter()
-            .zip(&curves)
-            .map(|(d, c)| {
-                let fixed = c.coefficients(&d.start, &d.end, &vec![0.0; n_free]);
-                nodes
-                    .iter()
-                    .map(|&t| rows_at(d, c, &fixed, n_free, t))
-                    .collect()
-            })
-            .collect();
+        let mut active = vec![];
+        for (((d, c), (e0, e1)), b) in dofs.iter().zip(&curves).zip(&ends).zip(&bases) {
+            let fixed = c.coefficients(e0, e1, &vec![0.0; n_free]);
+            let rows = nodes
+                .iter()
+                .map(|&t| rows_at(d, c, &fixed, n_free, t, b.as_deref()))
+                .collect::<Result<Vec<_>, _>>()?;
+            active.push(rows);
+        }
         Ok(GapLayout {
             dofs,
             curves,
@@ -124,6 +157,8 @@ impl GapLayout {
             qweights,
             active,
             extras_start: vec![],
+            bases,
+            ends,
         })
     }
 
@@ -205,16 +240,114 @@ impl GapLayout {
     /// Hermite curve (cubic for C¹ — exactly representable — quintic for C²),
     /// then the extras' starting values.
     pub fn hermite_start(&self) -> Vec<f64> {
-        let mut x = hermite_free_coefficients(&self.dofs, &self.curves);
+        let mut x = vec![];
+        for (d, ((dof, c), (e0, e1))) in self
+            .dofs
+            .iter()
+            .zip(&self.curves)
+            .zip(&self.ends)
+            .enumerate()
+        {
+            let base = self.bases[d].as_deref();
+            let hermite = |t: f64| {
+                let h = match c.continuity() {
+                    Continuity::C1 => {
+                        super::super::hermite::cubic(dof.t0, dof.t1, &dof.start, &dof.end, t)[0]
+                    }
+                    Continuity::C2 => {
+                        super::super::hermite::quintic(dof.t0, dof.t1, &dof.start, &dof.end, t)[0]
+                    }
+                };
+                h - base.map_or(0.0, |b| b.value(t).unwrap_or(f64::NAN))
+            };
+            x.extend(c.fit_free(e0, e1, hermite));
+        }
         x.extend_from_slice(&self.extras_start);
         x
     }
 
-    /// Full coefficient vectors of every gap DOF for unknowns x (the
-    /// extras, if any, are not read).
-    pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
-        full_coefficients(&self.dofs, &self.curves, self.n_free, x)
+    /// The starting point on the bases: zero correction where a DOF has a
+    /// base (the laid example itself), the Hermite fit where it has none,
+    /// then the extras' starting values.
+    pub fn base_start(&self) -> Vec<f64> {
+        let hermite = self.hermite_start();
+        let mut x = vec![];
+        for d in 0..self.dofs.len() {
+            match self.bases[d] {
+                Some(_) => x.extend(std::iter::repeat_n(0.0, self.n_free)),
+                None => x.extend_from_slice(self.of_dof(d, &hermite)),
+            }
+        }
+        x.extend_from_slice(&self.extras_start);
+        x
     }
+
+    /// Whether any gap DOF corrects a base curve.
+    pub fn has_bases(&self) -> bool {
+        self.bases.iter().any(Option::is_some)
+    }
+
+    /// Full spline coefficient vectors of every gap DOF for unknowns x (the
+    /// extras, if any, are not read): the correction's, where a DOF has a base.
+    pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        self.dofs
+            .iter()
+            .zip(&self.curves)
+            .zip(&self.ends)
+            .enumerate()
+            .map(|(d, ((_, c), (e0, e1)))| c.coefficients(e0, e1, self.of_dof(d, x)))
+            .collect()
+    }
+
+    /// Gap DOF d's curve for unknowns x, as the motion stores it: the
+    /// spline, or its base plus the spline.
+    pub fn curve(&self, d: usize, x: &[f64]) -> Result<Curve, SpError> {
+        let (e0, e1) = &self.ends[d];
+        let c = &self.curves[d];
+        let spline = Curve::Spline(c.to_curve(c.coefficients(e0, e1, self.of_dof(d, x)))?);
+        Ok(match &self.bases[d] {
+            Some(b) => Curve::Sum(b.clone(), Arc::new(spline)),
+            None => spline,
+        })
+    }
+
+    /// q, q̇, q̈ of gap DOF d at time t (inside its gap) for unknowns x.
+    pub fn state(&self, d: usize, x: &[f64], t: f64) -> Result<[f64; 3], SpError> {
+        let (e0, e1) = &self.ends[d];
+        let c = &self.curves[d];
+        let mut s = c.eval(&c.coefficients(e0, e1, self.of_dof(d, x)), t);
+        if let Some(b) = &self.bases[d] {
+            let o = b.eval(t).map_err(SpError::Motion)?;
+            for (s, o) in s.iter_mut().zip(o) {
+                *s += o;
+            }
+        }
+        Ok(s)
+    }
+}
+
+/// The end states gap DOF `d`'s spline meets: its own, less `base`'s there.
+fn spline_ends(d: &GapDof, base: Option<&Curve>) -> Result<(EndState, EndState), SpError> {
+    let Some(b) = base else {
+        return Ok((d.start, d.end));
+    };
+    let less = |e: &EndState, t: f64| -> Result<EndState, SpError> {
+        let [q, v, a] = b.eval(t).map_err(SpError::Motion)?;
+        let out = EndState {
+            q: e.q - q,
+            v: e.v - v,
+            a: e.a - a,
+        };
+        if [out.q, out.v, out.a].iter().all(|x| x.is_finite()) {
+            Ok(out)
+        } else {
+            Err(invalid(format!(
+                "the base curve of coordinate {} is not finite at {t} s",
+                d.coord
+            )))
+        }
+    };
+    Ok((less(&d.start, d.t0)?, less(&d.end, d.t1)?))
 }
 
 /// Gap DOF `d`'s rows at time t (`None` outside its gap): the basis of its
@@ -226,15 +359,22 @@ fn rows_at(
     fixed: &[f64],
     n_free: usize,
     t: f64,
-) -> Option<NodeRows> {
+    base: Option<&Curve>,
+) -> Result<Option<NodeRows>, SpError> {
     if t < d.t0 || t > d.t1 {
-        return None;
+        return Ok(None);
     }
     let k0 = c.first_free();
     let b = c.basis_at(t);
     let mut offset = [0.0; 3];
     for (o, row) in offset.iter_mut().zip(&b) {
         *o = row.iter().zip(fixed).map(|(x, y)| x * y).sum();
+    }
+    if let Some(base) = base {
+        let at = base.eval(t).map_err(SpError::Motion)?;
+        for (o, b) in offset.iter_mut().zip(at) {
+            *o += b;
+        }
     }
     let rows = [
         b[0][k0..k0 + n_free].to_vec(),
@@ -244,40 +384,9 @@ fn rows_at(
     let alive = |j: &usize| rows.iter().any(|r| r[*j] != 0.0);
     let lo = (0..n_free).find(alive).unwrap_or(0);
     let hi = (0..n_free).rev().find(alive).map_or(lo, |j| j + 1);
-    Some(NodeRows {
+    Ok(Some(NodeRows {
         offset,
         rows,
         live: lo..hi,
-    })
-}
-
-/// The free coefficients of every gap DOF fitted to its Hermite curve (cubic
-/// for C¹ — exactly representable — quintic for C²), DOF after DOF: the
-/// starting point of the torque objective and of the support IK.
-pub(crate) fn hermite_free_coefficients(dofs: &[GapDof], curves: &[TransitionCurve]) -> Vec<f64> {
-    let mut x = vec![];
-    for (d, c) in dofs.iter().zip(curves) {
-        let f = |t: f64| match c.continuity() {
-            Continuity::C1 => super::super::hermite::cubic(d.t0, d.t1, &d.start, &d.end, t)[0],
-            Continuity::C2 => super::super::hermite::quintic(d.t0, d.t1, &d.start, &d.end, t)[0],
-        };
-        x.extend(c.fit_free(&d.start, &d.end, f));
-    }
-    x
-}
-
-/// Full coefficient vectors of gap DOFs whose free coefficients are laid out
-/// DOF after DOF, `n_free` each, in `x` (the torque objective's and the
-/// support IK's layout).
-pub(crate) fn full_coefficients(
-    dofs: &[GapDof],
-    curves: &[TransitionCurve],
-    n_free: usize,
-    x: &[f64],
-) -> Vec<Vec<f64>> {
-    dofs.iter()
-        .zip(curves)
-        .enumerate()
-        .map(|(d, (dof, c))| c.coefficients(&dof.start, &dof.end, &x[d * n_free..(d + 1) * n_free]))
-        .collect()
+    }))
 }

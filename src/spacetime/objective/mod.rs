@@ -251,6 +251,12 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         Ok(())
     }
 
+    /// The contact forces held at each node (empty: none), as
+    /// [`Objective::set_forces`] gave them.
+    pub fn forces(&self) -> &[Vec<crate::dynamics::PointForce>] {
+        &self.torque.forces
+    }
+
     /// Sets the weight of the added term named `term` ([`Term::name`]; the
     /// first of that name), e.g. the base term's continuation, without
     /// rebuilding the objective; an error if none has that name or it has

@@ -327,3 +327,77 @@ fn an_objective_on_a_shared_layout_equals_a_new_one() {
     let layout = GapLayout::new(vec![far], &settings).unwrap();
     assert!(Objective::on_layout(&arm, layout, vec![1.0, 1.5], &known_motion).is_err());
 }
+
+/// A transition that corrects a base curve (`GapLayout::with_bases`) meets
+/// the gap's end states whatever its unknowns (q, q̇; q̈ too with C²), is the
+/// base itself at zero correction when the base meets them, and its nodes'
+/// rows give the same state as the curve it writes.
+#[test]
+fn a_correction_to_a_base_meets_the_end_states_and_is_the_base_at_zero() {
+    use crate::motion::Curve;
+    use std::sync::Arc;
+    // the base: samples of a smooth curve through the end states' region
+    let f = |t: f64| 0.3 * (3.0 * t).sin() + 0.1 * t;
+    let (h, from) = (1.0 / 240.0, -0.2);
+    let base = Arc::new(
+        Curve::samples(from, h, (0..600).map(|k| f(from + k as f64 * h)).collect()).unwrap(),
+    );
+    for continuity in [Continuity::C1, Continuity::C2] {
+        let settings = TransitionSettings {
+            continuity,
+            ..Default::default()
+        };
+        let at = |t: f64| {
+            let [q, v, a] = base.eval(t).unwrap();
+            EndState { q, v, a }
+        };
+        // ends off the base by a little (a correction to make) and on it
+        for off in [0.0, 0.05] {
+            let mut start = at(0.2);
+            start.q += off;
+            start.v -= off;
+            let gap = GapDof {
+                coord: 0,
+                t0: 0.2,
+                t1: 0.9,
+                start,
+                end: at(0.9),
+            };
+            let layout =
+                GapLayout::with_bases(vec![gap.clone()], &settings, vec![Some(base.clone())])
+                    .unwrap();
+            let n = layout.n_vars();
+            for x in [vec![0.0; n], (0..n).map(|i| 0.1 * i as f64 - 0.2).collect()] {
+                let c = layout.curve(0, &x).unwrap();
+                let [q0, v0, a0] = c.eval(0.2).unwrap();
+                let [q1, v1, _] = c.eval(0.9).unwrap();
+                assert!((q0 - start.q).abs() < 1e-9 && (v0 - start.v).abs() < 1e-9);
+                assert!((q1 - gap.end.q).abs() < 1e-9 && (v1 - gap.end.v).abs() < 1e-9);
+                if continuity == Continuity::C2 {
+                    assert!((a0 - start.a).abs() < 1e-6, "{a0} vs {}", start.a);
+                }
+                for (k, &t) in layout.nodes().0.iter().enumerate() {
+                    let r = layout.rows(0, k).unwrap();
+                    let s = c.eval(t).unwrap();
+                    for o in 0..3 {
+                        assert!(
+                            (r.value(o, &x) - s[o]).abs() < 1e-9,
+                            "{continuity:?} order {o} at {t}"
+                        );
+                    }
+                    let st = layout.state(0, &x, t).unwrap();
+                    assert!((st[0] - s[0]).abs() < 1e-12);
+                }
+            }
+            if off == 0.0 {
+                let c = layout.curve(0, &layout.base_start()).unwrap();
+                for t in [0.3, 0.55, 0.8] {
+                    assert!(
+                        (c.value(t).unwrap() - f(t)).abs() < 1e-6,
+                        "{continuity:?} at {t}"
+                    );
+                }
+            }
+        }
+    }
+}

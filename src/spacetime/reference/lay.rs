@@ -275,7 +275,9 @@ impl Lay<'_> {
             let r: Vec<f64> = v
                 .iter()
                 .enumerate()
-                .map(|(k, x)| x + hermite::cubic(g.t0, g.t1, &d0, &d1, from + k as f64 * h)[0])
+                .map(|(k, x)| {
+                    x + hermite::cubic_continued(g.t0, g.t1, &d0, &d1, from + k as f64 * h)[0]
+                })
                 .collect();
             curves.push(LaidDof {
                 coord: *c,

@@ -11,6 +11,7 @@ use crate::library::features::{KeyJoints, key_positions};
 use crate::library::{Library, Match};
 use crate::mocap::bvh::Skeleton;
 use crate::motion::Mu;
+pub use crate::spacetime::contact::ExampleStances;
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::GapDof;
 use nalgebra::Vector3;
@@ -56,17 +57,6 @@ pub struct ClipStretch {
     /// rule on the clip as recorded); `None` when the library has none for
     /// it, and the contact plan then reads them off the laid poses.
     pub stances: Option<Vec<ExampleStances>>,
-}
-
-/// One contact point's stances in a library example, on the gap's clock
-/// (issues 42 and 43: the library example's contacts are the gap's plan).
-#[derive(Clone, Debug, PartialEq)]
-pub struct ExampleStances {
-    /// The contact point: its joint's (link's) name, as the body names it.
-    pub point: String,
-    /// Stance intervals [t0, t1] (s, gap clock), in time order, over the
-    /// gap and the context either side.
-    pub spans: Vec<(f64, f64)>,
 }
 
 impl PartialEq for ClipStretch {

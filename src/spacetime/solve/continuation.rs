@@ -1,18 +1,19 @@
-//! One group's continuation (see [`solve_group_in`]): the prior lowered
-//! step by step until the transition costs less torque than the Hermite
-//! curves, the crossing step taken only as far as it must go.
+//! One group's continuation without a laid example (see [`unanchored`]):
+//! the prior lowered step by step until the transition costs less torque
+//! than the Hermite curves, the crossing step taken only as far as it must
+//! go; and the effort check every solve that reports ∫Στ² shares.
 
 use super::problem::{PriorTerm, Problem};
 use super::report::{GapReport, GroupSolution, Outcome, RunStats, Work};
 use super::run::run;
+use crate::motion::Curve;
 use crate::spacetime::error::SpError;
-use crate::spacetime::objective::{
-    ExampleTerm, GapDof, Inputs, Objective, Scratch, TransitionSettings, position_weight,
-};
+use crate::spacetime::objective::{GapDof, GapLayout, Objective, Scratch, TransitionSettings};
 use crate::spacetime::progress::ProgressEvent;
-use crate::spacetime::reference::{Example, LaidExample, Tried};
+use crate::spacetime::reference::{Example, Tried};
 use crate::spacetime::torque::TorqueModel;
 use crate::spacetime::transition::TransitionCurve;
+use std::sync::Arc;
 
 /// The scales of the prior's weights tried in turn, until the transition
 /// undercuts Hermite's ∫Στ²: as asked, then tenfold lower, down to 1e-4.
@@ -56,59 +57,47 @@ const CHECK_SAMPLES: usize = 4;
 /// found to 2⁻⁸ of its length.
 const BISECTION_STEPS: usize = 8;
 
-/// One group: minimise ∫Στ² + prior; while the result costs more torque than
-/// the Hermite curves (∫Στ² alone under a finer rule, by [`EFFORT_MARGIN`]),
-/// weaken the prior by the next step of [`PRIOR_SCHEDULE`] and solve again
-/// from there, down to the schedule's last step. The step that first
-/// undercuts Hermite is taken only as far as it must go
-/// ([`nearest_cheaper`]). So SP returns the transition nearest the prior's
-/// motion along this continuation that costs less effort than
-/// interpolation, or the last step's. The report's energies are ∫Στ² alone.
-/// With an example (the motion's own repeat, [`super::reference`]) the prior
-/// follows it; if even the last step cannot undercut Hermite with it, the
-/// plain prior's continuation decides instead.
-pub(super) fn solve_group_in<M: TorqueModel>(
+/// One group without a laid example to anchor on: minimise ∫Στ² + prior;
+/// while the result costs more torque than the Hermite curves (∫Στ² alone
+/// under a finer rule, by [`EFFORT_MARGIN`]), weaken the prior by the next
+/// step of [`PRIOR_SCHEDULE`] and solve again from there, down to the
+/// schedule's last step. The step that first undercuts Hermite is taken only
+/// as far as it must go ([`nearest_cheaper`]). So SP returns the transition
+/// nearest the prior's motion along this continuation that costs less effort
+/// than interpolation, or the last step's. The report's energies are ∫Στ²
+/// alone. Without `Prior::anchor` the prior follows the motion's own repeat
+/// ([`super::super::reference::find`]); if even the last step cannot
+/// undercut Hermite with it, the plain prior's continuation decides instead.
+/// `tried`: the example sources the owner asked and why none was laid
+/// (`None`: it asked none).
+pub(super) fn unanchored<M: TorqueModel>(
     problem: &Problem<'_, M>,
     dofs: Vec<GapDof>,
+    tried: Option<Vec<Tried>>,
 ) -> Result<GroupSolution, SpError> {
     let Some(prior) = problem.active_prior() else {
         step(problem, 0, 1);
         let obj = problem.objective(dofs, problem.settings)?;
         let (x, stats) = run(&obj, obj.hermite_start(), problem.opts)?;
         let report = GapReport::of_run(obj.dofs(), problem.names, stats);
-        return Ok(GroupSolution {
-            coefficients: obj.coefficients(&x),
-            curves: obj.curves().to_vec(),
-            x,
-            report,
-        });
+        return GroupSolution::of(&obj, x, report, None);
     };
-    if let Some(lay) = prior.laid {
-        // issue 36: an example anchors the poses; none: the plain prior's continuation
-        let choice = lay(&dofs)?;
-        if let Some(laid) = &choice.laid
-            && let Some(done) = anchored(problem, prior, &dofs, laid)?
-        {
-            return Ok(done
-                .tried(choice.tried)
-                .solution(problem.names, Work::default()));
-        }
+    if let Some(tried) = tried {
+        // the owner asked for a laid example and none could be laid
         let plain = continuation(problem, prior, &dofs, None)?;
-        return Ok(plain
-            .tried(choice.tried)
-            .solution(problem.names, Work::default()));
+        return plain.tried(tried).solution(problem.names, Work::default());
     }
     let example = (prior.example)(&dofs)?;
     let had_example = example.is_some();
     let first = continuation(problem, prior, &dofs, example)?;
     if !had_example || first.undercut {
-        return Ok(first.solution(problem.names, Work::default()));
+        return first.solution(problem.names, Work::default());
     }
     // The example could not be made cheaper than Hermite (a short gap whose
     // example moves faster than its ends): the plain prior, which always
     // starts at Hermite's effort, then decides; the work of both is reported.
     let plain = continuation(problem, prior, &dofs, None)?;
-    Ok(plain.solution(problem.names, first.work))
+    plain.solution(problem.names, first.work)
 }
 
 /// Tells the progress callback that solve `k` (from 0) of at most `of` starts.
@@ -122,10 +111,11 @@ pub(super) fn step<M: TorqueModel>(problem: &Problem<'_, M>, k: usize, of: usize
 /// The result of one run down [`PRIOR_SCHEDULE`].
 struct Continued {
     x: Vec<f64>,
-    /// The objective's gap DOFs, spline spaces and full coefficients at `x`.
+    /// The objective's gap DOFs, spline spaces, full coefficients and curves at `x`.
     dofs: Vec<GapDof>,
     curves: Vec<TransitionCurve>,
     coefficients: Vec<Vec<f64>>,
+    written: Vec<Curve>,
     /// The last step's run.
     last: RunStats,
     /// Every step's work.
@@ -143,42 +133,56 @@ impl Continued {
     }
 
     /// The group's solution, its report adding the work `before` it.
-    fn solution(self, names: &[String], before: Work) -> GroupSolution {
+    fn solution(self, names: &[String], before: Work) -> Result<GroupSolution, SpError> {
         let mut work = self.work;
         work.absorb(&before);
-        GroupSolution {
+        Ok(GroupSolution {
             report: GapReport::new(&self.dofs, names, self.last, work, self.outcome),
             x: self.x,
             curves: self.curves,
             coefficients: self.coefficients,
-        }
+            written: self.written,
+            plan: None,
+        })
     }
 }
 
 /// ∫Στ² alone under the effort check's finer rule ([`CHECK_SAMPLES`]), and
 /// the Hermite curves' that a transition must undercut.
-struct EffortCheck<'p, M: TorqueModel> {
+pub(super) struct EffortCheck<'p, M: TorqueModel> {
     torque_only: Objective<'p, M>,
     scratch: Scratch<M::Workspace>,
     /// The Hermite start's free coefficients.
-    hermite: Vec<f64>,
+    pub(super) hermite: Vec<f64>,
     /// The most ∫Στ² a transition may cost: [`EFFORT_MARGIN`] below the
     /// whole motion filled by Hermite curves.
     target: f64,
 }
 
 impl<'p, M: TorqueModel> EffortCheck<'p, M> {
-    fn new(
+    /// The check of transitions of `dofs`, each a correction to its base
+    /// curve where `bases` has one (none given: no bases).
+    pub(super) fn new(
         problem: &'p Problem<'_, M>,
         prior: &PriorTerm<'_>,
         dofs: &[GapDof],
+        bases: Option<Vec<Option<Arc<Curve>>>>,
     ) -> Result<Self, SpError> {
         let settings = problem.settings;
         let fine = TransitionSettings {
             samples: settings.samples * CHECK_SAMPLES,
             ..settings.clone()
         };
-        let torque_only = problem.objective(dofs.to_vec(), &fine)?;
+        let layout = match bases {
+            Some(b) => GapLayout::with_bases(dofs.to_vec(), &fine, b)?,
+            None => GapLayout::new(dofs.to_vec(), &fine)?,
+        };
+        let torque_only = Objective::on_layout(
+            problem.model,
+            layout,
+            problem.weights.to_vec(),
+            problem.inputs,
+        )?;
         let scratch = torque_only.scratch();
         let hermite = torque_only.hermite_start();
         let t0 = dofs.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
@@ -192,7 +196,8 @@ impl<'p, M: TorqueModel> EffortCheck<'p, M> {
         })
     }
 
-    fn energy(&mut self, x: &[f64]) -> Result<f64, SpError> {
+    /// ∫Στ² of the transition of unknowns `x`.
+    pub(super) fn energy(&mut self, x: &[f64]) -> Result<f64, SpError> {
         self.torque_only.eval(&mut self.scratch, x, None)
     }
 }
@@ -222,83 +227,7 @@ pub(super) fn step_objective<'p, M: TorqueModel>(
     Ok(obj)
 }
 
-/// With an example laid in the world (issue 36): one solve of ∫Στ², the
-/// prior at its full weight following the laid example's q̇, q̈, and the
-/// example term ([`ExampleTerm`]) pulling the poses to it, its weight per
-/// DOF by [`position_weight`]. No effort check and no lowering: a person's
-/// motion usually costs more ∫Στ² than Hermite's curves, and lowering the
-/// prior until it does not traded the example away for that (the ground
-/// terms, not ∫Στ², are what keep it physical); ∫Στ² is only the
-/// regulariser that breaks ties. `None` when the prior cannot follow it
-/// (its derivatives undefined at a node).
-fn anchored<M: TorqueModel>(
-    problem: &Problem<'_, M>,
-    prior: &PriorTerm<'_>,
-    dofs: &[GapDof],
-    laid: &LaidExample,
-) -> Result<Option<Continued>, SpError> {
-    let mut check = EffortCheck::new(problem, prior, dofs)?;
-    let example_fn = laid.inputs();
-    let example: &Inputs = &example_fn;
-    let follow: Vec<usize> = laid.coords().collect();
-    let trust = laid.example.trust();
-    let mut obj = problem
-        .objective(dofs.to_vec(), problem.settings)?
-        .with_prior(&prior.weights)?;
-    if !obj.with_example(example, 0.0, &follow, trust)? {
-        return Ok(None);
-    }
-    let mut per_coord = vec![0.0; prior.weights.len()];
-    for g in dofs.iter().filter(|g| follow.contains(&g.coord)) {
-        let c_a = prior.weights.get(g.coord).map_or(0.0, |w| w[1]);
-        per_coord[g.coord] = position_weight(c_a, g.t1 - g.t0, trust);
-    }
-    let term = ExampleTerm::new(obj.layout(), per_coord.len(), example, &per_coord)?;
-    let obj = obj.with_term(Box::new(term.clone()));
-    step(problem, 0, 2);
-    let hermite = check.hermite.clone();
-    let mut work = Work::default();
-    // the anchor alone first (prior and example term, no torque: quadratic,
-    // so its Gauss–Newton steps are exact), so the full solve starts on the
-    // example rather than on Hermite's curves far from it (a dance's fast
-    // limbs stopped short of the example from there)
-    let zeros = vec![0.0; problem.weights.len()];
-    let mut anchor = Objective::new(
-        problem.model,
-        dofs.to_vec(),
-        problem.settings,
-        zeros,
-        problem.inputs,
-    )?
-    .with_prior(&prior.weights)?;
-    anchor.with_example(example, 0.0, &follow, trust)?;
-    let anchor = anchor.with_term(Box::new(term));
-    let (x_anchor, first) = run(&anchor, hermite.clone(), problem.opts)?;
-    work.add(&first);
-    step(problem, 1, 2);
-    let (x, last) = run(&obj, x_anchor, problem.opts)?;
-    work.add(&last);
-    let energy = check.energy(&x)?;
-    let outcome = Outcome {
-        initial_energy: check.energy(&hermite)?,
-        energy,
-        prior_scale: 1.0,
-        example: Some(laid.example.clone()),
-        tried: vec![],
-    };
-    Ok(Some(Continued {
-        coefficients: obj.coefficients(&x),
-        curves: obj.curves().to_vec(),
-        dofs: obj.dofs().to_vec(),
-        x,
-        last,
-        work,
-        outcome,
-        undercut: energy <= check.target,
-    }))
-}
-
-/// [`solve_group_in`]'s continuation with the prior following `example`
+/// [`unanchored`]'s continuation with the prior following `example`
 /// (or the plain prior).
 fn continuation<M: TorqueModel>(
     problem: &Problem<'_, M>,
@@ -306,7 +235,7 @@ fn continuation<M: TorqueModel>(
     dofs: &[GapDof],
     mut example: Option<Example>,
 ) -> Result<Continued, SpError> {
-    let mut check = EffortCheck::new(problem, prior, dofs)?;
+    let mut check = EffortCheck::new(problem, prior, dofs, None)?;
     let mut x = check.hermite.clone();
     let mut work = Work::default();
     // built once: each step rescales the prior in place (bit for bit the
@@ -340,7 +269,12 @@ fn continuation<M: TorqueModel>(
                 example,
                 tried: vec![],
             };
+            let layout = obj.layout();
+            let written = (0..layout.dofs().len())
+                .map(|d| layout.curve(d, &x_k))
+                .collect::<Result<Vec<_>, _>>()?;
             return Ok(Continued {
+                written,
                 coefficients: obj.coefficients(&x_k),
                 curves: obj.curves().to_vec(),
                 dofs: obj.dofs().to_vec(),

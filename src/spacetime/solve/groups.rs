@@ -2,8 +2,7 @@
 //! different DOFs that overlap in time are coupled through the dynamics and
 //! are solved together; disjoint groups are independent and run in parallel.
 
-use super::continuation::solve_group_in;
-use super::grounded::solve_grounded;
+use super::group::solve_group;
 use super::problem::Problem;
 use super::report::GroupSolution;
 use crate::spacetime::error::SpError;
@@ -40,10 +39,7 @@ pub fn solve_all<M: TorqueModel>(
     groups
         .into_par_iter()
         .map(|dofs| {
-            let solution = match problem.ground {
-                Some((ground, schedule)) => solve_grounded(problem, ground, schedule, dofs),
-                None => solve_group_in(problem, dofs),
-            };
+            let solution = solve_group(problem, dofs);
             progress.report(ProgressEvent::GroupDone);
             solution
         })

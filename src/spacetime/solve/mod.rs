@@ -44,7 +44,7 @@
 mod continuation;
 mod eval;
 pub mod ground_model;
-pub mod grounded;
+mod group;
 pub mod groups;
 pub mod options;
 pub mod problem;
@@ -52,7 +52,7 @@ pub mod report;
 mod run;
 mod stall;
 
-pub use ground_model::{GroundModel, GroundSchedule};
+pub use ground_model::{GroundModel, GroundSettings, GroundStep, PlanSource};
 pub use groups::{group_overlapping, solve_all};
 pub use options::SolveOptions;
 pub use problem::{FindExample, LayExample, PriorTerm, Problem};

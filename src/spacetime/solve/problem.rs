@@ -2,7 +2,7 @@
 //! settings, the torque weights, the prior, the motion outside the gaps, the
 //! solver's options and the coordinates' names.
 
-use super::ground_model::{GroundModel, GroundSchedule};
+use super::ground_model::{GroundModel, GroundSettings};
 use super::options::SolveOptions;
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs, Objective, TransitionSettings};
@@ -59,10 +59,10 @@ pub struct Problem<'a, M: TorqueModel> {
     pub opts: &'a SolveOptions,
     /// The model's coordinate names, for the reports (empty: unnamed).
     pub names: &'a [String],
-    /// The ground the body stands on and the grounded continuation
-    /// ([`super::grounded`]); `None`: Rose's objective and the prior's
-    /// continuation ([`super::continuation`]).
-    pub ground: Option<(&'a dyn GroundModel<M>, &'a GroundSchedule)>,
+    /// The ground the body stands on and the grounded solve's settings
+    /// (`group.rs`); `None`: Rose's objective with the prior, anchored on a
+    /// laid example or lowered along its continuation.
+    pub ground: Option<(&'a dyn GroundModel<M>, &'a GroundSettings)>,
 }
 
 impl<M: TorqueModel> Problem<'_, M> {

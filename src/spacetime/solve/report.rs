@@ -3,8 +3,12 @@
 //! group of gaps ([`GapReport`]), built once from the runs of its
 //! continuation.
 
-use crate::spacetime::objective::GapDof;
+use crate::motion::Curve;
+use crate::spacetime::contact::GapPlan;
+use crate::spacetime::error::SpError;
+use crate::spacetime::objective::{GapDof, Objective};
 use crate::spacetime::reference::{Example, Tried};
+use crate::spacetime::torque::TorqueModel;
 use crate::spacetime::transition::TransitionCurve;
 
 /// What one quasi-Newton solve (one step of the continuation) did.
@@ -229,12 +233,50 @@ impl std::fmt::Display for StopReason {
     }
 }
 
-/// The solved free coefficients and full coefficient vectors of each gap DOF.
+/// The solved free coefficients and full coefficient vectors of each gap
+/// DOF, the curves to write and, when the body stood, the plan it stood on.
 #[derive(Clone, Debug)]
 pub struct GroupSolution {
     pub x: Vec<f64>,
     /// The spline space of each gap DOF (same order as `coefficients`).
     pub curves: Vec<TransitionCurve>,
+    /// The splines' full coefficients: a DOF that corrects a laid example
+    /// has the correction's (see `written`).
     pub coefficients: Vec<Vec<f64>>,
+    /// Each gap DOF's curve as the motion stores it: the spline, or the laid
+    /// example plus the spline (same order as `coefficients`).
+    pub written: Vec<Curve>,
     pub report: GapReport,
+    /// The contact plan the group stood on, re-planned and scored
+    /// (`Stance::solved`); `None` when the body did not stand.
+    pub plan: Option<GapPlan>,
+}
+
+impl GroupSolution {
+    /// The solution of `obj` at unknowns `x`, with its report and plan.
+    pub fn of<M: TorqueModel>(
+        obj: &Objective<'_, M>,
+        x: Vec<f64>,
+        report: GapReport,
+        plan: Option<GapPlan>,
+    ) -> Result<Self, SpError> {
+        let layout = obj.layout();
+        let written = (0..layout.dofs().len())
+            .map(|d| layout.curve(d, &x))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(GroupSolution {
+            coefficients: obj.coefficients(&x),
+            curves: obj.curves().to_vec(),
+            written,
+            x,
+            report,
+            plan,
+        })
+    }
+
+    /// The same solution, its report listing the example sources `tried`.
+    pub fn with_tried(mut self, tried: Vec<Tried>) -> Self {
+        self.report.tried = tried;
+        self
+    }
 }

@@ -71,12 +71,8 @@ pub fn solve_group_from<M: TorqueModel>(
     opts: &SolveOptions,
 ) -> Result<GroupSolution, SpError> {
     let (x, stats) = run(obj, x0, opts)?;
-    Ok(GroupSolution {
-        coefficients: obj.coefficients(&x),
-        curves: obj.curves().to_vec(),
-        report: GapReport::of_run(obj.dofs(), &[], stats),
-        x,
-    })
+    let report = GapReport::of_run(obj.dofs(), &[], stats);
+    GroupSolution::of(obj, x, report, None)
 }
 
 /// Minimise `obj` from `x0`: the best point seen and what the run did.

@@ -1,7 +1,8 @@
-//! Whether SP stands the body on the ground (issue 35): the rule the
-//! pipeline's grounded stages ask ([`super::root_fill`] leaving the cut
-//! root open, [`super::transitions`] solving with the ground's terms and
-//! forces, [`crate::spacetime::solve::grounded`]).
+//! Whether SP stands the body on the ground (issue 35), and the ground its
+//! groups stand on (issue 42): [`SpGround`] makes each group's contact plan
+//! from the motion being filled — its edges, `contact:`'s stances, the
+//! laid example's own stances — re-makes it from a solve's result, and
+//! gives the solve its forces and terms (`solve/group.rs` runs them).
 //!
 //! The body stands when all of these hold, and otherwise SP is Rose's
 //! (today's numbers, bit for bit):
@@ -13,19 +14,21 @@
 //!   Rose's Fig. 10 arm have none, so SP on them never changes.
 
 use super::checks::motion_err;
-use super::filling::Filling;
 use super::hold_contacts::contact_links;
 use super::options::{SpOptions, Support};
 use crate::ground::{FloorPlane, up_of};
 use crate::model::{Model, RootCoords};
-use crate::motion::time_tol;
-use crate::spacetime::contact::{Contact, ContactPlan, GapPlan};
-use crate::spacetime::error::{SpError, invalid};
-use crate::spacetime::objective::{
-    BaseTerm, Clearance, ContactForces, GapLayout, GroundScale, Objective, Term, clearance_term,
-    floor_term, stance_term,
+use crate::motion::JointSampler;
+use crate::spacetime::contact::{
+    Contact, Context, GapPlan, PlanPoint, Replan, Timing, example_plan, plan_given, with_edges,
 };
-use crate::spacetime::solve::GroundModel;
+use crate::spacetime::error::SpError;
+use crate::spacetime::objective::{
+    BaseTerm, Clearance, ContactForces, GapDof, GapLayout, GroundScale, Objective, Term,
+    clearance_term, floor_term, stance_term,
+};
+use crate::spacetime::reference::LaidExample;
+use crate::spacetime::solve::{GroundModel, GroundSettings, PlanSource};
 use crate::spacetime::torque::BodyDynamics;
 use nalgebra::Vector3;
 
@@ -41,146 +44,187 @@ pub fn stands(model: &Model, gravity: &Vector3<f64>, opts: &SpOptions) -> Result
     Ok(!links.is_empty())
 }
 
-/// The friction coefficient of the feet's cones (the in-betweening
-/// report's, shoe on floor).
-pub const GROUND_FRICTION: f64 = 0.8;
-
-/// The spike's weights relative to ∫Στ² weight 1 (m⁻² s⁻¹ on the points'
-/// errors): stance 1e10 brought the worst stance error from 3–5 cm to 1–2 cm;
-/// floor and clearance 1e9.
-pub const STANCE_WEIGHT: f64 = 1e10;
-pub const FLOOR_WEIGHT: f64 = 1e9;
-pub const CLEARANCE_WEIGHT: f64 = 1e9;
-
-/// How far around a gap a contact point's standing height is looked for (s).
-const STAND_CONTEXT: f64 = 0.3;
-
-/// One group's ground: its plan, the scales its base term and forces share
-/// and each point's standing height.
-struct GroupGround {
-    plan: GapPlan,
-    scale: GroundScale,
-    stands: Vec<f64>,
-}
-
-/// The ground of SP's transitions ([`GroundModel`]): per group of gaps, the
-/// contact plan `hold_contacts` made, the forces chosen in the cones at the
-/// points planted at each node, and the ground's terms.
+/// The ground of SP's transitions ([`GroundModel`]) over the motion being
+/// filled: its floor, its contact points, `contact:` and the settings.
 pub(super) struct SpGround<'a> {
     body: &'a BodyDynamics<'a>,
     floor: FloorPlane,
     root: &'a RootCoords,
-    groups: Vec<GroupGround>,
+    /// The contact points `contact:` plans (links) and whether it named them.
+    links: Vec<usize>,
+    named: bool,
+    contact: &'a Contact,
+    /// The motion as it is before the transitions (the gaps undefined).
+    sampler: JointSampler<'a>,
+    settings: &'a GroundSettings,
 }
 
 impl<'a> SpGround<'a> {
-    /// The ground of every gap plan of `plan` on `f`'s motion (the root's
-    /// gaps open, everything else defined around the gaps).
     pub(super) fn new(
-        f: &Filling<'_>,
         body: &'a BodyDynamics<'a>,
-        root: &'a RootCoords,
-        plan: &ContactPlan,
+        (floor, root): (FloorPlane, &'a RootCoords),
+        contact: &'a Contact,
+        sampler: JointSampler<'a>,
+        settings: &'a GroundSettings,
     ) -> Result<Self, SpError> {
-        let sampler = f.sampler();
-        let configuration = |t: f64| sampler.positions(t).map_err(motion_err);
-        let up = plan.floor.up;
-        let mut poses = vec![];
-        let mut groups = vec![];
-        for gap in &plan.gaps {
-            let q0 = configuration(gap.t0)?;
-            let scale = GroundScale::of(body, &q0)?;
-            // each point's lowest height in the recorded frames around the gap
-            let mut stands = vec![f64::INFINITY; gap.points.len()];
-            let step = 1.0 / 60.0;
-            let n = (STAND_CONTEXT / step).round() as usize;
-            let times = (0..=n).flat_map(|k| {
-                let d = k as f64 * step;
-                [gap.t0 - d, gap.t1 + d]
-            });
-            for t in times {
-                let q = configuration(t)?;
-                if q.iter().any(|x| !x.is_finite()) {
-                    continue;
-                }
-                body.model
-                    .forward_kinematics(&q, &mut poses)
-                    .map_err(|e| invalid(e.to_string()))?;
-                for (h, p) in stands.iter_mut().zip(&gap.points) {
-                    *h = h.min(poses[p.link].p.dot(&up));
-                }
-            }
-            // a point never seen around the gap stands on the floor
-            for h in &mut stands {
-                if !h.is_finite() {
-                    *h = plan.floor.height;
-                }
-            }
-            groups.push(GroupGround {
-                plan: gap.clone(),
-                scale,
-                stands,
-            });
-        }
+        let (links, named) = contact_links(body.model, contact)?;
         Ok(SpGround {
             body,
-            floor: plan.floor,
+            floor,
             root,
-            groups,
+            links,
+            named,
+            contact,
+            sampler,
+            settings,
         })
     }
 
-    /// The group whose span is `layout`'s.
-    fn group(&self, layout: &GapLayout) -> Result<&GroupGround, SpError> {
-        let dofs = layout.dofs();
-        let t0 = dofs.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
-        let t1 = dofs.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
-        self.groups
-            .iter()
-            .find(|g| {
-                (g.plan.t0 - t0).abs() <= time_tol(t0) && (g.plan.t1 - t1).abs() <= time_tol(t1)
-            })
-            .ok_or_else(|| {
-                SpError::Numerical(format!("no contact plan for the gaps over [{t0}, {t1}] s"))
-            })
+    /// Every coordinate at t as `layout` at unknowns `x` moves the gap
+    /// DOFs, the rest as recorded (NaN where undefined).
+    fn configuration(&self, layout: &GapLayout, x: &[f64], t: f64) -> Result<Vec<f64>, SpError> {
+        let mut q = self.sampler.positions(t).map_err(motion_err)?;
+        for (d, g) in layout.dofs().iter().enumerate() {
+            if t >= g.t0 && t <= g.t1 {
+                q[g.coord] = layout.state(d, x, t)?[0];
+            }
+        }
+        Ok(q)
+    }
+
+    /// The body's scale at the start of the plan's gap.
+    fn scale(&self, plan: &GapPlan) -> Result<GroundScale, SpError> {
+        let q0 = self.sampler.positions(plan.t0).map_err(motion_err)?;
+        GroundScale::of(self.body, &q0)
     }
 }
 
 impl<'a> GroundModel<BodyDynamics<'a>> for SpGround<'a> {
+    fn moves_contacts(&self, dofs: &[GapDof]) -> bool {
+        let model = self.body.model;
+        dofs.iter()
+            .filter_map(|d| model.coordinate_link(d.coord))
+            .any(|l| self.links.iter().any(|&c| model.is_ancestor(l, c)))
+    }
+
+    fn plan(
+        &self,
+        dofs: &[GapDof],
+        layout: &GapLayout,
+        x: &[f64],
+        laid: Option<&LaidExample>,
+    ) -> Result<GapPlan, SpError> {
+        let model = self.body.model;
+        let t0 = dofs.iter().map(|d| d.t0).fold(f64::INFINITY, f64::min);
+        let t1 = dofs.iter().map(|d| d.t1).fold(f64::NEG_INFINITY, f64::max);
+        let configuration = |t: f64| self.configuration(layout, x, t);
+        let ctx = Context::new(
+            model,
+            &self.floor,
+            &self.links,
+            self.named,
+            (t0, t1),
+            &configuration,
+        )?;
+        if let Contact::Given(given) = self.contact {
+            let points: Vec<(usize, f64)> = ctx.points().collect();
+            return plan_given(model, given, &points, (t0, t1), &configuration);
+        }
+        let edges = ctx.plan();
+        let laid = match self.settings.plan {
+            PlanSource::Context => return Ok(edges),
+            PlanSource::Steps => None,
+            PlanSource::Auto | PlanSource::Example => laid,
+        };
+        let Some(laid) = laid else {
+            if self.settings.plan == PlanSource::Example {
+                return Ok(edges);
+            }
+            return Ok(with_edges(&edges, &ctx.steps(&configuration)?));
+        };
+        let points: Vec<PlanPoint> = ctx
+            .points()
+            .map(|(link, stand)| PlanPoint { link, stand })
+            .collect();
+        let shift = laid.example.shift;
+        let recorded = |t: f64| self.sampler.positions(t + shift).map_err(motion_err);
+        let timing = match laid
+            .example
+            .clip
+            .as_ref()
+            .and_then(|c| c.stances.as_deref())
+        {
+            Some(stored) => Timing::Stored(stored),
+            None if laid.example.clip.is_none() => Timing::Recorded(&recorded),
+            // a library example without stored labels: the laid poses' own
+            None => Timing::Recorded(&configuration),
+        };
+        let inner = example_plan(
+            model,
+            &self.floor.up,
+            &points,
+            (t0, t1),
+            &configuration,
+            timing,
+        )?;
+        Ok(with_edges(&edges, &inner))
+    }
+
+    fn replan(
+        &self,
+        plan: &GapPlan,
+        obj: &Objective<'_, BodyDynamics<'a>>,
+        x: &[f64],
+    ) -> Result<GapPlan, SpError> {
+        let layout = obj.layout();
+        let configuration = |t: f64| self.configuration(layout, x, t);
+        Replan {
+            model: self.body.model,
+            up: self.floor.up,
+            nodes: layout.nodes().0,
+            forces: obj.forces(),
+            weight: self.scale(plan)?.weight,
+        }
+        .of(plan, &configuration)
+    }
+
     fn set_forces(
         &self,
+        plan: &GapPlan,
         obj: &mut Objective<'_, BodyDynamics<'a>>,
         x: &[f64],
     ) -> Result<(), SpError> {
-        let g = self.group(obj.layout())?;
+        let scale = self.scale(plan)?;
+        let friction = self.settings.friction;
         let forces =
-            ContactForces::new(self.body, &g.plan, g.scale, GROUND_FRICTION, obj.layout())?
-                .solve(obj, x)?;
+            ContactForces::new(self.body, plan, scale, friction, obj.layout())?.solve(obj, x)?;
         obj.set_forces(forces)
     }
 
     fn terms<'t>(
         &'t self,
+        plan: &GapPlan,
         layout: &GapLayout,
         base: f64,
     ) -> Result<Vec<Box<dyn Term<BodyDynamics<'a>> + 't>>, SpError> {
-        let g = self.group(layout)?;
-        let (body, floor, plan) = (self.body, self.floor, &g.plan);
+        let (body, floor, s) = (self.body, self.floor, self.settings);
+        let scale = self.scale(plan)?;
+        let stands: Vec<f64> = plan.points.iter().map(|p| p.stand).collect();
         let mut terms: Vec<Box<dyn Term<BodyDynamics<'a>> + 't>> = vec![
-            Box::new(stance_term(body, plan, layout, STANCE_WEIGHT)?),
-            Box::new(floor_term(body, plan, floor, layout, FLOOR_WEIGHT)?),
+            Box::new(stance_term(body, plan, layout, s.stance)?),
+            Box::new(floor_term(body, plan, floor, layout, s.floor)?),
             Box::new(clearance_term(
                 body,
                 plan,
-                &g.stands,
+                &stands,
                 floor,
-                Clearance::of(&g.scale),
+                Clearance::of(&scale),
                 layout,
-                CLEARANCE_WEIGHT,
+                s.clearance,
             )?),
         ];
         if base > 0.0 {
-            terms.push(Box::new(BaseTerm::new(body, g.scale, base)?));
+            terms.push(Box::new(BaseTerm::new(body, scale, base)?));
         }
         Ok(terms)
     }
@@ -192,7 +236,31 @@ impl<'a> GroundModel<BodyDynamics<'a>> for SpGround<'a> {
                 .iter()
                 .any(|d| self.root.all.contains(&d.coord))
     }
+
+    fn score(&self, plan: &mut GapPlan, layout: &GapLayout, x: &[f64]) -> Result<(), SpError> {
+        let model = self.body.model;
+        let mut poses = vec![];
+        for p in &mut plan.points {
+            for s in &mut p.stances {
+                let n = ((s.t1 - s.t0) / SCORE_STEP).ceil().max(1.0) as usize;
+                let mut worst: f64 = 0.0;
+                for k in 0..=n {
+                    let t = s.t0 + (s.t1 - s.t0) * k as f64 / n as f64;
+                    let q = self.configuration(layout, x, t)?;
+                    model
+                        .forward_kinematics(&q, &mut poses)
+                        .map_err(SpError::Kinematics)?;
+                    worst = worst.max((poses[p.link].p - s.at(t)).norm());
+                }
+                s.solved = Some(worst);
+            }
+        }
+        Ok(())
+    }
 }
+
+/// The step (s) a stance's solved distance is measured at.
+const SCORE_STEP: f64 = 1.0 / 120.0;
 
 #[cfg(test)]
 mod tests {

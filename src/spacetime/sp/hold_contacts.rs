@@ -83,14 +83,12 @@ pub fn contact_floor(
 }
 
 /// The gaps left for the spacetime solve after the contact plan's chains
-/// were solved by IK and written into the motion. Without `ik` (grounded
-/// SP: the ground's terms hold the planted points in the solve itself) only
-/// the plan is made and every gap is left.
+/// were solved by IK and written into the motion (SP on a body that does
+/// not stand: the grounded solve plans and holds its feet itself).
 pub(super) fn hold_contacts(
     f: &mut Filling<'_>,
     opts: &SpOptions,
     gaps: Vec<GapDof>,
-    ik: bool,
 ) -> Result<Vec<GapDof>, SpError> {
     let Some(floor) = contact_floor(f.recorded, f.model, &f.gravity, opts)? else {
         return Ok(gaps); // nothing to stand on, or nothing to stand with
@@ -99,7 +97,7 @@ pub(super) fn hold_contacts(
     f.contacts = Some(ContactPlan::new(floor));
     let mut left = vec![];
     for group in group_overlapping(gaps) {
-        left.extend(hold_group(f, opts, (&links, named), &floor, group, ik)?);
+        left.extend(hold_group(f, opts, (&links, named), &floor, group)?);
     }
     Ok(left)
 }
@@ -112,7 +110,6 @@ fn hold_group(
     (links, named): (&[usize], bool),
     floor: &FloorPlane,
     group: Vec<GapDof>,
-    ik: bool,
 ) -> Result<Vec<GapDof>, SpError> {
     let (model, root) = (f.model, &f.root);
     let (t0, t1) = span(&group);
@@ -129,8 +126,7 @@ fn hold_group(
         };
         // the chains of the planted points are solved by IK
         let on_chain = |c: usize| {
-            ik && plan
-                .points
+            plan.points
                 .iter()
                 .any(|p| !p.stances.is_empty() && moves(model, root, p.link, c))
         };
@@ -185,14 +181,11 @@ mod tests {
         };
         let mut f = Filling::new(&m, &model, Vector3::zeros());
         let gaps = f.gaps().unwrap();
-        assert_eq!(
-            hold_contacts(&mut f, &opts, gaps.clone(), true).unwrap(),
-            gaps
-        );
+        assert_eq!(hold_contacts(&mut f, &opts, gaps.clone()).unwrap(), gaps);
         assert!(f.contacts.is_none());
         let mut f = Filling::new(&m, &model, Y_UP);
         // a floor far below: the foot is never planted, nothing held by IK
-        let left = hold_contacts(&mut f, &opts, gaps.clone(), true).unwrap();
+        let left = hold_contacts(&mut f, &opts, gaps.clone()).unwrap();
         assert_eq!(left, gaps);
         let plan = f.contacts.as_ref().unwrap();
         assert_eq!((plan.floor.height, plan.floor.up), (-2.0, Vector3::y()));
@@ -226,7 +219,7 @@ mod tests {
         o.check(&model).unwrap();
         let mut f = Filling::new(&m, &model, Y_UP);
         let gaps = f.gaps().unwrap();
-        hold_contacts(&mut f, &o, gaps.clone(), true).unwrap();
+        hold_contacts(&mut f, &o, gaps.clone()).unwrap();
         let plan = &f.contacts.as_ref().unwrap().gaps[0];
         let foot = &plan.points[0];
         assert_eq!(foot.name, "foot");
@@ -245,14 +238,9 @@ mod tests {
         assert!((a.p0 - poses[foot.link].p).norm() < 1e-12);
         // inside the gap without at: an error naming the point
         let mut f = Filling::new(&m, &model, Y_UP);
-        let err = hold_contacts(
-            &mut f,
-            &opts(vec![given(0.9, 1.0, None)]),
-            gaps.clone(),
-            true,
-        )
-        .unwrap_err()
-        .to_string();
+        let err = hold_contacts(&mut f, &opts(vec![given(0.9, 1.0, None)]), gaps.clone())
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("foot") && err.contains("at:"), "{err}");
         // bad times, an unknown point: SpOptions::check says so
         let err = opts(vec![given(1.0, 0.9, None)]).check(&model).unwrap_err();

@@ -9,10 +9,13 @@
 //! 0. [`checks`]: conflicts and a motion that cannot drive the body are errors;
 //! 1. [`root_fill`]: the root's gaps (Rose's path, or pinned);
 //! 2. [`offsets`]: constant bone offsets held;
-//! 3. [`hold_supports`] (or [`hold_contacts`] with `contact:`, which puts the
-//!    contact plan on the [`Filling`]): limbs held by IK ([`held_limbs`]);
+//! 3. [`hold_supports`] (or [`hold_contacts`] with `contact:` when the body
+//!    does not stand): limbs held by IK ([`held_limbs`]); when it stands
+//!    ([`grounded::stands`]) nothing is held here: each group's solve plans
+//!    its contacts and holds the feet itself;
 //! 4. [`transitions`]: the rest solved as spacetime transitions, the prior's
-//!    weights from [`prior_weights`], ∫Στ² by [`energy`]'s rule for the baseline;
+//!    weights from [`prior_weights`], ∫Στ² by [`energy`]'s rule for the
+//!    baseline, on the ground ([`grounded::SpGround`]) when the body stands;
 //!
 //! and the result is the filled motion with the [`report`].
 
@@ -42,11 +45,11 @@ pub use options::{
     ROOT_TOLERANCE_RELATIVE, RootFill, SP_OPTIONS, SpOptions, Support, root_tolerance,
 };
 pub use prior_weights::prior_weights;
-pub use report::{FreeRoot, PinnedRoot, RootShift, SpReport, Undefined};
+pub use report::{FreeRoot, MAX_AIR, PinnedRoot, RootShift, SpReport, Undefined, Unplanned};
 
 use crate::model::Model;
 use crate::motion::Mu;
-use crate::spacetime::contact::Contact;
+use crate::spacetime::contact::{Contact, ContactPlan};
 use crate::spacetime::error::SpError;
 
 /// `SP(m, body: b, …)`: the motion with every interior gap filled. Gaps at the
@@ -57,21 +60,24 @@ pub fn sp(m: &Mu, model: &Model, opts: &SpOptions) -> Result<(Mu, SpReport), SpE
     checks::check_names(m, model)?;
     let gravity = opts.gravity.unwrap_or(model.default_gravity);
     let mut f = Filling::new(m, model, gravity);
-    // grounded (issue 35): the body has feet, gravity acts, `contact:` is
-    // not "none", and there is a floor to stand on
-    let standing = grounded::stands(model, &gravity, opts)?
-        && hold_contacts::contact_floor(m, model, &gravity, opts)?.is_some();
-    let free_root = standing && f.root.is_floating();
+    // grounded (issues 35, 42): the body has feet, gravity acts, `contact:`
+    // is not "none", and there is a floor to stand on
+    let standing = match grounded::stands(model, &gravity, opts)? {
+        true => hold_contacts::contact_floor(m, model, &gravity, opts)?,
+        false => None,
+    };
+    let free_root = standing.is_some() && f.root.is_floating();
     root_fill::fill_root(&mut f, opts.root, free_root)?;
     let gaps = f.gaps()?;
     // what the prior's transitions must undercut: the motion filled by Hermite curves
     let hermite_all = fill_hermite(&f.motion)?;
     let gaps = offsets::hold_constant_offsets(&mut f, gaps)?;
-    let gaps = if standing {
-        // the plan only: the ground's terms hold the feet in the solve
-        hold_contacts::hold_contacts(&mut f, opts, gaps, false)?
+    let gaps = if let Some(floor) = standing {
+        // the plan is made per group in the solve, which holds the feet
+        f.contacts = Some(ContactPlan::new(floor));
+        gaps
     } else if opts.contact != Contact::None && matches!(opts.support, Support::Auto { .. }) {
-        hold_contacts::hold_contacts(&mut f, opts, gaps, true)?
+        hold_contacts::hold_contacts(&mut f, opts, gaps)?
     } else {
         hold_supports::hold_supports(&mut f, opts, gaps)?
     };

@@ -6,7 +6,7 @@ use crate::spacetime::contact::Contact;
 use crate::spacetime::error::{SpError, invalid_option};
 use crate::spacetime::objective::TransitionSettings;
 use crate::spacetime::reference::LibrarySource;
-use crate::spacetime::solve::SolveOptions;
+use crate::spacetime::solve::{GroundSettings, SolveOptions};
 use nalgebra::Vector3;
 
 /// Options of `SP(m, body: b, …)`.
@@ -30,6 +30,10 @@ pub struct SpOptions {
     /// The floor's height along −gravity (`floor:`); `None`: the lowest
     /// contact point of the motion's recorded part.
     pub floor: Option<f64>,
+    /// How a standing body's groups are solved: the base term's schedule,
+    /// re-plans, the ground's weights and friction (`replan:` sets the
+    /// re-plans).
+    pub ground: GroundSettings,
 }
 
 /// Most free coefficients per DOF and gap (`coefficients:`): more buys no
@@ -114,9 +118,14 @@ impl SpOptions {
                 ),
             ));
         }
-        // planning replaces the support limbs: a support given beside it
-        // would be silently ignored (`sp` holds contacts only under the default)
-        if self.contact != Contact::None && self.support != Support::default() {
+        // planning replaces the support limbs: a support given beside points
+        // or stances named would be silently ignored. Beside the default
+        // `contact: "auto"` a `support:` asks for Rose's support IK, and the
+        // body does not stand (`sp::stands`); the language refuses an
+        // explicit "auto" beside one.
+        if matches!(self.contact, Contact::Named(_) | Contact::Given(_))
+            && self.support != Support::default()
+        {
             return Err(SpError::ContactReplacesSupport);
         }
         if let Support::Named(names) = &self.support {
@@ -231,10 +240,12 @@ pub const SP_OPTIONS: [OptionDoc; 14] = [
     },
     OptionDoc {
         name: "contact",
-        default: "\"none\"",
-        help: "\"none\" (default): Rose's support: alone; \"auto\": a stance schedule per foot planned from the stances \
-               around each gap, planted frames held by IK with the floor below them (replaces support:); or frames \
-               (links) of the body, e.g. a clip's joints: [\"Toes_L\", \"Toes_R\"]; sp_report(result).contacts lists the plan",
+        default: "\"auto\"",
+        help: "\"auto\" (default): the body stands on the ground wherever it has feet, gravity acts and a floor is found: \
+               each gap's stances planned from its edges, the example's own stances (or a step planner's), re-planned from \
+               the solve, the feet held there and the body carried by them (a footless body is SP as before); \"none\": \
+               Rose's support: alone; frames (links) of the body, e.g. [\"Toes_L\", \"Toes_R\"]; or the stances \
+               themselves, [{point, from, to, at}, …] or contacts(capture, body); sp_report(result).contacts lists the plan",
     },
     OptionDoc {
         name: "floor",
@@ -398,9 +409,10 @@ mod tests {
     use super::super::fixture::{body, motion};
     use super::*;
 
-    /// The engine itself refuses `contact:` beside a `support:` it would
-    /// ignore, before any work, naming `contact`; the default support is no
-    /// clash (planning replaces it).
+    /// The engine itself refuses points or stances named beside a
+    /// `support:` it would ignore, before any work, naming `contact`; beside
+    /// the default `contact: "auto"` a stated support is Rose's (the body
+    /// does not stand), and the default support is no clash.
     #[test]
     fn contact_beside_a_given_support_is_refused_by_the_engine() {
         let model = body();
@@ -410,22 +422,21 @@ mod tests {
             Support::Named(vec!["thigh".into()]),
             Support::Auto { box_size: 0.05 },
         ] {
-            for contact in [Contact::Auto, Contact::Named(vec!["shin".into()])] {
-                let opts = SpOptions {
-                    support: support.clone(),
-                    contact: contact.clone(),
-                    ..Default::default()
-                };
-                let e = opts.check(&model).unwrap_err();
-                assert_eq!(
-                    e,
-                    SpError::ContactReplacesSupport,
-                    "{support:?} {contact:?}"
-                );
-                assert_eq!(e.option(), Some("contact"));
-                let e = crate::spacetime::sp(&m, &model, &opts).unwrap_err();
-                assert_eq!(e, SpError::ContactReplacesSupport);
-            }
+            let named = SpOptions {
+                support: support.clone(),
+                contact: Contact::Named(vec!["shin".into()]),
+                ..Default::default()
+            };
+            let e = named.check(&model).unwrap_err();
+            assert_eq!(e, SpError::ContactReplacesSupport, "{support:?}");
+            assert_eq!(e.option(), Some("contact"));
+            let e = crate::spacetime::sp(&m, &model, &named).unwrap_err();
+            assert_eq!(e, SpError::ContactReplacesSupport);
+            let auto = SpOptions {
+                support: support.clone(),
+                ..Default::default()
+            };
+            assert_eq!(auto.check(&model), Ok(()), "{support:?}");
         }
         let planned = SpOptions {
             contact: Contact::Auto,

@@ -3,7 +3,7 @@
 use crate::spacetime::contact::ContactPlan;
 use crate::spacetime::hold::HeldFrame;
 use crate::spacetime::reference::Example;
-use crate::spacetime::solve::GapReport;
+use crate::spacetime::solve::{GapReport, GroundSettings};
 use std::fmt;
 
 /// How the root was moved over one gap.
@@ -40,6 +40,39 @@ pub struct FreeRoot {
     pub dofs: Vec<String>,
 }
 
+/// A stretch of a gap where no contact point is planned to stand for
+/// longer than [`MAX_AIR`]: the body is in the air there unless it is a
+/// jump, and SP says so (issue 42: never left silently in the air).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unplanned {
+    pub t0: f64,
+    pub t1: f64,
+}
+
+/// Longest stretch (s) with no point planned to stand that is not named:
+/// twice a run's flight (0.1–0.15 s).
+pub const MAX_AIR: f64 = 0.3;
+
+/// The stretches of `plan`'s gap where no point stands for longer than
+/// [`MAX_AIR`].
+pub fn unplanned(plan: &crate::spacetime::contact::GapPlan) -> Vec<Unplanned> {
+    let mut stances: Vec<(f64, f64)> = plan
+        .points
+        .iter()
+        .flat_map(|p| p.stances.iter().map(|s| (s.t0, s.t1)))
+        .collect();
+    stances.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out = vec![];
+    let mut covered = plan.t0;
+    for (a, b) in stances.into_iter().chain([(plan.t1, plan.t1)]) {
+        if a - covered > MAX_AIR {
+            out.push(Unplanned { t0: covered, t1: a });
+        }
+        covered = covered.max(b);
+    }
+    out
+}
+
 /// A stretch of a DOF left undefined (gaps at the very start or end are not transitions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Undefined {
@@ -68,6 +101,10 @@ pub struct SpReport {
     /// Translation DOFs constant on both sides of their gap (bone offsets),
     /// held at that constant rather than optimised.
     pub constant: Vec<Undefined>,
+    /// When the body stood: the settings its groups were solved with.
+    pub ground: Option<GroundSettings>,
+    /// Stretches no plan source could plant a point in ([`unplanned`]).
+    pub unplanned: Vec<Unplanned>,
 }
 
 impl fmt::Display for SpReport {
@@ -155,6 +192,18 @@ impl SpReport {
         let Some(plan) = &self.contacts else {
             return Ok(());
         };
+        if let Some(g) = &self.ground {
+            writeln!(f, "ground: {}", g.describe())?;
+        }
+        for u in &self.unplanned {
+            writeln!(
+                f,
+                "no contact point planned to stand over [{:.4}, {:.4}] s ({:.2} s in the air): give contact: stances there if the body stands",
+                u.t0,
+                u.t1,
+                u.t1 - u.t0
+            )?;
+        }
         for g in &plan.gaps {
             for c in &g.points {
                 if c.stances.is_empty() {
@@ -167,7 +216,7 @@ impl SpReport {
                 for p in &c.stances {
                     writeln!(
                         f,
-                        "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){} ({})",
+                        "contact {} over [{:.4}, {:.4}] s: planted [{:.4}, {:.4}] s at ({:.3}, {:.3}, {:.3}){} ({}{})",
                         c.name,
                         g.t0,
                         g.t1,
@@ -181,7 +230,11 @@ impl SpReport {
                         } else {
                             String::new()
                         },
-                        p.source.name()
+                        p.source.name(),
+                        match p.solved {
+                            Some(e) => format!(", solved within {:.1} cm", 100.0 * e),
+                            None => String::new(),
+                        }
                     )?;
                 }
             }

@@ -10,11 +10,12 @@ use super::grounded::SpGround;
 use super::offsets::is_translation;
 use super::options::SpOptions;
 use super::prior_weights::prior_weights;
-use crate::motion::{Curve, Mu};
+use crate::ground::FloorPlane;
+use crate::motion::Mu;
 use crate::spacetime::error::SpError;
 use crate::spacetime::objective::{GapDof, Inputs};
 use crate::spacetime::reference::{self, Example, ExampleChoice};
-use crate::spacetime::solve::{GroundModel, GroundSchedule};
+use crate::spacetime::solve::GroundModel;
 use crate::spacetime::solve::{GroupSolution, LayExample, PriorTerm, Problem, solve_all};
 use crate::spacetime::torque::BodyDynamics;
 
@@ -26,7 +27,7 @@ pub(super) fn solve_transitions(
     opts: &SpOptions,
     hermite_all: &Mu,
     gaps: Vec<GapDof>,
-    standing: bool,
+    standing: Option<FloorPlane>,
 ) -> Result<(), SpError> {
     let (model, gravity, names) = (f.model, f.gravity, f.names);
     let weights = joint_weights(model, &f.root);
@@ -70,10 +71,16 @@ pub(super) fn solve_transitions(
         };
         let body = BodyDynamics { model, gravity };
         let root = f.root.clone();
-        let schedule = GroundSchedule::default();
-        let ground = match (&f.contacts, standing) {
-            (Some(plan), true) => Some(SpGround::new(f, &body, &root, plan)?),
-            _ => None,
+        let settings = &opts.ground;
+        let ground = match standing {
+            Some(floor) => Some(SpGround::new(
+                &body,
+                (floor, &root),
+                &opts.contact,
+                f.sampler(),
+                settings,
+            )?),
+            None => None,
         };
         // the objective's inputs: every body coordinate at t, NaN where undefined
         let sampler = f.sampler();
@@ -91,30 +98,37 @@ pub(super) fn solve_transitions(
             names,
             ground: ground
                 .as_ref()
-                .map(|g| (g as &dyn GroundModel<BodyDynamics<'_>>, &schedule)),
+                .map(|g| (g as &dyn GroundModel<BodyDynamics<'_>>, settings)),
         };
         solve_all(&problem, gaps)?
     };
     for sol in solutions {
         write_back(f, sol)?;
     }
+    if standing.is_some() {
+        f.report.ground = Some(opts.ground.clone());
+    }
     Ok(())
 }
 
 /// Writes one group's curves into the motion (the objective's order is the
-/// report's order) and adds its report.
+/// report's order), adds its report and, when it stood, its plan.
 fn write_back(f: &mut Filling<'_>, sol: GroupSolution) -> Result<(), SpError> {
     let GroupSolution {
         report,
-        coefficients,
+        written,
         curves,
+        plan,
         ..
     } = sol;
     let names = f.names;
-    for ((&c, coefs), gap) in report.coords.iter().zip(coefficients).zip(&curves) {
-        let curve = gap.to_curve(coefs)?;
-        f.write(&names[c], Curve::Spline(curve), gap.t0(), gap.t1())?;
+    for ((&c, curve), gap) in report.coords.iter().zip(written).zip(&curves) {
+        f.write(&names[c], curve, gap.t0(), gap.t1())?;
     }
     f.report.groups.push(report);
+    if let (Some(plan), Some(contacts)) = (plan, f.contacts.as_mut()) {
+        f.report.unplanned.extend(super::report::unplanned(&plan));
+        contacts.gaps.push(plan);
+    }
     Ok(())
 }

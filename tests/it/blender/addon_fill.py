@@ -3,6 +3,7 @@ tests/it/blender_addon.rs with a Python that has `bpy`.
 
     python addon_fill.py ZIP MOCAP_DIR check   # install, fill walk -> run, check it
     python addon_fill.py ZIP MOCAP_DIR check_quaternion  # the same, bones keyed as quaternions
+    python addon_fill.py ZIP MOCAP_DIR plan    # fill standing on the ground: the plan's empties
     python addon_fill.py ZIP MOCAP_DIR timing  # the operator against mx.sp on 1 s gaps of walks
     python addon_fill.py REPO_DIR MOCAP_DIR local  # blender/ added as a local repository, enabled
 
@@ -194,7 +195,7 @@ def run_check():
     times = np.arange(n) / f
     body = rig.body(mx, 1.0 / f)
     motion = mx.Motion.from_array(rig.dofs, times, grid)
-    filled, report = mx.sp(motion, body, progress=False, root="auto", contact="none", example="self")
+    filled, report = mx.sp(motion, body, progress=False, root="auto", example="self")
     check("result_vs_python_api_max", np.abs(filled.sample(times) - result).max())
 
     # The same against the files themselves (mx.load, its body_of): float32 apart.
@@ -379,6 +380,55 @@ def run_timing():
         print("\n".join("PROFILE " + l for l in s.getvalue().splitlines() if "mx_transitions" in l), flush=True)
 
 
+def run_plan():
+    """The fill standing on the ground (contact AUTO): one empty per stance of
+    SP's plan, named by point and source, at the plan's anchor (mx's y-up
+    armature space, shown through the armature's matrix: (x, y, z) mx is
+    (x, -z, y) Blender), and the foot bone there while the stance holds."""
+    from mathutils import Vector
+
+    addon, mx = install()
+    fresh()
+    walk_ob, walk = import_bvh(mx, WALK)
+    run_ob, run = import_bvh(mx, RUN)
+    bpy.data.objects.remove(run_ob)
+    bpy.context.view_layer.objects.active = walk_ob
+    walk_ob.select_set(True)
+    # a moved armature: the empties follow its matrix
+    walk_ob.location = (0.5, -0.25, 0.0)
+    bpy.context.view_layer.update()
+    res = bpy.ops.mx.fill_transition(source="ACTIONS", first=walk.name, second=run.name, gap=GAP, contact="AUTO")
+    assert res == {"FINISHED"}, res
+    last = addon.operators.LAST_TIMING
+    stances = last["report"]["contacts"]
+    names = last["empties"]
+    check("plan_stances", len(stances))
+    check("plan_empties", len(names))
+    coll = bpy.data.collections["mx plan"]
+    worst = named = 0.0
+    worst_bone = 0.0
+    for k, (s, name) in enumerate(zip(stances, names)):
+        e = coll.objects[name]
+        at = s["at"]
+        want = walk_ob.matrix_world @ Vector((at[0], -at[2], at[1]))
+        worst = max(worst, (e.matrix_world.translation - want).length)
+        named += 1 if (s["point"] in name and s["source"] in name) else 0
+        # the foot bone stands there at the stance's middle frame
+        f0 = last["frames"][0]
+        mid = round(f0 + (s["from"] + s["to"]) / 2 * fps())
+        bpy.context.scene.frame_set(mid)
+        bone = next(b for b in walk_ob.pose.bones if b.name.replace(".", "_") == s["point"])
+        head = walk_ob.matrix_world @ bone.head
+        err = s["error"] if s["error"] is not None else 0.0
+        worst_bone = max(worst_bone, (head - want).length - err)
+    check("plan_anchor_max", worst)
+    check("plan_named", named)
+    check("plan_bone_beyond_error_max", worst_bone)
+    # a second fill replaces the empties
+    assert bpy.ops.mx.fill_transition(source="ACTIONS", first=walk.name, second=run.name, gap=GAP, contact="NONE") == {"FINISHED"}
+    check("plan_after_none", len(coll.objects))
+
+
 def run_local():
     """The repository's blender/ folder as a local extension repository: the
     add-on enables, its wheel installs, the operator registers."""
@@ -396,4 +446,4 @@ def run_local():
 
 
 if __name__ == "__main__":
-    {"check": run_check, "check_quaternion": run_check, "timing": run_timing, "local": run_local}[MODE]()
+    {"check": run_check, "check_quaternion": run_check, "plan": run_plan, "timing": run_timing, "local": run_local}[MODE]()
