@@ -110,6 +110,8 @@ pub struct Objective<'a, M: TorqueModel> {
     more: Vec<Box<dyn Term<M> + 'a>>,
     /// The contact forces held at each node (empty: none at any).
     forces: Vec<NodeForces>,
+    /// Their point forces alone, per node, for [`Objective::forces`].
+    point_forces: Vec<Vec<crate::dynamics::PointForce>>,
 }
 
 /// Scratch vectors of one node evaluation (one thread's).
@@ -230,6 +232,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             prior,
             more: vec![],
             forces: vec![],
+            point_forces: vec![],
         })
     }
 
@@ -247,6 +250,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                 self.n_nodes()
             )));
         }
+        self.point_forces = per_node.iter().map(|f| f.forces.clone()).collect();
         self.forces = per_node;
         Ok(())
     }
@@ -254,7 +258,7 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
     /// The contact forces held at each node (empty: none), as
     /// [`Objective::set_forces`] gave them.
     pub fn forces(&self) -> &[Vec<crate::dynamics::PointForce>] {
-        &self.torque.forces
+        &self.point_forces
     }
 
     /// Sets the weight of the added term named `term` ([`Term::name`]; the
