@@ -75,7 +75,10 @@ pub fn point_forces_jacobian(
             for (pk, &(ck, lk, mk)) in chain.iter().enumerate() {
                 let Some(col) = col_of[ck] else { continue };
                 let xk = ws.jw[ck];
-                let (wk, vk) = (Vector3::new(xk[0], xk[1], xk[2]), Vector3::new(xk[3], xk[4], xk[5]));
+                let (wk, vk) = (
+                    Vector3::new(xk[0], xk[1], xk[2]),
+                    Vector3::new(xk[3], xk[4], xk[5]),
+                );
                 // the point moves: ξ_j · [(∂p/∂q_k) × f; 0]
                 let mut d = wj.dot(&(vk + wk.cross(&p)).cross(&pf.force));
                 // the column turns: k of the same joint, or of an ancestor

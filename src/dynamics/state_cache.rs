@@ -43,6 +43,9 @@ pub struct Loaded<'a> {
     pub forces: &'a [PointForce],
 }
 
+/// A link origin's world Jacobian: (coordinate, ∂p/∂q_c), leaf to root.
+type Columns = Vec<(usize, Vector3<f64>)>;
+
 /// The passes of one state (see the module doc). Build it once per model and
 /// thread; it allocates only when a state has more forces than any before.
 #[derive(Clone, Debug)]
@@ -63,7 +66,7 @@ pub struct StateCache {
     /// Counts the kinematic passes; per link, the pass its origin's
     /// Jacobian columns were taken at, and them.
     pass: u64,
-    columns: Vec<(u64, Vec<(usize, Vector3<f64>)>)>,
+    columns: Vec<(u64, Columns)>,
     /// A zero seed on τ.
     zero: Vec<f64>,
 }
@@ -108,7 +111,12 @@ impl StateCache {
         if self.posed && same(&self.q, x.q) && same(&self.v, x.v) {
             return Ok(());
         }
-        check_inputs(model, &self.ws, &[("q", x.q), ("v", x.v)], &Vector3::zeros())?;
+        check_inputs(
+            model,
+            &self.ws,
+            &[("q", x.q), ("v", x.v)],
+            &Vector3::zeros(),
+        )?;
         self.posed = false;
         self.solved = false;
         self.world = false;

@@ -357,7 +357,10 @@ fn the_forces_jacobian_matches_central_differences() {
                 worst = worst.max(((tp[i] - tm[i]) / (2.0 * h) - jac[(i, j)]).abs() / scale);
             }
         }
-        eprintln!("{}: forces' Jacobian vs central differences {worst:.1e}", m.name);
+        eprintln!(
+            "{}: forces' Jacobian vs central differences {worst:.1e}",
+            m.name
+        );
         assert!(worst < 1e-7, "{}: {worst:e}", m.name);
         // a wrong shape is named
         let mut bad = nalgebra::DMatrix::zeros(n, 1);

@@ -47,12 +47,7 @@ fn bits(x: &[f64]) -> Vec<u64> {
 }
 
 /// The gradient of τ̄·τ + ρ·w_root by the uncached pass.
-fn pass_gradient(
-    m: &Model,
-    s: &Loaded,
-    tbar: &[f64],
-    rho: &Twist,
-) -> [Vec<f64>; 3] {
+fn pass_gradient(m: &Model, s: &Loaded, tbar: &[f64], rho: &Twist) -> [Vec<f64>; 3] {
     let mut ws = Workspace::new(m);
     let n = m.nq();
     let mut pass = InverseDynamicsPass::new(m, &mut ws, s.x, s.gravity, s.forces).unwrap();
@@ -135,7 +130,11 @@ fn its_poses_and_point_jacobians_are_forward_kinematics() {
         m.forward_kinematics(&q, &mut fk).unwrap();
         let poses = cache.poses(&m, &x).unwrap().to_vec();
         for (p, f) in poses.iter().zip(&fk) {
-            assert!((p.p - f.p).amax() < 1e-12 * (1.0 + f.p.amax()), "{}", m.name);
+            assert!(
+                (p.p - f.p).amax() < 1e-12 * (1.0 + f.p.amax()),
+                "{}",
+                m.name
+            );
             assert!((p.r - f.r).amax() < 1e-12, "{}", m.name);
         }
         // τ after the poses is still inverse dynamics' (the pass is shared)
@@ -159,7 +158,11 @@ fn its_poses_and_point_jacobians_are_forward_kinematics() {
             qm[*c] -= h;
             let at = |q: &[f64]| m.point_position(q, link, &Vector3::zeros()).unwrap();
             let fd = (at(&qp) - at(&qm)) / (2.0 * h);
-            assert!((fd - col).amax() < 1e-6 * (1.0 + fd.amax()), "{}: {c}", m.name);
+            assert!(
+                (fd - col).amax() < 1e-6 * (1.0 + fd.amax()),
+                "{}: {c}",
+                m.name
+            );
         }
         // every other coordinate leaves the link's origin where it is
         for c in (0..m.nq()).filter(|c| !moved[*c]) {

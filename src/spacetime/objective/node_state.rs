@@ -198,7 +198,11 @@ impl<M: TorqueModel> Objective<'_, M> {
         let at = loaded(body, JointState::new(q, v, a), forces);
         let Shared { cache, grad } = shared;
         let [sq, sv, sa] = grad;
-        let out = StateGradient { q: sq, v: sv, a: sa };
+        let out = StateGradient {
+            q: sq,
+            v: sv,
+            a: sa,
+        };
         let tau_bar = seeds.on_tau.then_some(seeds.tau.as_slice());
         let root_bar = seeds.on_root.then_some(&seeds.root);
         cache_for(cache, body).reverse(body.model, &at, tau_bar, root_bar, out)?;

@@ -36,6 +36,9 @@ impl PointRow {
     }
 }
 
+/// A node's rows and their residuals.
+type Residuals<'w> = (&'w [PointRow], Vec<f64>);
+
 /// A term w Σ_rows r² on contact points' positions (see the module doc).
 pub struct PointTerm<'a> {
     name: &'static str,
@@ -95,7 +98,7 @@ impl<'a> PointTerm<'a> {
     fn residuals<'w>(
         &'w self,
         node: &mut Node<'_, BodyDynamics<'_>>,
-    ) -> Result<Option<(&'w [PointRow], Vec<f64>)>, SpError> {
+    ) -> Result<Option<Residuals<'w>>, SpError> {
         let rows = &self.rows[node.k];
         if rows.is_empty() || self.weight == 0.0 {
             return Ok(None);

@@ -87,16 +87,9 @@ fn an_added_terms_gradient_reaches_the_coefficients_and_the_extras() {
     }
     let e = obj.eval(&mut obj.scratch(), &x, None).unwrap();
     // the term adds its quadrature: e minus the same objective without it
-    let plain = Objective::new(
-        &arm,
-        gaps(),
-        &with_settings(),
-        vec![1.0, 1.5],
-        &known_motion,
-    )
-    .unwrap()
-    .with_prior(&[[0.3, 0.7], [2.0, 0.05]])
-    .unwrap();
+    let plain = arm_objective(&arm)
+        .with_prior(&[[0.3, 0.7], [2.0, 0.05]])
+        .unwrap();
     let e0 = plain
         .eval(&mut plain.scratch(), &x[..plain.n_vars()], None)
         .unwrap();
@@ -251,6 +244,11 @@ fn forces_at_the_nodes_enter_the_torque_term_and_its_gradient() {
     assert_eq!(obj.eval(&mut s, &x, None).unwrap(), e0);
 }
 
+/// The arm's objective on the test gaps, torque alone.
+fn arm_objective(arm: &TwoLinkArm) -> Objective<'_, TwoLinkArm> {
+    Objective::new(arm, gaps(), &with_settings(), vec![1.0, 1.5], &known_motion).unwrap()
+}
+
 /// A term that reads the body's passes at its node.
 struct ReadsPoses;
 
@@ -271,9 +269,7 @@ fn a_term_reading_the_bodys_passes_on_a_model_without_one_is_a_clear_error() {
     // torque term uses its own adjoint, and a term asking for link poses
     // is told why it cannot have them
     let arm = TwoLinkArm::default();
-    let obj = Objective::new(&arm, gaps(), &with_settings(), vec![1.0, 1.5], &known_motion)
-        .unwrap()
-        .with_term(Box::new(ReadsPoses));
+    let obj = arm_objective(&arm).with_term(Box::new(ReadsPoses));
     let x = obj.hermite_start();
     let e = obj.eval(&mut obj.scratch(), &x, None).unwrap_err();
     assert!(e.to_string().contains("multibody"), "{e}");
