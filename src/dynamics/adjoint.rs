@@ -89,7 +89,7 @@ pub fn torque_sq_gradient_at_points(
 /// roots' parent, so ρ enters as the parent's F̄ does for any link: the
 /// derivative of each root's own transform is then the `X F̄_p` term. The
 /// forces' turning part is not added here ([`add_turning_gradient`]).
-fn reverse_sweep(
+pub(crate) fn reverse_sweep(
     model: &Model,
     ws: &mut Workspace,
     x: &JointState,

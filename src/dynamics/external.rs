@@ -75,6 +75,13 @@ pub(crate) fn check_points(model: &Model, forces: &[PointForce]) -> Result<(), D
 /// world poses in `ws.world`.
 pub(crate) fn point_wrenches(model: &Model, ws: &mut Workspace, forces: &[PointForce]) {
     world_poses(model, ws);
+    link_wrenches(model, ws, forces);
+}
+
+/// The forces as link-frame wrenches into `ws.pf`, the world poses already
+/// in `ws.world`.
+pub(crate) fn link_wrenches(model: &Model, ws: &mut Workspace, forces: &[PointForce]) {
+    debug_assert_eq!(ws.pf.len(), model.num_links());
     ws.pf.iter_mut().for_each(|w| *w = Wrench::zeros());
     for pf in forces {
         ws.pf[pf.link] += link_wrench(&ws.world[pf.link], pf);
@@ -82,7 +89,7 @@ pub(crate) fn point_wrenches(model: &Model, ws: &mut Workspace, forces: &[PointF
 }
 
 /// World pose of every link from the poses in their parents.
-fn world_poses(model: &Model, ws: &mut Workspace) {
+pub(crate) fn world_poses(model: &Model, ws: &mut Workspace) {
     for (i, l) in model.links().iter().enumerate() {
         ws.world[i] = match l.parent {
             Some(p) => ws.world[p].compose(&ws.xt[i]),

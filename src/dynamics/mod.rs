@@ -23,10 +23,12 @@ mod derivatives;
 mod driven;
 mod energy;
 mod external;
+mod external_jacobian;
 mod integrate;
 mod rnea;
 mod scene;
 mod state;
+mod state_cache;
 mod variation;
 mod workspace;
 
@@ -39,6 +41,7 @@ pub use derivatives::rnea_derivatives;
 pub use driven::{Driven, driven_accelerations};
 pub use energy::{kinetic_energy, potential_energy};
 pub use external::PointForce;
+pub use external_jacobian::point_forces_jacobian;
 pub use integrate::{Integrator, State, Trajectory, simulate};
 pub use rnea::{
     inverse_dynamics, inverse_dynamics_at_points, inverse_dynamics_ext, nonlinear_effects,
@@ -46,6 +49,7 @@ pub use rnea::{
 };
 pub use scene::{ExternalForce, LimitPenalty, Scene, SceneWorkspace, Spring};
 pub use state::{Forces, JointState, StateGradient};
+pub use state_cache::{Loaded, StateCache};
 pub use workspace::Workspace;
 
 use crate::model::ModelError;

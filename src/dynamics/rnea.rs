@@ -83,7 +83,7 @@ pub(crate) fn rnea_points(
 }
 
 /// The RNEA's acceleration and force sweeps, after a velocity pass.
-fn rnea_sweeps(
+pub(crate) fn rnea_sweeps(
     model: &Model,
     ws: &mut Workspace,
     a: &[f64],

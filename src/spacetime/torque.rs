@@ -25,6 +25,15 @@ pub trait TorqueModel: Sync {
         format!("coordinate {i}")
     }
 
+    /// The multibody body this model is, if it is one: the objective's
+    /// terms then share its kinematic and inverse-dynamics passes at each
+    /// node (`objective::Node::tau` and the like) instead of each asking
+    /// the model. None by default (a hand-checked model: the objective
+    /// uses [`TorqueModel::torque_sq_grad`]).
+    fn multibody(&self) -> Option<&BodyDynamics<'_>> {
+        None
+    }
+
     /// τ into `tau`, with the forces `ext` acting.
     fn torques(
         &self,
@@ -104,38 +113,6 @@ impl<'m> BodyDynamics<'m> {
     }
 }
 
-impl BodyDynamics<'_> {
-    /// ∂(−Σ J_cᵀ f_c)/∂q over the columns `coords`, by central differences
-    /// of inverse dynamics at rest without gravity (which is −Σ J_cᵀ f_c).
-    fn force_torque_jacobian(
-        &self,
-        ws: &mut crate::dynamics::Workspace,
-        q: &[f64],
-        ext: &[PointForce],
-        coords: &[usize],
-    ) -> Result<nalgebra::DMatrix<f64>, SpError> {
-        let n = self.model.nq();
-        let rest = vec![0.0; n];
-        let none = nalgebra::Vector3::zeros();
-        let mut out = nalgebra::DMatrix::zeros(n, coords.len());
-        let (mut qh, mut tp, mut tm) = (q.to_vec(), vec![0.0; n], vec![0.0; n]);
-        for (j, &c) in coords.iter().enumerate() {
-            let h = 1e-6 * (1.0 + q[c].abs());
-            for (sign, t) in [(1.0, &mut tp), (-1.0, &mut tm)] {
-                qh[c] = q[c] + sign * h;
-                let x = JointState::new(&qh, &rest, &rest);
-                crate::dynamics::inverse_dynamics_at_points(self.model, ws, &x, &none, ext, t)
-                    .map_err(dyn_err)?;
-            }
-            qh[c] = q[c];
-            for i in 0..n {
-                out[(i, j)] = (tp[i] - tm[i]) / (2.0 * h);
-            }
-        }
-        Ok(out)
-    }
-}
-
 fn dyn_err(e: crate::dynamics::DynamicsError) -> SpError {
     SpError::Dynamics(e)
 }
@@ -149,6 +126,10 @@ impl TorqueModel for BodyDynamics<'_> {
 
     fn workspace(&self) -> Self::Workspace {
         crate::dynamics::Workspace::new(self.model)
+    }
+
+    fn multibody(&self) -> Option<&BodyDynamics<'_>> {
+        Some(self)
     }
 
     fn coordinate_name(&self, i: usize) -> String {
@@ -194,8 +175,8 @@ impl TorqueModel for BodyDynamics<'_> {
     }
 
     /// The analytic RNEA derivatives and the mass matrix (CRBA), exact; with
-    /// forces, ∂(−Σ J_cᵀ f_c)/∂q beside them by central differences (the
-    /// forces' torques alone: inverse dynamics at rest without gravity).
+    /// forces, ∂(−Σ J_cᵀ f_c)/∂q beside them, exact too
+    /// ([`crate::dynamics::point_forces_jacobian`]).
     fn torque_jacobians(
         &self,
         ws: &mut Self::Workspace,
@@ -220,7 +201,10 @@ impl TorqueModel for BodyDynamics<'_> {
         crate::dynamics::mass_matrix(self.model, ws, q, &mut m).map_err(dyn_err)?;
         let mut dq = dq.select_columns(coords);
         if !ext.is_empty() {
-            dq += self.force_torque_jacobian(ws, q, ext, coords)?;
+            let mut df = nalgebra::DMatrix::zeros(n, coords.len());
+            crate::dynamics::point_forces_jacobian(self.model, ws, q, ext, coords, &mut df)
+                .map_err(dyn_err)?;
+            dq += df;
         }
         Ok([dq, dv.select_columns(coords), m.select_columns(coords)])
     }

@@ -16,7 +16,7 @@ use mx::motion::JointSampler;
 use nalgebra::{DVector, Vector3};
 
 /// The first walk of `data/inbetween`: its body, and its state mid-clip.
-fn walk() -> Option<(Model, [Vec<f64>; 3])> {
+pub(crate) fn walk() -> Option<(Model, [Vec<f64>; 3])> {
     let path = shared_files("inbetween", ".bvh")
         .into_iter()
         .find(|p| p.to_string_lossy().contains("walk"))?;
@@ -35,7 +35,7 @@ fn walk() -> Option<(Model, [Vec<f64>; 3])> {
 
 /// Forces under both feet (ankles and toes), off the joints' origins, one
 /// with a moment about up.
-fn feet(body: &Model) -> Vec<PointForce> {
+pub(crate) fn feet(body: &Model) -> Vec<PointForce> {
     let points = mx::ground::default_contact_points(body);
     let sides = |s: &str| points.iter().any(|p| p.name.to_lowercase().contains(s));
     assert!(sides("l") && sides("r"), "{points:?}");
@@ -180,7 +180,7 @@ fn a_bad_point_force_is_a_clear_error() {
 
 /// The body and mid-clip state of the first clip of `data/{sub}` whose name
 /// holds `name`.
-fn clip_state(sub: &str, name: &str) -> Option<(Model, [Vec<f64>; 3])> {
+pub(crate) fn clip_state(sub: &str, name: &str) -> Option<(Model, [Vec<f64>; 3])> {
     let path = shared_files(sub, ".bvh")
         .into_iter()
         .find(|p| p.to_string_lossy().contains(name))?;
@@ -301,4 +301,70 @@ fn a_reverse_sweep_seeded_on_the_root_wrench_matches_central_differences() {
         assert!(e.to_string().contains("tau_bar"), "{e}");
     }
     assert!(ran > 0 || crate::common::shared_dir().is_none());
+}
+
+/// ∂(−Σ J_cᵀ [m_c; f_c])/∂q, exact (`point_forces_jacobian`), against
+/// central differences of inverse dynamics at rest without gravity (which
+/// is −Σ J_cᵀ [m_c; f_c]), over a subset of the columns: on random trees
+/// with configuration-dependent joints, the spline-joint chain and the walk.
+#[test]
+fn the_forces_jacobian_matches_central_differences() {
+    use crate::support::{Rng, random_tree, spline_chain};
+    use mx::dynamics::point_forces_jacobian;
+    let mut rng = Rng::new(5);
+    let mut cases: Vec<(Model, Vec<f64>, Vec<PointForce>)> = vec![];
+    for (n, poe) in [(6, false), (11, true)] {
+        let m = random_tree(&mut rng, n, poe);
+        let q = rng.vec(m.nq(), -1.5, 1.5);
+        let f = vec![
+            PointForce::at(n - 1, rng.v3(0.2), rng.v3(30.0)).with_moment(rng.v3(2.0)),
+            PointForce::at(n / 2, rng.v3(0.2), rng.v3(30.0)),
+        ];
+        cases.push((m, q, f));
+    }
+    let m = spline_chain(&mut rng);
+    let q = rng.vec(m.nq(), -0.5, 0.5);
+    let last = m.num_links() - 1;
+    let f = vec![PointForce::at(last, rng.v3(0.1), rng.v3(20.0)).with_moment(rng.v3(1.0))];
+    cases.push((m, q, f));
+    if let Some((m, [q, _, _])) = walk() {
+        let f = feet(&m);
+        cases.push((m, q, f));
+    }
+    for (m, q, forces) in cases {
+        let n = m.nq();
+        let coords: Vec<usize> = (0..n).filter(|c| c % 3 != 1).collect();
+        let mut ws = Workspace::new(&m);
+        let mut jac = nalgebra::DMatrix::zeros(n, coords.len());
+        point_forces_jacobian(&m, &mut ws, &q, &forces, &coords, &mut jac).unwrap();
+        let rest = vec![0.0; n];
+        let mut torques = |q: &[f64]| {
+            let mut t = vec![0.0; n];
+            let x = JointState::new(q, &rest, &rest);
+            inverse_dynamics_at_points(&m, &mut ws, &x, &Vector3::zeros(), &forces, &mut t)
+                .unwrap();
+            t
+        };
+        let scale = jac.amax().max(1.0);
+        let mut worst = 0.0f64;
+        for (j, &c) in coords.iter().enumerate() {
+            let h = 1e-6 * (1.0 + q[c].abs());
+            let (mut qp, mut qm) = (q.clone(), q.clone());
+            qp[c] += h;
+            qm[c] -= h;
+            let (tp, tm) = (torques(&qp), torques(&qm));
+            for i in 0..n {
+                worst = worst.max(((tp[i] - tm[i]) / (2.0 * h) - jac[(i, j)]).abs() / scale);
+            }
+        }
+        eprintln!(
+            "{}: forces' Jacobian vs central differences {worst:.1e}",
+            m.name
+        );
+        assert!(worst < 1e-7, "{}: {worst:e}", m.name);
+        // a wrong shape is named
+        let mut bad = nalgebra::DMatrix::zeros(n, 1);
+        let e = point_forces_jacobian(&m, &mut ws, &q, &forces, &coords, &mut bad).unwrap_err();
+        assert!(e.to_string().contains("Jacobian"), "{e}");
+    }
 }

@@ -85,6 +85,7 @@ mod spacetime_support;
 #[cfg(feature = "report")]
 mod spacetime_zup;
 mod spline;
+mod state_cache;
 mod typed_errors;
 mod urdf_mimic;
 mod viewer_chromium;

@@ -12,17 +12,18 @@
 //! forces, so the residual is exactly the cone problem's, and its gradient
 //! (the envelope theorem) that of the best forces.
 //!
-//! The gradient and the exact Gauss–Newton rows come from one RNEA pass and
-//! reverse sweeps seeded on the root's wrench
-//! ([`crate::dynamics::InverseDynamicsPass`]): one sweep for the gradient,
-//! six for the rows; no finite differences.
+//! The residual comes from the node's shared inverse dynamics
+//! ([`Node::root_wrench`], the same RNEA the torque term reads); its
+//! gradient is the seed ∂f/∂w_root of the node's one reverse sweep
+//! ([`super::term::NodeGrad::seed_root`]), and its exact Gauss–Newton rows
+//! six reverse sweeps seeded on the root's wrench ([`Node::reverse`]); no
+//! finite differences.
 
 use super::super::error::{SpError, invalid};
 use super::super::torque::BodyDynamics;
 use super::forces::GroundScale;
-use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch, scratch_of};
-use super::term::{NodeForces, check_weight};
-use crate::dynamics::{InverseDynamicsPass, JointState, StateGradient};
+use super::term::{GaussNewtonNode, Node, NodeForces, NodeSum, Term, check_weight};
+use crate::dynamics::{InverseDynamicsPass, JointState};
 use crate::ground::up_direction;
 use crate::lie::{Twist, Wrench};
 use crate::model::RootCoords;
@@ -33,15 +34,6 @@ pub struct BaseTerm<'a> {
     body: &'a BodyDynamics<'a>,
     scale: GroundScale,
     weight: f64,
-    /// Per node, the forces held fixed and their reference point; empty
-    /// until [`Term::set_forces`].
-    forces: Vec<NodeForces>,
-}
-
-/// One thread's buffers: a zero seed on τ and the sweep's gradient.
-struct Scratch {
-    zero: Vec<f64>,
-    g: [Vec<f64>; 3],
 }
 
 impl<'a> BaseTerm<'a> {
@@ -71,28 +63,17 @@ impl<'a> BaseTerm<'a> {
             body,
             scale,
             weight,
-            forces: vec![],
         })
     }
 
-    fn forces_at(&self, k: usize) -> Result<&NodeForces, SpError> {
-        self.forces.get(k).ok_or_else(|| {
-            invalid(
-                "the base term needs the contact forces at every node: set them \
-                 (`ContactForces::solve`, then `Objective::set_forces`) before evaluating",
-            )
-        })
-    }
-
-    /// The six scaled residuals at node k for state `x` with the forces held
-    /// there ([force/(mg); moment about the reference/(mgL)]), unweighted.
+    /// The six scaled residuals for state `x` with the forces `nf` held
+    /// ([force/(mg); moment about the reference/(mgL)]), unweighted.
     pub fn residual(
         &self,
         ws: &mut crate::dynamics::Workspace,
-        k: usize,
         x: JointState,
+        nf: &NodeForces,
     ) -> Result<[f64; 6], SpError> {
-        let nf = self.forces_at(k)?;
         let pass =
             InverseDynamicsPass::new(self.body.model, ws, x, &self.body.gravity, &nf.forces)?;
         Ok(self.scaled(&pass.root_wrench(), &nf.reference))
@@ -130,57 +111,19 @@ impl<'a> BaseTerm<'a> {
     }
 }
 
-impl<'a> BaseTerm<'a> {
-    /// At a node (unless the weight is 0): inverse dynamics with the node's
-    /// forces, the forces, and the term's scratch.
-    fn start<'w>(
-        &'w self,
-        node: &'w mut Node<'_, BodyDynamics<'a>>,
-    ) -> Result<Option<(InverseDynamicsPass<'w>, &'w NodeForces, &'w mut Scratch)>, SpError> {
-        if self.weight == 0.0 {
-            return Ok(None);
-        }
-        let nf = self.forces_at(node.k)?;
-        let x = JointState::new(node.q, node.v, node.a);
-        let pass =
-            InverseDynamicsPass::new(self.body.model, node.ws, x, &self.body.gravity, &nf.forces)?;
-        Ok(Some((pass, nf, scratch_of::<Scratch>(node.scratch)?)))
-    }
-
-    /// Into `s.g`: the gradient of r̄ · r over the node's state, one reverse sweep.
-    fn sweep(
-        &self,
-        pass: &mut InverseDynamicsPass,
-        s: &mut Scratch,
-        rbar: &[f64; 6],
-        nf: &NodeForces,
-    ) -> Result<(), SpError> {
-        let [gq, gv, ga] = &mut s.g;
-        let grad = StateGradient {
-            q: gq,
-            v: gv,
-            a: ga,
-        };
-        pass.reverse(&s.zero, &self.seed(rbar, &nf.reference), grad)?;
-        Ok(())
-    }
+/// The forces held at the node; an error if none were set.
+fn forces_at<'n>(node: &Node<'n, BodyDynamics<'_>>) -> Result<&'n NodeForces, SpError> {
+    node.forces.ok_or_else(|| {
+        invalid(
+            "the base term needs the contact forces at every node: set them \
+             (`ContactForces::solve`, then `Objective::set_forces`) before evaluating",
+        )
+    })
 }
 
 impl<'a> Term<BodyDynamics<'a>> for BaseTerm<'a> {
     fn name(&self) -> &str {
         "base"
-    }
-
-    fn scratch(&self) -> TermScratch {
-        let n = self.body.model.nq();
-        Box::new(Scratch {
-            zero: vec![0.0; n],
-            g: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
-        })
-    }
-
-    fn set_forces(&mut self, per_node: &[NodeForces]) {
-        self.forces = per_node.to_vec();
     }
 
     fn set_weight(&mut self, w: f64) -> Result<(), SpError> {
@@ -194,21 +137,14 @@ impl<'a> Term<BodyDynamics<'a>> for BaseTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         sum: &mut NodeSum<'_>,
     ) -> Result<(), SpError> {
-        let Some((mut pass, nf, s)) = self.start(node)? else {
+        if self.weight == 0.0 {
             return Ok(());
-        };
-        let r = self.scaled(&pass.root_wrench(), &nf.reference);
+        }
+        let c = forces_at(node)?.reference;
+        let r = self.scaled(&node.root_wrench()?, &c);
         sum.add(self.weight * r.iter().map(|x| x * x).sum::<f64>());
-        if let Some(out) = sum.gradient() {
-            self.sweep(&mut pass, s, &r.map(|x| 2.0 * self.weight * x), nf)?;
-            for (o, g) in [&mut *out.q, &mut *out.v, &mut *out.a]
-                .into_iter()
-                .zip(&s.g)
-            {
-                for (o, g) in o.iter_mut().zip(g) {
-                    *o += g;
-                }
-            }
+        if let Some(g) = sum.gradient() {
+            g.seed_root(&self.seed(&r.map(|x| 2.0 * self.weight * x), &c));
         }
         Ok(())
     }
@@ -220,16 +156,17 @@ impl<'a> Term<BodyDynamics<'a>> for BaseTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         gn: &mut GaussNewtonNode<'_>,
     ) -> Result<(), SpError> {
-        let Some((mut pass, nf, s)) = self.start(node)? else {
+        if self.weight == 0.0 {
             return Ok(());
-        };
+        }
+        let c = forces_at(node)?.reference;
         let coords = gn.coords();
         let mut d: [DMatrix<f64>; 3] = std::array::from_fn(|_| DMatrix::zeros(6, coords.len()));
         for i in 0..6 {
             let mut e = [0.0; 6];
             e[i] = 1.0;
-            self.sweep(&mut pass, s, &e, nf)?;
-            for (m, g) in d.iter_mut().zip(&s.g) {
+            let g = node.reverse(None, Some(&self.seed(&e, &c)))?;
+            for (m, g) in d.iter_mut().zip(g) {
                 for (j, &c) in coords.iter().enumerate() {
                     m[(i, j)] = g[c];
                 }

@@ -16,7 +16,7 @@ use super::super::torque::BodyDynamics;
 use super::Objective;
 use super::layout::GapLayout;
 use super::term::NodeForces;
-use crate::dynamics::{PointForce, Workspace, inverse_dynamics, root_wrench};
+use crate::dynamics::{JointState, Loaded, PointForce, StateCache};
 use crate::ground::cone::best_contact_forces;
 use crate::ground::residual::{centre_of_mass, length_scale};
 use crate::ground::up_direction;
@@ -114,29 +114,32 @@ impl<'a> ContactForces<'a> {
         (0..self.planted.len())
             .into_par_iter()
             .map_init(
-                || (Workspace::new(self.body.model), vec![]),
-                |(ws, poses), k| {
+                || StateCache::new(self.body.model),
+                |cache, k| {
                     let [q, v, a] = obj.node_state(x, k);
-                    self.at_node(ws, poses, k, [&q, &v, &a])
+                    self.at_node(cache, k, JointState::new(&q, &v, &a))
                 },
             )
             .collect()
     }
 
+    /// The forces at node k in state `x`: one inverse dynamics, whose
+    /// velocity pass also places the links for the centre of mass and the
+    /// planted points (a separate forward kinematics cost as much again).
     fn at_node(
         &self,
-        ws: &mut Workspace,
-        poses: &mut Vec<Se3>,
+        cache: &mut StateCache,
         k: usize,
-        [q, v, a]: [&[f64]; 3],
+        x: JointState,
     ) -> Result<NodeForces, SpError> {
         let model = self.body.model;
-        let mut tau = vec![0.0; model.nq()];
-        inverse_dynamics(model, ws, q, v, a, &self.body.gravity, &mut tau)?;
-        let w0 = root_wrench(model, ws);
-        model
-            .forward_kinematics(q, poses)
-            .map_err(SpError::Kinematics)?;
+        let s = Loaded {
+            x,
+            gravity: &self.body.gravity,
+            forces: &[],
+        };
+        let w0 = cache.root_wrench(model, &s)?;
+        let poses = cache.poses(model, &x)?;
         let c = centre_of_mass(poses, model);
         let f = Vector3::new(w0[3], w0[4], w0[5]);
         let mu = Vector3::new(w0[0], w0[1], w0[2]) - c.cross(&f);

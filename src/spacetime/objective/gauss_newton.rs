@@ -101,7 +101,13 @@ impl<M: TorqueModel> Objective<'_, M> {
         let coords: Vec<usize> = alive.iter().map(|(d, _)| layout.dofs[*d].coord).collect();
         self.sampled.load(layout, k, x0, s);
         let NodeScratch {
-            ws, q, v, a, terms, ..
+            ws,
+            q,
+            v,
+            a,
+            terms,
+            shared,
+            ..
         } = s;
         let mut gn = GaussNewtonNode {
             layout,
@@ -113,14 +119,17 @@ impl<M: TorqueModel> Objective<'_, M> {
         let terms: Vec<_> = self.terms().zip(terms.iter_mut()).collect();
         for (term, scratch) in terms.into_iter().rev() {
             let mut node = Node {
+                model: self.torque.model,
                 layout,
                 k,
                 q,
                 v,
                 a,
+                forces: self.forces.get(k),
                 extras: layout.extras(x0),
                 ws: &mut *ws,
                 scratch,
+                shared: &mut *shared,
             };
             term.gauss_newton(&mut node, &mut gn)?;
         }

@@ -12,7 +12,8 @@
 //! (`prior.rs`), then any added with [`Objective::with_term`]. The layout
 //! (`layout.rs`) is shared with the support IK; the state at the nodes is
 //! `sampled.rs`; the Gauss–Newton preconditioner, which asks every term for
-//! its part, is `gauss_newton.rs`.
+//! its part, is `gauss_newton.rs`. The terms at one node share one forward
+//! kinematics, one inverse dynamics and one reverse sweep (`node_state.rs`).
 
 use super::error::{SpError, invalid};
 use super::torque::TorqueModel;
@@ -25,6 +26,7 @@ mod floor;
 mod forces;
 mod gauss_newton;
 pub mod layout;
+mod node_state;
 mod points;
 mod prior;
 mod sampled;
@@ -106,6 +108,10 @@ pub struct Objective<'a, M: TorqueModel> {
     prior: KinematicPrior,
     /// The terms after the built-in two.
     more: Vec<Box<dyn Term<M> + 'a>>,
+    /// The contact forces held at each node (empty: none at any).
+    forces: Vec<NodeForces>,
+    /// Their point forces alone, per node, for [`Objective::forces`].
+    point_forces: Vec<Vec<crate::dynamics::PointForce>>,
 }
 
 /// Scratch vectors of one node evaluation (one thread's).
@@ -121,6 +127,10 @@ pub struct NodeScratch<W> {
     ga: Vec<f64>,
     /// Each term's own scratch, in the order of [`Objective::terms`].
     terms: Vec<TermScratch>,
+    /// The body's passes at the node, shared by the terms, and the seeds
+    /// of its reverse sweep (`node_state.rs`).
+    shared: node_state::Shared,
+    seeds: node_state::Seeds,
 }
 
 /// Scratch memory of one solve: one [`NodeScratch`] and one partial gradient
@@ -218,22 +228,20 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
         Ok(Objective {
             layout,
             sampled,
-            torque: TorqueTerm {
-                model,
-                weights,
-                forces: vec![],
-            },
+            torque: TorqueTerm { model, weights },
             prior,
             more: vec![],
+            forces: vec![],
+            point_forces: vec![],
         })
     }
 
     /// The contact forces held fixed at each node (`per_node[k]` at node k,
     /// with the point their moments are taken about; empty: none anywhere):
     /// the torque term becomes Σwᵢτᵢ² with τ = ID − Σ J_cᵀ f_c,
-    /// differentiated with the forces held fixed, and every other term gets
-    /// them too ([`Term::set_forces`]: the base term balances the root with
-    /// the same forces). Replaces those set before.
+    /// differentiated with the forces held fixed, and every term reads them
+    /// at its node ([`Node::forces`], and in [`Node::tau`]: the base term
+    /// balances the root with the same forces). Replaces those set before.
     pub fn set_forces(&mut self, per_node: Vec<NodeForces>) -> Result<(), SpError> {
         if !per_node.is_empty() && per_node.len() != self.n_nodes() {
             return Err(invalid(format!(
@@ -242,17 +250,15 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
                 self.n_nodes()
             )));
         }
-        for t in &mut self.more {
-            t.set_forces(&per_node);
-        }
-        self.torque.forces = per_node.into_iter().map(|f| f.forces).collect();
+        self.point_forces = per_node.iter().map(|f| f.forces.clone()).collect();
+        self.forces = per_node;
         Ok(())
     }
 
     /// The contact forces held at each node (empty: none), as
     /// [`Objective::set_forces`] gave them.
     pub fn forces(&self) -> &[Vec<crate::dynamics::PointForce>] {
-        &self.torque.forces
+        &self.point_forces
     }
 
     /// Sets the weight of the added term named `term` ([`Term::name`]; the
@@ -374,6 +380,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             gv: vec![0.0; n],
             ga: vec![0.0; n],
             terms: self.terms().map(|t| t.scratch()).collect(),
+            shared: node_state::Shared::new(n),
+            seeds: node_state::Seeds::new(n),
         }
     }
 
@@ -442,64 +450,90 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             g.fill(0.0);
         }
         let layout = &self.layout;
-        let n0 = layout.n_coefficients();
         let mut e = 0.0;
         for k in range {
             self.sampled.load(layout, k, x, s);
             let wk = layout.qweights[k];
-            let NodeScratch {
-                ws,
-                q,
-                v,
-                a,
-                gq,
-                gv,
-                ga,
-                terms,
-            } = &mut *s;
-            if grad.is_some() {
-                for g in [&mut *gq, &mut *gv, &mut *ga] {
-                    g.fill(0.0);
-                }
-            }
-            for (term, scratch) in self.terms().zip(terms.iter_mut()) {
-                let mut node = Node {
-                    layout,
-                    k,
-                    q,
-                    v,
-                    a,
-                    extras: &x[n0..],
-                    ws: &mut *ws,
-                    scratch,
-                };
-                let mut sum = NodeSum {
-                    wk,
-                    e: &mut e,
-                    grad: grad.as_deref_mut().map(|g| NodeGrad {
-                        q: &mut gq[..],
-                        v: &mut gv[..],
-                        a: &mut ga[..],
-                        wk,
-                        extras: &mut g[n0..],
-                    }),
-                };
-                term.node(&mut node, &mut sum)?;
-            }
-            if let Some(g) = grad.as_deref_mut() {
-                for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
-                    if let Some(r) = &act[k] {
-                        let c = dof.coord;
-                        let (a0, a1, a2) = (wk * gq[c], wk * gv[c], wk * ga[c]);
-                        let gd = &mut g[d * layout.n_free..(d + 1) * layout.n_free];
-                        for j in r.live.clone() {
-                            gd[j] += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
-                        }
+            self.node_terms(k, s, x, grad.as_deref_mut(), &mut e)?;
+            let Some(g) = grad.as_deref_mut() else {
+                continue;
+            };
+            self.chain_seeds(k, s)?;
+            let NodeScratch { gq, gv, ga, .. } = &*s;
+            for (d, (dof, act)) in layout.dofs.iter().zip(&layout.active).enumerate() {
+                if let Some(r) = &act[k] {
+                    let c = dof.coord;
+                    let (a0, a1, a2) = (wk * gq[c], wk * gv[c], wk * ga[c]);
+                    let gd = &mut g[d * layout.n_free..(d + 1) * layout.n_free];
+                    for j in r.live.clone() {
+                        gd[j] += a0 * r.rows[0][j] + a1 * r.rows[1][j] + a2 * r.rows[2][j];
                     }
                 }
             }
         }
         Ok(e)
+    }
+
+    /// Every term at node k (loaded into `s`), in order, into `e` and, when
+    /// `grad` is given, into the node's state gradient (zeroed here), the
+    /// extras' part of `grad` and the node's seeds.
+    fn node_terms(
+        &self,
+        k: usize,
+        s: &mut NodeScratch<M::Workspace>,
+        x: &[f64],
+        mut grad: Option<&mut [f64]>,
+        e: &mut f64,
+    ) -> Result<(), SpError> {
+        let layout = &self.layout;
+        let (n0, wk) = (layout.n_coefficients(), layout.qweights[k]);
+        let NodeScratch {
+            ws,
+            q,
+            v,
+            a,
+            gq,
+            gv,
+            ga,
+            terms,
+            shared,
+            seeds,
+        } = s;
+        if grad.is_some() {
+            for g in [&mut *gq, &mut *gv, &mut *ga] {
+                g.fill(0.0);
+            }
+            seeds.clear();
+        }
+        for (term, scratch) in self.terms().zip(terms.iter_mut()) {
+            let mut node = Node {
+                model: self.torque.model,
+                layout,
+                k,
+                q,
+                v,
+                a,
+                forces: self.forces.get(k),
+                extras: &x[n0..],
+                ws: &mut *ws,
+                scratch,
+                shared: &mut *shared,
+            };
+            let mut sum = NodeSum {
+                wk,
+                e: &mut *e,
+                grad: grad.as_deref_mut().map(|g| NodeGrad {
+                    q: &mut gq[..],
+                    v: &mut gv[..],
+                    a: &mut ga[..],
+                    wk,
+                    extras: &mut g[n0..],
+                    seeds: &mut *seeds,
+                }),
+            };
+            term.node(&mut node, &mut sum)?;
+        }
+        Ok(())
     }
 
     /// Full coefficient vectors of every gap DOF for free coefficients x.

@@ -4,19 +4,18 @@
 //! max(0, r)), summed as w Σ r² per node. Each term only decides, per node,
 //! its rows (`stance.rs`, `floor.rs`, `clearance.rs`).
 //!
-//! Forward kinematics gives p; the point Jacobian ∂p/∂q_c
-//! ([`crate::model::kinematics::point_velocity`], the one `ik` and the hold
-//! IK use) gives the gradient 2 w r dᵀ ∂p/∂q and the Gauss–Newton rows
-//! dᵀ ∂p/∂q over the gap coordinates, exactly; q̇ and q̈ do not enter.
+//! The node's shared forward kinematics gives p ([`Node::poses`]: one pass
+//! for every term at the node, the RNEA's own); the point Jacobian ∂p/∂q_c
+//! ([`Node::point_jacobian`], through [`crate::model::kinematics::point_velocity`],
+//! the one `ik` and the hold IK use; taken once per link and node) gives the
+//! gradient 2 w r dᵀ ∂p/∂q and the Gauss–Newton rows dᵀ ∂p/∂q over the gap
+//! coordinates, exactly; q̇ and q̈ do not enter.
 
 use super::super::error::SpError;
 use super::super::torque::BodyDynamics;
 use super::layout::GapLayout;
 use super::term::{GaussNewtonNode, Node, NodeSum, Term, TermScratch, check_weight, scratch_of};
-use crate::lie::Se3;
 use crate::model::Model;
-use crate::model::joint::{Derivatives, JointKinematics};
-use crate::model::kinematics::point_velocity;
 use nalgebra::{DMatrix, Vector3};
 
 /// One residual row r = `dir` · p − `target` on the origin of a link.
@@ -37,6 +36,9 @@ impl PointRow {
     }
 }
 
+/// A node's rows and their residuals.
+type Residuals<'w> = (&'w [PointRow], Vec<f64>);
+
 /// A term w Σ_rows r² on contact points' positions (see the module doc).
 pub struct PointTerm<'a> {
     name: &'static str,
@@ -46,13 +48,10 @@ pub struct PointTerm<'a> {
     rows: Vec<Vec<PointRow>>,
 }
 
+/// One thread's buffers: the node's residuals, and per model coordinate
+/// its column among the Gauss–Newton's coordinates.
 struct Scratch {
-    poses: Vec<Se3>,
-    jk: JointKinematics,
-    /// The point Jacobian's columns of link `cols_of` ([`PointTerm::columns`]).
-    cols: Vec<(usize, Vector3<f64>)>,
-    cols_of: Option<usize>,
-    /// Per model coordinate, its column among the Gauss–Newton's coordinates.
+    r: Vec<f64>,
     at: Vec<Option<usize>>,
 }
 
@@ -94,47 +93,27 @@ impl<'a> PointTerm<'a> {
             .collect())
     }
 
-    /// At a node with rows (unless the weight is 0): its rows, and the
-    /// scratch with the links posed at the node's q.
-    fn posed<'w>(
+    /// At a node with rows (unless the weight is 0): its rows, and into
+    /// `s.r` their residuals, from the node's link poses.
+    fn residuals<'w>(
         &'w self,
-        node: &'w mut Node<'_, BodyDynamics<'_>>,
-    ) -> Result<Option<(&'w [PointRow], &'w mut Scratch)>, SpError> {
+        node: &mut Node<'_, BodyDynamics<'_>>,
+    ) -> Result<Option<Residuals<'w>>, SpError> {
         let rows = &self.rows[node.k];
         if rows.is_empty() || self.weight == 0.0 {
             return Ok(None);
         }
-        let s = scratch_of::<Scratch>(node.scratch)?;
-        self.model
-            .forward_kinematics(node.q, &mut s.poses)
-            .map_err(SpError::Kinematics)?;
-        s.cols_of = None;
-        Ok(Some((rows, s)))
+        let mut r = std::mem::take(&mut scratch_of::<Scratch>(node.scratch)?.r);
+        let poses = node.poses()?;
+        r.clear();
+        r.extend(rows.iter().map(|row| row.value(&poses[row.link].p)));
+        Ok(Some((rows, r)))
     }
 
-    /// Into `s.cols`: (c, ∂p_link/∂q_c) at q for every coordinate c that
-    /// moves the link (its own and its ancestors'), `s.poses` from q; each
-    /// joint's Jacobian computed once.
-    fn columns(&self, s: &mut Scratch, q: &[f64], link: usize) {
-        s.cols.clear();
-        let p = s.poses[link].p;
-        let mut l = Some(link);
-        while let Some(i) = l {
-            let lk = self.model.link(i);
-            if lk.dof > 0 {
-                lk.joint.kinematics(
-                    &q[lk.q_index..lk.q_index + lk.dof],
-                    Derivatives::Jacobian,
-                    &mut s.jk,
-                );
-                for m in 0..lk.dof {
-                    let col = point_velocity(&s.poses[i], &s.jk.s[m], &p);
-                    s.cols.push((lk.q_index + m, col));
-                }
-            }
-            l = lk.parent;
-        }
-        s.cols_of = Some(link);
+    /// Gives the residuals' buffer back to the scratch.
+    fn keep(node: &mut Node<'_, BodyDynamics<'_>>, r: Vec<f64>) -> Result<(), SpError> {
+        scratch_of::<Scratch>(node.scratch)?.r = r;
+        Ok(())
     }
 }
 
@@ -145,10 +124,7 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
 
     fn scratch(&self) -> TermScratch {
         Box::new(Scratch {
-            poses: vec![],
-            jk: JointKinematics::default(),
-            cols: vec![],
-            cols_of: None,
+            r: vec![],
             at: vec![None; self.model.nq()],
         })
     }
@@ -164,29 +140,22 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         sum: &mut NodeSum<'_>,
     ) -> Result<(), SpError> {
-        let q = node.q;
-        let Some((rows, s)) = self.posed(node)? else {
+        let Some((rows, r)) = self.residuals(node)? else {
             return Ok(());
         };
-        let mut f = 0.0;
-        for row in rows {
-            let r = row.value(&s.poses[row.link].p);
-            if r == 0.0 {
-                continue;
-            }
-            f += r * r;
-            if let Some(g) = sum.gradient() {
-                if s.cols_of != Some(row.link) {
-                    self.columns(s, q, row.link);
+        sum.add(self.weight * r.iter().map(|r| r * r).sum::<f64>());
+        if let Some(g) = sum.gradient() {
+            for (row, &r) in rows.iter().zip(&r) {
+                if r == 0.0 {
+                    continue;
                 }
                 let gr = 2.0 * self.weight * r;
-                for (c, col) in &s.cols {
+                for (c, col) in node.point_jacobian(row.link)? {
                     g.q[*c] += gr * row.dir.dot(col);
                 }
             }
         }
-        sum.add(self.weight * f);
-        Ok(())
+        Self::keep(node, r)
     }
 
     /// The rows with r ≠ 0 (a met bound has none): D_q = dᵀ ∂p/∂q over the
@@ -196,36 +165,36 @@ impl<'a> Term<BodyDynamics<'a>> for PointTerm<'a> {
         node: &mut Node<'_, BodyDynamics<'a>>,
         gn: &mut GaussNewtonNode<'_>,
     ) -> Result<(), SpError> {
-        let q = node.q;
-        let Some((rows, s)) = self.posed(node)? else {
+        let Some((rows, r)) = self.residuals(node)? else {
             return Ok(());
         };
         let live: Vec<&PointRow> = rows
             .iter()
-            .filter(|r| !r.one_sided || r.value(&s.poses[r.link].p) > 0.0)
+            .zip(&r)
+            .filter(|(row, r)| !row.one_sided || **r > 0.0)
+            .map(|(row, _)| row)
             .collect();
+        Self::keep(node, r)?;
         if live.is_empty() {
             return Ok(());
         }
         let coords = gn.coords();
+        let mut at = std::mem::take(&mut scratch_of::<Scratch>(node.scratch)?.at);
         for (j, &c) in coords.iter().enumerate() {
-            s.at[c] = Some(j);
+            at[c] = Some(j);
         }
-        s.cols_of = None;
         let mut dq = DMatrix::zeros(live.len(), coords.len());
         for (i, row) in live.iter().enumerate() {
-            if s.cols_of != Some(row.link) {
-                self.columns(s, q, row.link);
-            }
-            for (c, col) in &s.cols {
-                if let Some(j) = s.at[*c] {
+            for (c, col) in node.point_jacobian(row.link)? {
+                if let Some(j) = at[*c] {
                     dq[(i, j)] = row.dir.dot(col);
                 }
             }
         }
         for &c in coords {
-            s.at[c] = None;
+            at[c] = None;
         }
+        scratch_of::<Scratch>(node.scratch)?.at = at;
         let zero = DMatrix::zeros(live.len(), coords.len());
         gn.add_rows(
             &[dq, zero.clone(), zero],

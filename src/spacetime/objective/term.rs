@@ -10,11 +10,15 @@
 //!
 //! A term is one file under `objective/` implementing [`Term`]; it is added
 //! with [`super::Objective::with_term`] (torque and the kinematic prior are
-//! built in: `torque_term.rs`, `prior.rs`).
+//! built in: `torque_term.rs`, `prior.rs`). What the body's passes give at
+//! the node — link poses, point Jacobians, τ and the root's wrench with the
+//! held contact forces — a term reads from the [`Node`], which computes each
+//! once per node for all terms (`node_state.rs`).
 
 use super::super::error::{SpError, invalid};
 use super::super::torque::TorqueModel;
 use super::layout::{GapLayout, NodeRows};
+use super::node_state::{Seeds, Shared};
 use crate::dynamics::PointForce;
 use nalgebra::{DMatrix, Vector3};
 
@@ -60,11 +64,6 @@ pub trait Term<M: TorqueModel>: Send + Sync {
         Ok(())
     }
 
-    /// Takes the contact forces held fixed at each node (`per_node[k]` at
-    /// node k; empty: none), from [`super::Objective::set_forces`]. Terms
-    /// that do not read them ignore them (the default).
-    fn set_forces(&mut self, _per_node: &[NodeForces]) {}
-
     /// Sets the term's weight (a continuation's step) without rebuilding
     /// the objective; by default an error naming the term, which has none.
     fn set_weight(&mut self, _w: f64) -> Result<(), SpError> {
@@ -77,20 +76,28 @@ pub trait Term<M: TorqueModel>: Send + Sync {
 
 /// What a term sees at one quadrature node: the layout, the node's index,
 /// the state of every coordinate there (gap DOFs from x, the rest from the
-/// inputs), the extra unknowns of x, the model's workspace and the term's
-/// own scratch.
+/// inputs), the contact forces held there, the extra unknowns of x, the
+/// model and its workspace, and the term's own scratch; and, computed once
+/// for every term, the body's passes at the node (`node_state.rs`:
+/// [`Node::poses`], [`Node::point_jacobian`], [`Node::tau`],
+/// [`Node::root_wrench`], [`Node::reverse`]).
 pub struct Node<'s, M: TorqueModel> {
+    pub model: &'s M,
     pub layout: &'s GapLayout,
     /// The node's index (its time is `layout.nodes().0[k]`).
     pub k: usize,
     pub q: &'s [f64],
     pub v: &'s [f64],
     pub a: &'s [f64],
+    /// The contact forces held at the node and their reference point
+    /// ([`super::Objective::set_forces`]; none set: `None`).
+    pub forces: Option<&'s NodeForces>,
     /// The extra unknowns (see [`GapLayout::with_extras`]).
     pub extras: &'s [f64],
     pub ws: &'s mut M::Workspace,
     /// The term's own scratch (see [`scratch_of`]).
     pub scratch: &'s mut TermScratch,
+    pub(super) shared: &'s mut Shared,
 }
 
 /// Where a term adds its integrand at one node: the objective's running sum,
@@ -116,7 +123,9 @@ impl<'s> NodeSum<'s> {
 
 /// The gradient of the integrand at one node: with respect to the state
 /// (unweighted; the objective chains it through the basis rows and the
-/// quadrature weight) and to the extras.
+/// quadrature weight), to the extras, and through τ and the root's wrench
+/// ([`NodeGrad::seed_tau`], [`NodeGrad::seed_root`]: one reverse sweep
+/// chains them after every term).
 pub struct NodeGrad<'s> {
     /// ∂f/∂q, ∂f/∂q̇, ∂f/∂q̈ of every coordinate (add to them).
     pub q: &'s mut [f64],
@@ -124,6 +133,7 @@ pub struct NodeGrad<'s> {
     pub a: &'s mut [f64],
     pub(super) wk: f64,
     pub(super) extras: &'s mut [f64],
+    pub(super) seeds: &'s mut Seeds,
 }
 
 impl NodeGrad<'_> {

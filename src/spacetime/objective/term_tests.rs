@@ -87,16 +87,9 @@ fn an_added_terms_gradient_reaches_the_coefficients_and_the_extras() {
     }
     let e = obj.eval(&mut obj.scratch(), &x, None).unwrap();
     // the term adds its quadrature: e minus the same objective without it
-    let plain = Objective::new(
-        &arm,
-        gaps(),
-        &with_settings(),
-        vec![1.0, 1.5],
-        &known_motion,
-    )
-    .unwrap()
-    .with_prior(&[[0.3, 0.7], [2.0, 0.05]])
-    .unwrap();
+    let plain = arm_objective(&arm)
+        .with_prior(&[[0.3, 0.7], [2.0, 0.05]])
+        .unwrap();
     let e0 = plain
         .eval(&mut plain.scratch(), &x[..plain.n_vars()], None)
         .unwrap();
@@ -249,4 +242,35 @@ fn forces_at_the_nodes_enter_the_torque_term_and_its_gradient() {
     // no forces again: the objective as it was, to the bit
     obj.set_forces(vec![]).unwrap();
     assert_eq!(obj.eval(&mut s, &x, None).unwrap(), e0);
+}
+
+/// The arm's objective on the test gaps, torque alone.
+fn arm_objective(arm: &TwoLinkArm) -> Objective<'_, TwoLinkArm> {
+    Objective::new(arm, gaps(), &with_settings(), vec![1.0, 1.5], &known_motion).unwrap()
+}
+
+/// A term that reads the body's passes at its node.
+struct ReadsPoses;
+
+impl Term<TwoLinkArm> for ReadsPoses {
+    fn name(&self) -> &str {
+        "reads poses"
+    }
+
+    fn node(&self, node: &mut Node<'_, TwoLinkArm>, sum: &mut NodeSum<'_>) -> Result<(), SpError> {
+        sum.add(node.poses()?.len() as f64);
+        Ok(())
+    }
+}
+
+#[test]
+fn a_term_reading_the_bodys_passes_on_a_model_without_one_is_a_clear_error() {
+    // the two-link arm is a hand-checked model, not a multibody body: the
+    // torque term uses its own adjoint, and a term asking for link poses
+    // is told why it cannot have them
+    let arm = TwoLinkArm::default();
+    let obj = arm_objective(&arm).with_term(Box::new(ReadsPoses));
+    let x = obj.hermite_start();
+    let e = obj.eval(&mut obj.scratch(), &x, None).unwrap_err();
+    assert!(e.to_string().contains("multibody"), "{e}");
 }
