@@ -26,6 +26,7 @@ mod floor;
 mod forces;
 mod gauss_newton;
 pub mod layout;
+mod node_seeds;
 mod node_state;
 mod points;
 mod prior;
@@ -129,8 +130,8 @@ pub struct NodeScratch<W> {
     terms: Vec<TermScratch>,
     /// The body's passes at the node, shared by the terms, and the seeds
     /// of its reverse sweep (`node_state.rs`).
-    shared: node_state::Shared,
-    seeds: node_state::Seeds,
+    shared: node_seeds::Shared,
+    seeds: node_seeds::Seeds,
 }
 
 /// Scratch memory of one solve: one [`NodeScratch`] and one partial gradient
@@ -380,8 +381,8 @@ impl<'a, M: TorqueModel> Objective<'a, M> {
             gv: vec![0.0; n],
             ga: vec![0.0; n],
             terms: self.terms().map(|t| t.scratch()).collect(),
-            shared: node_state::Shared::new(n),
-            seeds: node_state::Seeds::new(n),
+            shared: node_seeds::Shared::new(n),
+            seeds: node_seeds::Seeds::new(n),
         }
     }
 

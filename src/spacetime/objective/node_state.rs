@@ -15,61 +15,12 @@
 
 use super::super::error::SpError;
 use super::super::torque::{BodyDynamics, TorqueModel};
+use super::node_seeds::Shared;
 use super::term::{Node, NodeGrad};
 use super::{NodeScratch, Objective};
 use crate::dynamics::{JointState, Loaded, PointForce, StateCache, StateGradient};
 use crate::lie::{Se3, Twist, Wrench};
 use nalgebra::Vector3;
-
-/// One thread's shared passes and the buffers of [`Node::reverse`].
-pub(super) struct Shared {
-    /// Built at the first request (only a multibody model has one).
-    cache: Option<StateCache>,
-    grad: [Vec<f64>; 3],
-}
-
-impl Shared {
-    pub(super) fn new(nq: usize) -> Self {
-        Shared {
-            cache: None,
-            grad: std::array::from_fn(|_| vec![0.0; nq]),
-        }
-    }
-}
-
-/// The seeds of one node's reverse sweep: ∂f/∂τ and ∂f/∂w_root summed over
-/// the terms, and whether any term gave one.
-pub(super) struct Seeds {
-    tau: Vec<f64>,
-    root: Twist,
-    on_tau: bool,
-    on_root: bool,
-}
-
-/// −0 is the sum's neutral element to the bit (−0 + x = x for every x, −0
-/// included), so a term's seed added to it is the seed exactly.
-const NEUTRAL: f64 = -0.0;
-
-impl Seeds {
-    pub(super) fn new(nq: usize) -> Self {
-        Seeds {
-            tau: vec![NEUTRAL; nq],
-            root: Twist::repeat(NEUTRAL),
-            on_tau: false,
-            on_root: false,
-        }
-    }
-
-    /// No seed yet (a new node).
-    pub(super) fn clear(&mut self) {
-        if self.on_tau {
-            self.tau.fill(NEUTRAL);
-        }
-        self.root = Twist::repeat(NEUTRAL);
-        self.on_tau = false;
-        self.on_root = false;
-    }
-}
 
 impl NodeGrad<'_> {
     /// ∂f/∂τ at this node, one entry per coordinate, to add to: τ's

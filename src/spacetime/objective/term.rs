@@ -18,7 +18,7 @@
 use super::super::error::{SpError, invalid};
 use super::super::torque::TorqueModel;
 use super::layout::{GapLayout, NodeRows};
-use super::node_state::{Seeds, Shared};
+use super::node_seeds::{Seeds, Shared};
 use crate::dynamics::PointForce;
 use nalgebra::{DMatrix, Vector3};
 
