@@ -79,15 +79,20 @@ pub fn methods() -> Vec<Method> {
         Method::Capture,
         Method::Sp(SP_DEFAULTS.into(), Box::default()),
         Method::Sp(TODAYS_SP.into(), Box::new(todays_sp())),
-        Method::Sp(
-            "SP contact: \"auto\"".into(),
-            Box::new(SpOptions {
-                contact: Contact::Auto,
-                ..Default::default()
-            }),
-        ),
+        Method::Sp("SP contact: \"auto\"".into(), Box::new(stated_auto())),
         Method::SpCaptureContacts(SP_CAPTURE_CONTACTS.into(), Box::default()),
     ]
+}
+
+/// `contact: "auto"` stated, as `SP(m, body: b, contact: "auto")` gives it:
+/// a given root stands too (`GroundSettings::stand_root_given`).
+fn stated_auto() -> SpOptions {
+    let mut o = SpOptions {
+        contact: Contact::Auto,
+        ..Default::default()
+    };
+    o.ground.stand_root_given = true;
+    o
 }
 
 /// A row for each knob of SP's objective (`MX_INBETWEEN_KNOBS=1` in the

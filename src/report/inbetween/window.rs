@@ -185,10 +185,15 @@ fn sp_options(case: &Case, method: &Method) -> Result<Option<SpOptions>, ReportE
                 ..(**o).clone()
             })
         }
-        Method::SpCaptureContacts(_, o) => Some(SpOptions {
-            contact: Contact::Given(given_contacts(&case.capture, &case.body)?),
-            ..(**o).clone()
-        }),
+        Method::SpCaptureContacts(_, o) => {
+            let mut given = SpOptions {
+                contact: Contact::Given(given_contacts(&case.capture, &case.body)?),
+                ..(**o).clone()
+            };
+            // a stated contact: it stands a given root too, as the language does
+            given.ground.stand_root_given = true;
+            Some(given)
+        }
     })
 }
 
