@@ -49,8 +49,13 @@ def test_round_trip_through_json(tmp_path):
     assert np.array_equal(m2.sample(times), values)
     m.save(tmp_path / "m.csv", rate=30)
     assert np.allclose(mx.load(tmp_path / "m.csv").sample(times), values, atol=1e-12)
+    # without rate=, a sampled motion keeps its own frame rate ...
+    m.save(tmp_path / "own.csv")
+    assert np.allclose(mx.load(tmp_path / "own.csv").sample(times), values, atol=1e-12)
+    # ... and one with no samples (a function of time) must be told the rate
+    curve = mx.Interpreter().eval("mu({a: interval(fn(t) = sin(t), 0, 1)})")
     with pytest.raises(mx.MxTypeError, match="rate"):
-        m.save(tmp_path / "m2.csv")
+        curve.save(tmp_path / "m2.csv")
 
 
 def test_derivatives_and_sampling_outside():
