@@ -274,6 +274,21 @@ mod tests {
     }
 
     #[test]
+    fn at_gimbal_lock_two_triples_of_one_rotation_are_no_distance_apart() {
+        // ZXY with X = 90°: Z and Y turn about one axis, so (z, 90°, y) and
+        // (z + 1, 90°, y − 1) are one rotation, 1.4 rad apart channel by channel
+        let names = names();
+        let metric = PoseMetric::new(&names, &[0, 1, 2], &|_| true, &Joints::by_name(&names));
+        let half = std::f64::consts::FRAC_PI_2;
+        let a = metric.pose(|i| [0.3, half, 0.2][i]);
+        let b = metric.pose(|i| [1.3, half, -0.8][i]);
+        let d = metric.distance2(&a, &b);
+        assert!(d.is_finite() && d < 1e-14, "{d}");
+        let spread = metric.spread(&[a.clone(), b.clone(), a]);
+        assert!(spread.is_finite() && spread < 1e-14, "{spread}");
+    }
+
+    #[test]
     fn a_joint_with_an_unnamed_axis_is_compared_angle_by_angle() {
         let names: Vec<String> = ["hip_flexion", "hip_adduction"].map(String::from).to_vec();
         let joints = Joints::by_name(&names);
