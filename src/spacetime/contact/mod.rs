@@ -10,6 +10,7 @@
 pub mod capture;
 pub mod context;
 pub mod example;
+pub mod feet;
 pub mod given;
 pub mod merge;
 pub mod plan;

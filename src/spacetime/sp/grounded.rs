@@ -19,6 +19,7 @@ use super::options::{SpOptions, Support};
 use crate::ground::{FloorPlane, up_of};
 use crate::model::{Model, RootCoords};
 use crate::motion::JointSampler;
+use crate::spacetime::contact::feet::land_toes_after_heels;
 use crate::spacetime::contact::{
     Contact, Context, GapPlan, PlanPoint, Replan, Timing, example_plan, plan_given, with_edges,
 };
@@ -132,15 +133,16 @@ impl<'a> GroundModel<BodyDynamics<'a>> for SpGround<'a> {
         }
         let edges = ctx.plan();
         let laid = match self.settings.plan {
-            PlanSource::Context => return Ok(edges),
+            PlanSource::Context => return Ok(feet_in_order(model, edges)),
             PlanSource::Steps => None,
             PlanSource::Auto | PlanSource::Example => laid,
         };
         let Some(laid) = laid else {
             if self.settings.plan == PlanSource::Example {
-                return Ok(edges);
+                return Ok(feet_in_order(model, edges));
             }
-            return Ok(with_edges(&edges, &ctx.steps(&configuration)?));
+            let steps = ctx.steps(&configuration)?;
+            return Ok(feet_in_order(model, with_edges(&edges, &steps)));
         };
         let points: Vec<PlanPoint> = ctx
             .points()
@@ -167,7 +169,7 @@ impl<'a> GroundModel<BodyDynamics<'a>> for SpGround<'a> {
             &configuration,
             timing,
         )?;
-        Ok(with_edges(&edges, &inner))
+        Ok(feet_in_order(model, with_edges(&edges, &inner)))
     }
 
     fn replan(
@@ -261,6 +263,12 @@ impl<'a> GroundModel<BodyDynamics<'a>> for SpGround<'a> {
 
 /// The step (s) a stance's solved distance is measured at.
 const SCORE_STEP: f64 = 1.0 / 120.0;
+
+/// `plan` with each foot's points in a foot's order ([`land_toes_after_heels`]).
+fn feet_in_order(model: &Model, mut plan: GapPlan) -> GapPlan {
+    land_toes_after_heels(model, &mut plan);
+    plan
+}
 
 #[cfg(test)]
 mod tests {
