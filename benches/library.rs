@@ -150,7 +150,11 @@ fn scaled(file: &BvhFile, s: f64) -> BvhFile {
         for (k, ch) in j.channels.iter().enumerate() {
             if !ch.is_rotation() {
                 let c = starts[i] + k;
-                out.values.iter_mut().skip(c).step_by(nch).for_each(|v| *v *= s);
+                out.values
+                    .iter_mut()
+                    .skip(c)
+                    .step_by(nch)
+                    .for_each(|v| *v *= s);
             }
         }
     }
@@ -438,7 +442,9 @@ fn main() {
     println!(
         "| clips | frames | build s | save s | build peak MB | index MB | .bvh MB | .mxlib MB | ÷ .bvh | load s | tree s | query ms (tree) | query ms (brute) | use peak MB | SP s/gap base | SP s/gap this | ratio |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
     for &n in &sizes {
         let b = child(&format!("build:{n}"));
         let u = child(&format!("use:{n}"));
