@@ -1,12 +1,14 @@
 //! The clip library at scale (`mx::library`): libraries of 10², 10³ and 10⁴
 //! clips made from the shared clips (`data/mocap` and `data/inbetween`) by
-//! time warps and mirrors, written as `.bvh` files under
+//! a seeded rule (`generated`: time warps, mirrors, skeletons scaled
+//! 0.85–1.15×, smooth noise; no two alike), written as `.bvh` files under
 //! `target/library-bench/` (made once, never committed), so it runs
 //! anywhere the shared data is. Each size is built from its files as `mx
 //! library build` does (read, indexed and let go file by file), saved as an
 //! `.mxlib`, and loaded. Per size, each phase in a child process of its own
 //! so its peak resident memory is its own:
-//! - build: time and peak memory (the goal: ≤ 2 min and ≤ 2 GB at 10⁴);
+//! - build: time and peak memory (the goal: ≤ 2 min and ≤ 2 GB at 10⁴), and
+//!   the `.mxlib`'s size beside its clips' `.bvh` files' (the goal: ≤ 1×);
 //! - use: the `.mxlib`'s load time (the tree built at the first query),
 //!   query time per gap (tree; brute force on a few; goal ≤ 5 ms), peak
 //!   memory, and SP's time per gap following the library against the same
@@ -119,31 +121,121 @@ fn base_clips() -> Vec<ClipInput> {
     all
 }
 
-/// Clip `i` of the generated set: base clip `i mod B` in round `i / B`,
-/// played at a warp of its own (round 0 as captured), mirrored in odd
-/// rounds; named so that the first `n` files in name order are rounds
-/// 0, 1, … (every base clip in each).
+/// A small seeded generator (splitmix64): the same clip index gives the
+/// same variant on every machine.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `file` retargeted to its skeleton scaled by `s`: every bone offset and
+/// end site, and the root's position channels, times `s` (the same joint
+/// angles on a taller or shorter actor, whose feet then stay planted).
+fn scaled(file: &BvhFile, s: f64) -> BvhFile {
+    let mut out = file.clone();
+    for j in &mut out.skeleton.joints {
+        j.offset *= s;
+        j.end_sites.iter_mut().for_each(|e| *e *= s);
+    }
+    let nch = file.skeleton.channel_count();
+    let starts = file.skeleton.channel_starts();
+    for (i, j) in file.skeleton.joints.iter().enumerate() {
+        for (k, ch) in j.channels.iter().enumerate() {
+            if !ch.is_rotation() {
+                let c = starts[i] + k;
+                out.values
+                    .iter_mut()
+                    .skip(c)
+                    .step_by(nch)
+                    .for_each(|v| *v *= s);
+            }
+        }
+    }
+    out
+}
+
+/// `file` with smooth noise on every rotation channel: per channel a
+/// sinusoid of amplitude up to `degrees`, period 0.5–2 s and a phase drawn
+/// from `rng` (a capture's slow marker drift, not frame-to-frame jitter,
+/// which would only make the velocities noisy).
+fn noised(file: &BvhFile, degrees: f64, rng: &mut Rng) -> BvhFile {
+    let mut out = file.clone();
+    let nch = file.skeleton.channel_count();
+    let kinds: Vec<Channel> = file
+        .skeleton
+        .joints
+        .iter()
+        .flat_map(|j| j.channels.iter().copied())
+        .collect();
+    for (c, kind) in kinds.iter().enumerate() {
+        if !kind.is_rotation() {
+            continue;
+        }
+        let a = degrees * rng.next();
+        let omega = std::f64::consts::TAU / (0.5 + 1.5 * rng.next());
+        let phase = std::f64::consts::TAU * rng.next();
+        for (f, v) in out.values.iter_mut().skip(c).step_by(nch).enumerate() {
+            *v += a * (omega * f as f64 * file.frame_time + phase).sin();
+        }
+    }
+    out
+}
+
+/// Clip `i` of the generated set: base clip `i mod B` in round `i / B`.
+/// Round 0 is the shared clips as captured; in round r ≥ 1 each is played
+/// at a warp of its own (0.8–1.2, the golden-ratio sequence in r), mirrored
+/// in odd rounds, retargeted to its skeleton scaled by 0.85–1.15 (the √2
+/// sequence in r) and given smooth noise of up to 0.5° seeded by `i`: no
+/// two alike, by a rule that reads nothing of the clips. Named so that the
+/// first `n` files in name order are rounds 0, 1, … (every base clip in each).
 fn generated(base: &[ClipInput], i: usize) -> (String, BvhFile) {
     let b = &base[i % base.len()];
     let round = i / base.len();
-    if repeats() {
-        return (format!("r{round:04}_{}", b.name), b.file.clone());
+    let name = format!("r{round:04}_{}", b.name);
+    if repeats() || round == 0 {
+        return (name, b.file.clone());
     }
-    let w = if round == 0 {
-        1.0
-    } else {
-        0.8 + 0.4 * (round as f64 * 0.618_033_988_75).fract()
-    };
-    let mut file = if w == 1.0 {
-        b.file.clone()
-    } else {
-        warped(&b.file, w)
-    };
+    let r = round as f64;
+    let w = 0.8 + 0.4 * (r * 0.618_033_988_75).fract();
+    let s = 0.85 + 0.3 * (r * std::f64::consts::SQRT_2).fract();
+    let mut file = warped(&b.file, w);
     if round % 2 == 1 {
         file = mirrored(&file);
     }
-    (format!("r{round:04}_{}", b.name), file)
+    let mut rng = Rng(i as u64 ^ 0x6d78_6c69_6273_6361);
+    let mut file = noised(&scaled(&file, s), 0.5, &mut rng);
+    file.values.iter_mut().for_each(|v| *v = six_digits(*v));
+    (name, file)
 }
+
+/// `v` to six significant digits, as capture exporters write them (`%g`):
+/// a generated file is then as large as a captured one, not padded with the
+/// seventeen digits of a computed double.
+fn six_digits(v: f64) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let e = v.abs().log10().floor() as i32;
+    // an integer over or times an exact power of ten: the nearest double
+    // to the six-digit decimal, which prints back as those six digits
+    if e <= 5 {
+        let f = 10f64.powi(5 - e);
+        (v * f).round() / f
+    } else {
+        let f = 10f64.powi(e - 5);
+        (v / f).round() * f
+    }
+}
+
+/// The generator's rule, in the stamp of the files it wrote.
+const GENERATOR: &str = "warp-mirror-scale-noise-2";
 
 /// Whether the generated clips are exact repeats (`MX_LIBRARY_REPEATS=1`).
 fn repeats() -> bool {
@@ -165,10 +257,11 @@ fn bench_dir() -> PathBuf {
 /// count written).
 fn clip_files(base: &[ClipInput], n: usize) -> Vec<PathBuf> {
     let dir = bench_dir().join("clips");
+    // the stamp names the generator, so files of an older rule are rewritten
     let stamp = dir.join(".written");
     let have: usize = std::fs::read_to_string(&stamp)
         .ok()
-        .and_then(|s| s.trim().parse().ok())
+        .and_then(|s| s.trim().strip_prefix(GENERATOR)?.trim().parse().ok())
         .unwrap_or(0);
     if have < n {
         std::fs::create_dir_all(&dir).unwrap();
@@ -179,7 +272,7 @@ fn clip_files(base: &[ClipInput], n: usize) -> Vec<PathBuf> {
             let text = bvh::to_string(&file).unwrap();
             std::fs::write(dir.join(format!("{name}.bvh")), text).unwrap();
         });
-        std::fs::write(&stamp, n.to_string()).unwrap();
+        std::fs::write(&stamp, format!("{GENERATOR} {n}")).unwrap();
     }
     let mut all = library::bvh_files(&dir).unwrap();
     all.truncate(n);
@@ -226,6 +319,10 @@ fn build_phase(n: usize, out: &Path) {
     let base = base_clips();
     let files = clip_files(&base, n);
     drop(base);
+    let bvh_bytes: u64 = files
+        .iter()
+        .map(|f| std::fs::metadata(f).map_or(0, |m| m.len()))
+        .sum();
     let t = Instant::now();
     let lib = Library::build_files(&files, Settings::default()).unwrap();
     let build = t.elapsed().as_secs_f64();
@@ -233,8 +330,9 @@ fn build_phase(n: usize, out: &Path) {
     file::save(&lib, out).unwrap();
     let save = t.elapsed().as_secs_f64();
     println!(
-        "RESULT build_s={build:.2} save_s={save:.2} frames={} memory_mb={:.0} peak_mb={:.0}",
+        "RESULT build_s={build:.2} save_s={save:.2} frames={} bvh_mb={:.1} memory_mb={:.0} peak_mb={:.0}",
         lib.frames(),
+        bvh_bytes as f64 / 1e6,
         lib.memory_bytes() as f64 / 1e6,
         peak_mb()
     );
@@ -336,14 +434,17 @@ fn main() {
     // the base library: the shared clips themselves (round 0)
     let b = child(&format!("build:{nb}"));
     std::fs::rename(lib_path(nb), dir.join("lib-base.mxlib")).unwrap();
+    let base_mb = std::fs::metadata(dir.join("lib-base.mxlib")).map_or(0, |m| m.len()) as f64 / 1e6;
     println!(
-        "base library: {nb} clips (the shared ones), built in {} s; SP windows: {sp_windows} (30-frame gaps, root given)",
-        b["build_s"]
+        "base library: {nb} clips (the shared ones), built in {} s, .mxlib {base_mb:.2} MB for {} MB of .bvh; SP windows: {sp_windows} (30-frame gaps, root given)",
+        b["build_s"], b["bvh_mb"]
     );
     println!(
-        "| clips | frames | build s | save s | build peak MB | index MB | .mxlib MB | load s | tree s | query ms (tree) | query ms (brute) | use peak MB | SP s/gap base | SP s/gap this | ratio |"
+        "| clips | frames | build s | save s | build peak MB | index MB | .bvh MB | .mxlib MB | ÷ .bvh | load s | tree s | query ms (tree) | query ms (brute) | use peak MB | SP s/gap base | SP s/gap this | ratio |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
     for &n in &sizes {
         let b = child(&format!("build:{n}"));
         let u = child(&format!("use:{n}"));
@@ -352,13 +453,15 @@ fn main() {
             m[k].parse().unwrap_or(f64::NAN)
         };
         println!(
-            "| {n} | {} | {} | {} | {} | {} | {:.0} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+            "| {n} | {} | {} | {} | {} | {} | {} | {:.1} | {:.2} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
             b["frames"],
             b["build_s"],
             b["save_s"],
             b["peak_mb"],
             b["memory_mb"],
+            b["bvh_mb"],
             size as f64 / 1e6,
+            size as f64 / 1e6 / f(&b, "bvh_mb"),
             u["load_s"],
             u["tree_s"],
             u["query_ms"],

@@ -3,22 +3,26 @@
 //! Layout (little-endian): the magic `MXLIB\n` and the format version
 //! (u32); a JSON header (u64 length, then the settings, the feature
 //! definition, the normalisation, the skipped clips, and per clip its name,
-//! key joints, grid, source stamp and where its BVH text and contact labels
-//! lie in the clip section); the before and after vectors of every grid
-//! frame (f32); a checksum of everything before it (u64, [`Fingerprint`]);
-//! then the clip section: per clip its BVH text (a file's own bytes, a clip
-//! made in memory written as BVH with shortest round-trip numbers) and its
-//! contact labels ([`super::labels`], JSON), back to back. The
-//! file is self-contained: the clips SP follows are inside, so it loads
-//! where their files are not.
+//! key joints, grid and source stamp); the before and after vectors of every
+//! grid frame (f32); a checksum of everything before it (u64,
+//! [`Fingerprint`]); then the clip section: per clip its BVH text (a file's
+//! own bytes, a clip made in memory written as BVH with shortest round-trip
+//! numbers) and its contact labels ([`super::labels`], JSON), each deflated
+//! ([`super::clip::deflate`]: BVH text to about a third, so the file is
+//! smaller than the clips it indexes), back to back; last the clip table
+//! (JSON: per clip where its text and labels lie, their sizes inflated and
+//! fingerprints), its length (u64) and its checksum (u64). The table comes
+//! last so a save streams: a clip's deflated length is known once it is
+//! written. The file is self-contained: the clips SP follows are inside, so
+//! it loads where their files are not.
 //!
 //! `load` reads everything but the clip section and keeps the file open: a
 //! clip's text and labels are read when a match needs them ([`Stored`]) and
-//! checked against its fingerprint in the header, which the checksum covers.
-//! Loading 10⁴ clips reads their features, not their gigabytes of BVH.
+//! checked against their fingerprints in the table, which its checksum
+//! covers. Loading 10⁴ clips reads their features, not their gigabytes of BVH.
 //!
 //! Refused, each with its own sentence: a file that is not one, a foreign
-//! version, a damaged file (checksum, length; a clip's text when it is
+//! version, a damaged file (checksums, length; a clip's text when it is
 //! read), an index built with other settings than asked for, and a stale
 //! one (a source file that still exists but changed since: its size and
 //! modification time tell without reading it, its bytes where they cannot).
@@ -26,7 +30,7 @@
 //! Saves stream through a temporary file renamed over the old one, so a
 //! killed or failed save leaves the old file as it was.
 
-use super::clip::{ClipData, LabelData, LibClip, SectionFile, Source, Stored};
+use super::clip::{ClipData, LabelData, LibClip, SectionFile, Source, Stored, deflate};
 use super::features::{DIM, HORIZON, KeyJoints};
 use super::index::{Library, Settings, Skipped};
 use super::{Fingerprint, LibraryError, fingerprint};
@@ -41,8 +45,9 @@ const MAGIC: &[u8; 6] = b"MXLIB\n";
 
 /// The `.mxlib` format version this build writes and reads. Bump it when the
 /// layout or the feature definition changes. (1: clips inside the checksum,
-/// read whole on load; 2: no contact labels.)
-pub const VERSION: u32 = 3;
+/// read whole on load; 2: no contact labels; 3: clips stored as they are,
+/// their places in the header.)
+pub const VERSION: u32 = 4;
 
 #[derive(Serialize, Deserialize)]
 struct Header {
@@ -54,8 +59,6 @@ struct Header {
     clips: Vec<ClipHeader>,
     skipped: Vec<Skipped>,
     frames: usize,
-    /// Bytes of the clip section.
-    section: u64,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -67,11 +70,24 @@ struct ClipHeader {
     start: f64,
     frames: usize,
     offset: usize,
-    /// Its BVH text in the clip section: offset, length, fingerprint.
-    text: (u64, u64, u64),
-    /// Its contact labels right after the text: length (0: none),
-    /// fingerprint.
-    labels: (u64, u64),
+}
+
+/// Where a clip's text or labels lie in the clip section (deflated), and
+/// what they inflate to.
+#[derive(Serialize, Deserialize)]
+struct Piece {
+    at: u64,
+    len: u64,
+    size: u64,
+    fingerprint: u64,
+}
+
+/// A clip's entry in the clip table: its text, and its labels (none: not
+/// labelled).
+#[derive(Serialize, Deserialize)]
+struct TableEntry {
+    text: Piece,
+    labels: Option<Piece>,
 }
 
 /// A writer that fingerprints what passes through it.
@@ -142,54 +158,81 @@ pub(super) fn read_vectors(r: &mut impl Read, n: usize) -> io::Result<Vec<[f32; 
     Ok(out)
 }
 
-/// A clip's text or labels as the file will hold them: made now (a clip in
-/// memory, labels taken in this process), else copied from where they are
-/// stored when written (their length and fingerprint known).
-enum Bytes {
-    Made(Vec<u8>),
-    Stored,
-}
-
-impl Bytes {
-    fn made(b: Vec<u8>) -> (Bytes, u64, u64) {
-        let (len, fp) = (b.len() as u64, fingerprint(&b));
-        (Bytes::Made(b), len, fp)
+/// A clip's text as stored (a clip in memory written as BVH now).
+fn text_of(c: &LibClip) -> Result<Vec<u8>, LibraryError> {
+    match &c.data {
+        ClipData::Memory(f) => Ok(bvh::to_string(f)
+            .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", c.name)))?
+            .into_bytes()),
+        _ => Ok(c.data.stored_bytes(&c.name)?.unwrap_or_default()),
     }
 }
 
-/// A clip's text: (bytes, length, fingerprint).
-fn text_of(c: &LibClip) -> Result<(Bytes, u64, u64), LibraryError> {
-    Ok(match &c.data {
-        ClipData::Memory(f) => Bytes::made(
-            bvh::to_string(f)
-                .map_err(|e| LibraryError::new(format!("clip `{}`: {e}", c.name)))?
-                .into_bytes(),
-        ),
-        ClipData::File(s) => (Bytes::Stored, s.len, s.fingerprint),
-        ClipData::Section(s) => (Bytes::Stored, s.len, s.fingerprint),
-    })
-}
-
-/// A clip's labels: (bytes, length, fingerprint); length 0: none.
-fn labels_of(c: &LibClip) -> (Bytes, u64, u64) {
+/// A clip's labels as stored; `None`: not labelled.
+fn labels_of(c: &LibClip) -> Result<Option<Vec<u8>>, LibraryError> {
     match &c.labels {
-        LabelData::None(_) => (Bytes::Made(vec![]), 0, 0),
-        LabelData::Memory(l) => Bytes::made(l.to_bytes()),
-        LabelData::Section(s) => (Bytes::Stored, s.len, s.fingerprint),
+        LabelData::None(_) => Ok(None),
+        _ => c.labels.stored_bytes(&c.name).map(Some),
     }
+}
+
+/// Clips deflated at once (in parallel): enough to keep both cores busy,
+/// few enough that a save holds a few megabytes, not the library.
+const PACK_BATCH: usize = 16;
+
+/// Writes the clip section, then the clip table, its length and checksum.
+fn write_clips(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
+    use rayon::prelude::*;
+    let io_err = |e: io::Error| LibraryError::new(format!("cannot write the library: {e}"));
+    let mut table = Vec::with_capacity(lib.clips.len());
+    let mut at = 0u64;
+    for batch in lib.clips.chunks(PACK_BATCH) {
+        let raw: Vec<(Vec<u8>, Option<Vec<u8>>)> = batch
+            .iter()
+            .map(|c| Ok((text_of(c)?, labels_of(c)?)))
+            .collect::<Result<_, LibraryError>>()?;
+        let deflated: Vec<_> = raw
+            .par_iter()
+            .map(|(t, l)| (deflate(t), l.as_ref().map(|l| deflate(l))))
+            .collect();
+        for ((t, l), (pt, pl)) in raw.iter().zip(deflated) {
+            let piece = |b: &[u8], p: &[u8], at: u64| Piece {
+                at,
+                len: p.len() as u64,
+                size: b.len() as u64,
+                fingerprint: fingerprint(b),
+            };
+            let text = piece(t, &pt, at);
+            at += text.len;
+            w.write_all(&pt).map_err(io_err)?;
+            let labels = match (l, pl) {
+                (Some(l), Some(pl)) => {
+                    let p = piece(l, &pl, at);
+                    at += p.len;
+                    w.write_all(&pl).map_err(io_err)?;
+                    Some(p)
+                }
+                _ => None,
+            };
+            table.push(TableEntry { text, labels });
+        }
+    }
+    let json = serde_json::to_vec(&table).map_err(|e| LibraryError::new(e.to_string()))?;
+    w.write_all(&json).map_err(io_err)?;
+    w.write_all(&(json.len() as u64).to_le_bytes())
+        .map_err(io_err)?;
+    w.write_all(&fingerprint(&json).to_le_bytes())
+        .map_err(io_err)
 }
 
 /// Writes `lib` as an `.mxlib` to `w`. A clip whose file changed since it
 /// was indexed is an error (stale), as is one that cannot be read.
 pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
     let io_err = |e: io::Error| LibraryError::new(format!("cannot write the library: {e}"));
-    let mut bytes = vec![];
-    let mut clips = vec![];
-    let mut at = 0u64;
-    for c in &lib.clips {
-        let (text, len, fp) = text_of(c)?;
-        let (labels, llen, lfp) = labels_of(c);
-        clips.push(ClipHeader {
+    let clips = lib
+        .clips
+        .iter()
+        .map(|c| ClipHeader {
             name: c.name.clone(),
             metres_per_unit: c.metres_per_unit,
             source: c.source.clone(),
@@ -197,12 +240,8 @@ pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
             start: c.start,
             frames: c.frames,
             offset: c.offset,
-            text: (at, len, fp),
-            labels: (llen, lfp),
-        });
-        at += len + llen;
-        bytes.push((text, labels));
-    }
+        })
+        .collect();
     let header = Header {
         settings: lib.settings.clone(),
         dim: DIM,
@@ -212,7 +251,6 @@ pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
         clips,
         skipped: lib.skipped.clone(),
         frames: lib.frames(),
-        section: at,
     };
     let json = serde_json::to_vec(&header).map_err(|e| LibraryError::new(e.to_string()))?;
     let mut h = HashWriter {
@@ -227,22 +265,7 @@ pub fn write_to(lib: &Library, w: &mut impl Write) -> Result<(), LibraryError> {
     write_vectors(&mut h, lib.before.iter().chain(&lib.after)).map_err(io_err)?;
     let sum = h.hash.finish();
     w.write_all(&sum.to_le_bytes()).map_err(io_err)?;
-    for (c, (text, labels)) in lib.clips.iter().zip(bytes) {
-        match text {
-            Bytes::Made(b) => w.write_all(&b).map_err(io_err)?,
-            Bytes::Stored => {
-                let b = c.data.stored_bytes(&c.name)?.unwrap_or_default();
-                w.write_all(&b).map_err(io_err)?;
-            }
-        }
-        match labels {
-            Bytes::Made(b) => w.write_all(&b).map_err(io_err)?,
-            Bytes::Stored => w
-                .write_all(&c.labels.stored_bytes(&c.name)?)
-                .map_err(io_err)?,
-        }
-    }
-    Ok(())
+    write_clips(lib, w)
 }
 
 /// The file's bytes (a small library's; [`save`] streams).
@@ -296,7 +319,7 @@ pub fn load(path: &Path, expect: Option<&Settings>) -> Result<Library, LibraryEr
 fn read(
     reader: File,
     total: u64,
-    section: &Arc<SectionFile>,
+    section_file: &Arc<SectionFile>,
     expect: Option<&Settings>,
 ) -> Result<Library, LibraryError> {
     let err = |s: String| LibraryError::new(s);
@@ -343,7 +366,8 @@ fn read(
     }
     let features = 2 * (h.frames as u64).saturating_mul((DIM * 4) as u64);
     let section_start = (18 + hlen + 8).saturating_add(features);
-    if section_start.checked_add(h.section) != Some(total) {
+    // (a frame count the file cannot hold is damage, not an allocation)
+    if section_start.saturating_add(16) > total {
         return Err(corrupt());
     }
     let before = read_vectors(&mut r, h.frames).map_err(|_| corrupt())?;
@@ -353,6 +377,9 @@ fn read(
     if sum != u64::from_le_bytes(long) {
         return Err(corrupt());
     }
+    // (after the features: the table is read through the same file handle,
+    // whose position the reader above shares)
+    let (table, section) = read_table(section_file, section_start, total).ok_or_else(corrupt)?;
     if let Some(want) = expect
         && *want != h.settings
     {
@@ -373,39 +400,42 @@ fn read(
             )));
         }
     }
-    let mut clips = vec![];
-    let (mut offset, mut text_at) = (0, 0);
-    let stored = |at: u64, len: u64, fingerprint: u64| Stored {
-        file: section.clone(),
-        offset: section_start + at,
-        len,
-        fingerprint,
+    if table.len() != h.clips.len() {
+        return Err(corrupt());
+    }
+    let stored = |p: &Piece| Stored {
+        file: section_file.clone(),
+        offset: section_start + p.at,
+        len: p.len,
+        size: p.size,
+        fingerprint: p.fingerprint,
     };
-    for c in h.clips {
-        let (at, len, fp) = c.text;
-        let (llen, lfp) = c.labels;
-        if c.offset != offset || at != text_at {
+    let mut clips = vec![];
+    let (mut offset, mut at) = (0, 0);
+    for (c, t) in h.clips.into_iter().zip(table) {
+        let labels_len = t.labels.as_ref().map_or(0, |l| l.len);
+        let labels_at = t.labels.as_ref().map_or(at + t.text.len, |l| l.at);
+        if c.offset != offset || t.text.at != at || labels_at != at + t.text.len {
             return Err(corrupt());
         }
         offset += c.frames;
-        text_at += len + llen;
+        at += t.text.len + labels_len;
         clips.push(LibClip {
             name: c.name,
             metres_per_unit: c.metres_per_unit,
-            data: ClipData::Section(stored(at, len, fp)),
+            data: ClipData::Section(stored(&t.text)),
             source: c.source,
             keys: c.keys,
             start: c.start,
             frames: c.frames,
             offset: c.offset,
-            labels: if llen == 0 {
-                LabelData::None("not labelled when it was built".into())
-            } else {
-                LabelData::Section(stored(at + len, llen, lfp))
+            labels: match &t.labels {
+                None => LabelData::None("not labelled when it was built".into()),
+                Some(l) => LabelData::Section(stored(l)),
             },
         });
     }
-    if offset != h.frames || text_at != h.section || clips.is_empty() {
+    if offset != h.frames || at != section || clips.is_empty() {
         return Err(corrupt());
     }
     let arr = |v: &[f32]| -> [f32; DIM] { v.try_into().expect("DIM numbers") };
@@ -418,6 +448,22 @@ fn read(
         before,
         after,
     ))
+}
+
+/// The clip table at the end of a file of `total` bytes whose clip section
+/// starts at `start`, checked against its checksum, and the section's
+/// length; `None` when it is cut short or damaged.
+fn read_table(file: &SectionFile, start: u64, total: u64) -> Option<(Vec<TableEntry>, u64)> {
+    let tail = file.read(total.checked_sub(16)?, 16).ok()?;
+    let word = |i: usize| u64::from_le_bytes(tail[8 * i..8 * i + 8].try_into().expect("8 bytes"));
+    let (len, sum) = (word(0), word(1));
+    let table_at = total.checked_sub(16)?.checked_sub(len)?;
+    let section = table_at.checked_sub(start)?;
+    let json = file.read(table_at, len).ok()?;
+    if fingerprint(&json) != sum {
+        return None;
+    }
+    Some((serde_json::from_slice(&json).ok()?, section))
 }
 
 /// Reads until `buf` is full or the input ends; the bytes read.

@@ -20,4 +20,4 @@ pub mod up;
 pub use body_of::{body_of, body_of_motion};
 pub use error::MocapError;
 pub use positions::{Missing, Poses, Positions, frame_times, poses_at, positions, positions_at};
-pub use to_motion::{Clip, from_bvh, load};
+pub use to_motion::{Clip, from_bvh, from_bvh_at, load};

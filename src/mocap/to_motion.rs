@@ -53,6 +53,13 @@ pub fn load(path: &Path, units: Units) -> Result<Clip, MocapError> {
 
 /// Converts parsed BVH data into a [`Clip`].
 pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
+    from_bvh_at(file, units, 0.0)
+}
+
+/// [`from_bvh`] with its first frame at time `start` (s): some of a longer
+/// clip's frames, on that clip's clock (a clip library reads the stretch a
+/// match needs, not the whole take).
+pub fn from_bvh_at(file: &BvhFile, units: Units, start: f64) -> Result<Clip, MocapError> {
     let units = bvh::resolve_units(units, &file.skeleton)?;
     let frames = file.frame_count();
     if frames == 0 {
@@ -62,11 +69,12 @@ pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
     }
     let dt = file.frame_time;
     // A single frame is held for one frame time (an interval needs start < stop).
-    let stop = if frames > 1 {
-        (frames - 1) as f64 * dt
-    } else {
-        dt
-    };
+    let stop = start
+        + if frames > 1 {
+            (frames - 1) as f64 * dt
+        } else {
+            dt
+        };
     let nch = file.skeleton.channel_count().max(1);
     let kinds = file.skeleton.joints.iter().flat_map(|j| j.channels.iter());
     let names = file.skeleton.channel_names();
@@ -87,9 +95,9 @@ pub fn from_bvh(file: &BvhFile, units: Units) -> Result<Clip, MocapError> {
         let curve = if frames == 1 {
             Curve::constant(values[0])?
         } else {
-            Curve::samples(0.0, dt, values)?
+            Curve::samples(start, dt, values)?
         };
-        mu.insert(name, Dof::new(vec![Interval::curve(curve, 0.0, stop)?])?);
+        mu.insert(name, Dof::new(vec![Interval::curve(curve, start, stop)?])?);
     }
     Ok(Clip {
         mu,

@@ -42,6 +42,7 @@ mod layers;
 mod library;
 mod library_labels;
 mod library_shards;
+mod library_stretch;
 mod lie;
 mod mechanisms;
 mod mocap_body;

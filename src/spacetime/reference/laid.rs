@@ -13,7 +13,7 @@ use std::collections::HashMap;
 
 /// Sampling step (s) of a library example on the gap's clock: fine enough
 /// that its cubic reproduces the clip's own 30–120 Hz curves.
-const EXAMPLE_STEP: f64 = 1.0 / 240.0;
+pub(super) const EXAMPLE_STEP: f64 = 1.0 / 240.0;
 
 /// The floor-plane map (rotation about up, then translation along the
 /// floor) that takes a clip's pelvis at one frame onto the motion's at

@@ -2,7 +2,7 @@
 //! stretches by their features, and the best few are scored by ρ over the
 //! gap's context like the motion's own example.
 
-use super::laid::{FloorMap, laid_on_gap};
+use super::laid::{EXAMPLE_STEP, FloorMap, laid_on_gap};
 use super::pose::{Pose, PoseMetric};
 use super::{
     CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MIN_CONTEXT_SAMPLES, NoExample,
@@ -294,7 +294,14 @@ impl<'a> LibraryGap<'a> {
         bar: Option<f64>,
     ) -> Result<Result<Example, f64>, SpError> {
         let entry = &lib.clips[cand.clip];
-        let clip = entry.motion()?;
+        // the stretch and the context either side, as `laid_on_gap` reads
+        // it (a frame beyond for its last sample): not the whole take
+        let (t0, t1) = self.span;
+        let reach = CONTEXT + 2.0 * STEP + EXAMPLE_STEP;
+        let clip = entry.stretch(
+            cand.time - cand.warp * reach,
+            cand.time + cand.warp * (t1 - t0 + reach),
+        )?;
         let Some(Some(theirs)) = key_positions(
             &clip.mu,
             &clip.skeleton,
@@ -340,7 +347,6 @@ impl<'a> LibraryGap<'a> {
         if !acceptable || bar.is_some_and(|b| b <= rho) {
             return Ok(Err(if rho.is_nan() { f64::INFINITY } else { rho }));
         }
-        let (t0, t1) = self.span;
         // angles, a joint's as one rotation (translations, the root's among
         // them, are compared once the example is laid in the world, `lay.rs`)
         let ends: Vec<Vec<f64>> = [t0, t1]
