@@ -149,16 +149,13 @@ fn the_ground_measures_of_a_z_up_walk_are_the_walk_s() {
     }
 }
 
-/// SP with its defaults and `contact: "auto"` (the body's own gravity) on a
-/// natural cut of 30 frames in the middle of each walk and of its z-up
-/// copy: the same stances (times equal, anchors turned, 1e-6) and the same
-/// fill, turned (every joint within 1 mm over the gap).
+/// The example SP follows is chosen by how its context matches the gap's,
+/// each joint compared as one rotation (`reference/pose.rs`), so the z-up
+/// copy of a walk follows the same stretch of itself as the walk, at the
+/// same mismatch ρ (1e-9): before, its Euler channels were other numbers
+/// for the same poses and 12 of 20 walks chose another stretch or none.
 #[test]
-#[ignore = "fails today (measured on the 20 walks of data/inbetween): stance ends up to 0.18 s \
-            apart, sources differing on some feet, fills 76-412 mm from the walk's turned; suspected: SP's \
-            unknowns and its own-example match are per-DOF curves of Euler angles, and the copy's \
-            angles are another chart of the same rotations, not yet verified (report of branch up)"]
-fn sp_plans_and_fills_a_z_up_walk_as_the_walk_turned() {
+fn a_z_up_walk_follows_the_same_example_as_the_walk() {
     let p = Protocol {
         windows_per_clip: Some(1),
         ..Protocol::default()
@@ -171,14 +168,65 @@ fn sp_plans_and_fills_a_z_up_walk_as_the_walk_turned() {
     for walk in walks() {
         let up = rotated_up(&walk).unwrap();
         let start = walk.windows(&p, gap)[0];
+        let example = |c: &Case| {
+            let cut = c.cut(start, p.context, gap, RootMode::Filled).unwrap();
+            let (_, r) = sp(&cut, &c.body, &o).unwrap();
+            r.groups
+                .iter()
+                .map(|g| g.example.as_ref().map(|e| (e.shift, e.mismatch)))
+                .collect::<Vec<_>>()
+        };
+        let (a, b) = (example(&walk), example(&up));
+        assert_eq!(a.len(), b.len(), "{}", up.name);
+        for (x, y) in a.iter().zip(&b) {
+            match (x, y) {
+                (None, None) => {}
+                (Some((sa, ra)), Some((sb, rb))) => {
+                    assert!((sa - sb).abs() < 1e-9, "{}: shift {sa} vs {sb}", up.name);
+                    assert!(
+                        (ra - rb).abs() < 1e-9 * (1.0 + ra),
+                        "{}: ρ {ra} vs {rb}",
+                        up.name
+                    );
+                }
+                _ => panic!("{}: example {x:?} vs {y:?}", up.name),
+            }
+        }
+    }
+}
+
+/// SP with its defaults and `contact: "auto"` (the body's own gravity) on a
+/// natural cut of 30 frames in the middle of each walk and of its z-up
+/// copy: the same stances (times equal, anchors turned, 1e-6) and the same
+/// fill, turned (every joint within 1 mm over the gap).
+#[test]
+#[ignore = "fails today (the 20 walks of data/inbetween, after the example is chosen alike): \
+            stance ends up to 0.05 s apart, sources differing on 9 walks, fills 26-615 mm from the \
+            walk's turned, 37-390 mm on the 8 walks that follow no example at all; so the solve \
+            itself depends on the chart: its unknowns, prior and basis are per Euler channel \
+            (a Hermite base plus 5 coefficients per channel spans other motions in another chart)"]
+fn sp_plans_and_fills_a_z_up_walk_as_the_walk_turned() {
+    let p = Protocol {
+        windows_per_clip: Some(1),
+        ..Protocol::default()
+    };
+    let gap = 30;
+    let o = SpOptions {
+        contact: Contact::Auto,
+        ..SpOptions::default()
+    };
+    let mut failed = vec![];
+    for walk in walks() {
+        let up = rotated_up(&walk).unwrap();
+        let start = walk.windows(&p, gap)[0];
         let fill = |c: &Case| {
             let cut = c.cut(start, p.context, gap, RootMode::Filled).unwrap();
             sp(&cut, &c.body, &o).unwrap()
         };
         let ((a, ra), (b, rb)) = (fill(&walk), fill(&up));
-        let (pa, pb) = (ra.contacts.unwrap(), rb.contacts.unwrap());
+        let (pa, pb) = (ra.contacts.clone().unwrap(), rb.contacts.clone().unwrap());
         assert_eq!(pa.gaps.len(), pb.gaps.len(), "{}", up.name);
-        let mut anchors = 0.0f64;
+        let (mut anchors, mut dt, mut same_sources) = (0.0f64, 0.0f64, true);
         for (ga, gb) in pa.gaps.iter().zip(&pb.gaps) {
             assert_eq!(ga.points.len(), gb.points.len(), "{}", up.name);
             for (sa, sb) in ga.points.iter().zip(&gb.points) {
@@ -188,16 +236,9 @@ fn sp_plans_and_fills_a_z_up_walk_as_the_walk_turned() {
                 // rounding, not bit for bit)
                 let sources =
                     |s: &[mx::spacetime::Stance]| s.iter().map(|s| s.source).collect::<Vec<_>>();
-                assert_eq!(
-                    sources(&sa.stances),
-                    sources(&sb.stances),
-                    "{}: {}'s stances",
-                    up.name,
-                    sa.name
-                );
+                same_sources &= sources(&sa.stances) == sources(&sb.stances);
                 for (x, y) in sa.stances.iter().zip(&sb.stances) {
-                    let dt = (x.t0 - y.t0).abs().max((x.t1 - y.t1).abs());
-                    assert!(dt < 1e-6, "{}: {}'s stance {dt:e} s off", up.name, sa.name);
+                    dt = dt.max((x.t0 - y.t0).abs()).max((x.t1 - y.t1).abs());
                     anchors = anchors
                         .max((r() * x.p0 - y.p0).norm())
                         .max((r() * x.p1 - y.p1).norm());
@@ -209,13 +250,39 @@ fn sp_plans_and_fills_a_z_up_walk_as_the_walk_turned() {
             .map(|k| k as f64 * walk.frame_time)
             .collect();
         let off = turned_off(&joints(&walk, &a, &times), &joints(&up, &b, &times));
+        let (ea, eb) = (example_of(&ra), example_of(&rb));
         println!(
-            "{}: anchors {:.2e} m, fill {:.3} mm from the walk's turned",
+            "{}: example {ea} / {eb}; sources {}; stance ends {dt:.3} s, anchors {:.1} mm apart; \
+             fill {:.1} mm from the walk's turned",
             up.name,
-            anchors,
+            if same_sources { "equal" } else { "differ" },
+            anchors * 1e3,
             off * 1e3
         );
-        assert!(anchors < 1e-6, "{}: an anchor {anchors:e} m off", up.name);
-        assert!(off < 1e-3, "{}: the fill {:.2} mm off", up.name, off * 1e3);
+        if ea != eb || !same_sources || dt > 1e-6 || anchors > 1e-6 || off > 1e-3 {
+            failed.push(up.name.clone());
+        }
     }
+    assert!(
+        failed.is_empty(),
+        "planned or filled otherwise than the walk turned: {failed:?}"
+    );
+}
+
+/// Which stretch the report says the example is (shift and mismatch).
+fn example_of(r: &mx::spacetime::SpReport) -> String {
+    r.groups
+        .iter()
+        .map(|g| match &g.example {
+            Some(e) => format!(
+                "{:+.3} s (ρ {:.3}, {} of {} DOFs)",
+                e.shift,
+                e.mismatch,
+                e.follow.len(),
+                e.of
+            ),
+            None => "none".to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }

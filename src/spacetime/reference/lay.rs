@@ -16,16 +16,16 @@
 //!    is the example itself where the two already agree.
 //!
 //! A DOF follows the example when its aligned example is within
-//! [`MAX_END_DIFFERENCE`] (angles) or [`MAX_END_OFFSET`] (translations) of
+//! [`super::MAX_END_DIFFERENCE`] (angles) or [`MAX_END_OFFSET`] (translations) of
 //! the motion at both ends; a joint follows whole or not at all
 //! ([`Joints::whole`]).
 
-use super::{Example, Joints, MAX_END_DIFFERENCE, NoExample, wrap};
+use super::blend::Blend;
+use super::{Example, Joints, NoExample, wrap};
 use crate::model::{Model, RootCoords};
 use crate::motion::rotation::{euler_joints, from_euler, to_euler_near};
 use crate::motion::{Curve, Dof, Interval, JointSampler, Mu};
 use crate::spacetime::error::SpError;
-use crate::spacetime::hermite;
 use crate::spacetime::objective::GapDof;
 use nalgebra::{Rotation3, Unit, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -38,7 +38,7 @@ const LAY_RATE: f64 = 240.0;
 
 /// Samples laid beyond each end of a gap, so the spline's ends (where its
 /// derivatives are least accurate) fall outside the gap.
-const PAD: usize = 4;
+pub(super) const PAD: usize = 4;
 
 /// Largest difference (m) between a translation DOF and its aligned example
 /// at either end of the gap for the DOF to follow it (the root's height: a
@@ -220,6 +220,7 @@ impl Lay<'_> {
             }
             series.push((g.coord, from, v));
         }
+        self.on_the_motions_branch(&mut series, gaps);
         let gap_of = |c: usize| gaps.iter().find(|g| g.coord == c);
         // the aligned example at both ends of each DOF's gap
         let mut ends: Vec<(usize, [f64; 3], [f64; 3])> = vec![];
@@ -231,22 +232,7 @@ impl Lay<'_> {
             ends.push((*c, at(g.t0)?, at(g.t1)?));
         }
         let fit = self.end_fit(gaps, &ends, t0, t1)?;
-        let close: Vec<bool> = gaps
-            .iter()
-            .map(|g| {
-                ends.iter()
-                    .find(|e| e.0 == g.coord)
-                    .is_some_and(|(_, a, b)| {
-                        let (d0, d1) = (g.start.q - a[0], g.end.q - b[0]);
-                        // raw differences: the laid curve meets the motion's own values
-                        if (self.rotation)(g.coord) {
-                            d0.abs() <= MAX_END_DIFFERENCE && d1.abs() <= MAX_END_DIFFERENCE
-                        } else {
-                            d0.abs() <= MAX_END_OFFSET && d1.abs() <= MAX_END_OFFSET
-                        }
-                    })
-            })
-            .collect();
+        let close = self.close_at_ends(gaps, &ends);
         let coords: Vec<usize> = gaps.iter().map(|g| g.coord).collect();
         let follow = self.joints.whole(&coords, &close);
         if follow.is_empty() {
@@ -259,6 +245,11 @@ impl Lay<'_> {
                 },
             }));
         }
+        let blend = Blend::for_fit(
+            fit.start,
+            fit.end,
+            crate::motion::sample_period(self.motion),
+        );
         let mut curves = vec![];
         for ((c, from, v), (_, a0, a1)) in series.iter().zip(&ends) {
             if !follow.contains(c) {
@@ -275,9 +266,7 @@ impl Lay<'_> {
             let r: Vec<f64> = v
                 .iter()
                 .enumerate()
-                .map(|(k, x)| {
-                    x + hermite::cubic_continued(g.t0, g.t1, &d0, &d1, from + k as f64 * h)[0]
-                })
+                .map(|(k, x)| x + blend.at(g.t0, g.t1, &d0, &d1, from + k as f64 * h))
                 .collect();
             curves.push(LaidDof {
                 coord: *c,

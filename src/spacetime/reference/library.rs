@@ -3,9 +3,10 @@
 //! gap's context like the motion's own example.
 
 use super::laid::{FloorMap, laid_on_gap};
+use super::pose::{Pose, PoseMetric};
 use super::{
     CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MIN_CONTEXT_SAMPLES, NoExample,
-    STEP, gap_coords, gap_span, span_seconds, spread, wrap,
+    STEP, gap_coords, gap_span, span_seconds,
 };
 use crate::library::features::{KeyJoints, key_positions};
 use crate::library::{Library, Match};
@@ -203,7 +204,6 @@ pub(super) fn search(
 struct LibraryGap<'a> {
     m: &'a Mu,
     names: &'a [String],
-    rotation: &'a dyn Fn(usize) -> bool,
     joints: &'a Joints,
     span: (f64, f64),
     /// The motion's key joint positions at t0.
@@ -211,12 +211,16 @@ struct LibraryGap<'a> {
     /// The up the motion's skeleton stands along (`mocap::up`).
     up: Vector3<f64>,
     coords: Vec<usize>,
-    angles: Vec<usize>,
     /// Context times: [`CONTEXT`] either side on the [`STEP`] grid, where
     /// the motion is defined.
     context: Vec<f64>,
     /// The context's own squared spread (the ρ scale).
     spread: f64,
+    /// How poses are compared, and the motion's own at each context time
+    /// and at the gap's two ends.
+    metric: PoseMetric,
+    poses: Vec<Pose>,
+    ends: [Pose; 2],
     names_arc: Arc<Vec<String>>,
 }
 
@@ -247,29 +251,27 @@ impl<'a> LibraryGap<'a> {
         if context.len() < MIN_CONTEXT_SAMPLES {
             return Err(NoExample::NoContext);
         }
-        let mut total = 0.0;
-        for &c in &angles {
-            let values: Vec<f64> = context
-                .iter()
-                .map(|&t| value(&names[c], t).unwrap_or(0.0))
-                .collect();
-            total += spread(&values);
-        }
+        let metric = PoseMetric::new(names, &coords, rotation, joints);
+        let pose_at = |t: f64| metric.pose(|i| value(&names[coords[i]], t).unwrap_or(f64::NAN));
+        let poses: Vec<Pose> = context.iter().map(|&t| pose_at(t)).collect();
+        let ends = [pose_at(t0), pose_at(t1)];
+        let total = metric.spread(&poses);
         if total <= 0.0 {
             return Err(NoExample::NoContext);
         }
         Ok(LibraryGap {
             m,
             names,
-            rotation,
             joints,
             span: (t0, t1),
             mine,
             up: Vector3::y(),
             coords,
-            angles,
             context,
             spread: total,
+            metric,
+            poses,
+            ends,
             names_arc: Arc::new(names.to_vec()),
         })
     }
@@ -321,17 +323,17 @@ impl<'a> LibraryGap<'a> {
             self.span,
         )?;
         let at = |c: usize, t: f64| motion.sample_value(&names[c], t).ok().flatten();
-        let mut e = 0.0;
-        for &c in &self.angles {
-            for &t in &self.context {
-                if let (Some(x), Some(y)) = (at(c, t), self.value(c, t)) {
-                    let d = wrap(x - y);
-                    e += d * d;
-                } else {
-                    e = f64::INFINITY;
-                }
-            }
-        }
+        let theirs_at = |t: f64| {
+            self.metric
+                .pose(|i| at(self.coords[i], t).unwrap_or(f64::NAN))
+        };
+        // (an angle undefined in the stretch makes ρ NaN: refused below)
+        let e: f64 = self
+            .context
+            .iter()
+            .zip(&self.poses)
+            .map(|(&t, mine)| self.metric.distance2(&theirs_at(t), mine))
+            .sum();
         let rho = e / self.spread;
         // (a NaN ρ is refused too)
         let acceptable = rho <= MAX_MISMATCH;
@@ -339,20 +341,22 @@ impl<'a> LibraryGap<'a> {
             return Ok(Err(if rho.is_nan() { f64::INFINITY } else { rho }));
         }
         let (t0, t1) = self.span;
+        // angles, a joint's as one rotation (translations, the root's among
+        // them, are compared once the example is laid in the world, `lay.rs`)
+        let ends: Vec<Vec<f64>> = [t0, t1]
+            .iter()
+            .zip(&self.ends)
+            .map(|(&t, mine)| self.metric.angles(&theirs_at(t), mine))
+            .collect();
         let close: Vec<bool> = self
             .coords
             .iter()
-            .map(|&c| {
+            .enumerate()
+            .map(|(i, &c)| {
                 [t0, t1]
                     .iter()
-                    .all(|&t| match (at(c, t), self.value(c, t)) {
-                        // translations, the root's among them, are compared
-                        // once the example is laid in the world (`lay.rs`)
-                        (Some(x), Some(y)) => {
-                            !(self.rotation)(c) || wrap(x - y).abs() <= MAX_END_DIFFERENCE
-                        }
-                        _ => false,
-                    })
+                    .all(|&t| at(c, t).is_some() && self.value(c, t).is_some())
+                    && self.metric.close(i, &ends, MAX_END_DIFFERENCE)
             })
             .collect();
         let follow = self.joints.whole(&self.coords, &close);

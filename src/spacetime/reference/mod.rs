@@ -20,11 +20,14 @@ use crate::model::Model;
 use crate::motion::Mu;
 use std::f64::consts::PI;
 
+mod blend;
+mod ends;
 pub mod joints;
 mod laid;
 mod lay;
 mod library;
 mod own;
+mod pose;
 #[cfg(test)]
 mod tests;
 
@@ -366,13 +369,4 @@ fn gap_coords(gaps: &[GapDof]) -> Vec<usize> {
 /// An angle difference wrapped into [−π, π).
 fn wrap(d: f64) -> f64 {
     (d + PI).rem_euclid(2.0 * PI) - PI
-}
-
-/// One angle's squared spread about its mean over the context `values`
-/// (wrapped relative to the first).
-fn spread(values: &[f64]) -> f64 {
-    let first = values[0];
-    let rel: Vec<f64> = values.iter().map(|&v| wrap(v - first)).collect();
-    let mean = rel.iter().sum::<f64>() / rel.len() as f64;
-    rel.iter().map(|r| (r - mean) * (r - mean)).sum::<f64>()
 }

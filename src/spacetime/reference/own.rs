@@ -1,10 +1,10 @@
 //! The example from the motion itself: the shift Δ whose stretch's context
 //! (the frames either side of the gap) matches the gap's own context best.
 
+use super::pose::{Pose, PoseMetric};
 use super::{
     CONTEXT, Example, Joints, MAX_END_DIFFERENCE, MAX_MISMATCH, MAX_TURN_PER_STEP,
-    MIN_CONTEXT_SAMPLES, NoExample, SEARCH_SPAN, STEP, gap_coords, gap_span, span_seconds, spread,
-    wrap,
+    MIN_CONTEXT_SAMPLES, NoExample, SEARCH_SPAN, STEP, gap_coords, gap_span, span_seconds,
 };
 use crate::motion::Mu;
 use crate::spacetime::error::SpError;
@@ -47,7 +47,7 @@ pub(super) fn search(
     joints: &Joints,
     gaps: &[GapDof],
 ) -> Result<Result<Example, NoExample>, SpError> {
-    let grid = match Grid::sample(m, names, rotation, gaps)? {
+    let grid = match Grid::sample(m, names, rotation, joints, gaps)? {
         Ok(g) => g,
         Err(why) => return Ok(Err(why)),
     };
@@ -55,11 +55,8 @@ pub(super) fn search(
         return Ok(Err(NoExample::NoContext));
     };
     // the context's spread about its mean pose
-    let mut total = 0.0;
-    for row in grid.angle_rows() {
-        let values: Vec<f64> = context.ks.iter().map(|&k| row[grid.at(k)]).collect();
-        total += spread(&values);
-    }
+    let poses: Vec<Pose> = context.ks.iter().map(|&k| grid.pose(k).clone()).collect();
+    let total = grid.metric.spread(&poses);
     if total <= 0.0 {
         return Ok(Err(NoExample::NoContext));
     }
@@ -73,19 +70,15 @@ pub(super) fn search(
             threshold: MAX_MISMATCH,
         }));
     }
-    // which channels are close to the example at both gap ends (angles:
-    // translations, the root's among them, are compared once the example is
-    // laid in the world, `lay.rs`)
-    let close: Vec<bool> = grid
-        .x
+    // which channels are close to the example at both gap ends (angles, a
+    // joint's as one rotation: translations, the root's among them, are
+    // compared once the example is laid in the world, `lay.rs`)
+    let ends: Vec<Vec<f64>> = [0, grid.n]
         .iter()
-        .zip(&grid.angles)
-        .map(|(row, &angle)| {
-            !angle
-                || [0, grid.n].iter().all(|&k| {
-                    wrap(row[grid.at(k + s)] - row[grid.at(k)]).abs() <= MAX_END_DIFFERENCE
-                })
-        })
+        .map(|&k| grid.metric.angles(grid.pose(k + s), grid.pose(k)))
+        .collect();
+    let close: Vec<bool> = (0..grid.coords.len())
+        .map(|i| grid.metric.close(i, &ends, MAX_END_DIFFERENCE))
         .collect();
     let follow = joints.whole(&grid.coords, &close);
     if follow.is_empty() {
@@ -120,6 +113,10 @@ struct Grid {
     /// Whether every gap coordinate is defined at each grid point (once: the
     /// shift search asks it for every point of every candidate window).
     everywhere: Vec<bool>,
+    /// How poses are compared ([`PoseMetric`]), and the pose at each grid
+    /// point (meaningful where `everywhere`).
+    metric: PoseMetric,
+    poses: Vec<Pose>,
 }
 
 /// The context: grid points up to [`CONTEXT`] before t0 and after t1
@@ -137,6 +134,7 @@ impl Grid {
         m: &Mu,
         names: &[String],
         rotation: &dyn Fn(usize) -> bool,
+        joints: &Joints,
         gaps: &[GapDof],
     ) -> Result<Result<Grid, NoExample>, SpError> {
         let Some((t0, t1)) = gap_span(gaps) else {
@@ -173,6 +171,8 @@ impl Grid {
         let everywhere = (0..len)
             .map(|j| x.iter().all(|row| row[j].is_finite()))
             .collect();
+        let metric = PoseMetric::new(names, &coords, rotation, joints);
+        let poses = (0..len).map(|j| metric.pose(|i| x[i][j])).collect();
         Ok(Ok(Grid {
             n,
             h,
@@ -182,6 +182,8 @@ impl Grid {
             angles,
             x,
             everywhere,
+            metric,
+            poses,
         }))
     }
 
@@ -189,17 +191,22 @@ impl Grid {
         (k - self.k_lo) as usize
     }
 
+    fn pose(&self, k: i64) -> &Pose {
+        &self.poses[self.at(k)]
+    }
+
     fn defined(&self, k: i64) -> bool {
         k >= self.k_lo && k <= self.k_hi && self.everywhere[self.at(k)]
     }
 
-    /// The rows of the angle coordinates.
-    fn angle_rows(&self) -> impl Iterator<Item = &Vec<f64>> {
+    /// The rows of the angle coordinates whose wraps in the data would be
+    /// jumps in the laid example.
+    fn wrapping_rows(&self) -> impl Iterator<Item = &Vec<f64>> {
         self.x
             .iter()
-            .zip(&self.angles)
-            .filter(|(_, a)| **a)
-            .map(|(row, _)| row)
+            .enumerate()
+            .filter(|(i, _)| self.angles[*i] && !self.metric.unwrapped_when_laid(*i))
+            .map(|(_, row)| row)
     }
 
     /// The context, `None` with fewer than [`MIN_CONTEXT_SAMPLES`] points.
@@ -231,7 +238,9 @@ impl Grid {
             if s == 0 || !(lo..=hi).all(|k| self.defined(k + s)) {
                 continue;
             }
-            let wraps = self.angle_rows().any(|row| {
+            // (a three-channel joint's channels are laid as rotations, so
+            // their wraps in the data are none in the laid curve)
+            let wraps = self.wrapping_rows().any(|row| {
                 (lo..hi).any(|k| {
                     (row[self.at(k + s + 1)] - row[self.at(k + s)]).abs() > MAX_TURN_PER_STEP
                 })
@@ -239,13 +248,11 @@ impl Grid {
             if wraps {
                 continue;
             }
-            let mut e = 0.0;
-            for row in self.angle_rows() {
-                for &k in &context.ks {
-                    let d = wrap(row[self.at(k + s)] - row[self.at(k)]);
-                    e += d * d;
-                }
-            }
+            let e: f64 = context
+                .ks
+                .iter()
+                .map(|&k| self.metric.distance2(self.pose(k + s), self.pose(k)))
+                .sum();
             let rho = e / spread;
             if best.is_none_or(|(_, b)| rho < b) {
                 best = Some((s, rho));
