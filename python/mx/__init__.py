@@ -11,6 +11,7 @@ The interpreter: ``mx.Interpreter(steps=..., root=...)`` with ``.eval``,
 :class:`mx.MxError` subclasses carrying the rendered diagnostic.
 """
 
+import os
 from typing import Any, Dict, List, Optional, Tuple, Union
 
 from . import _mx
@@ -106,12 +107,13 @@ def human(motion: Motion, mass: float = 70.0) -> Body:
 
 
 def ground_forces(
-    motion: Motion,
-    body: Body,
+    motion: Union[Motion, str, "os.PathLike[str]"],
+    body: Optional[Body] = None,
     friction: float = 0.8,
     points: Optional[List[str]] = None,
     floor: Union[float, str, None] = None,
     height: Optional[float] = None,
+    animation: Union[str, int, None] = None,
 ) -> Dict[str, Any]:
     """Per frame, the contact forces that best hold ``body`` up and what they leave.
 
@@ -121,8 +123,16 @@ def ground_forces(
     about the centre of mass), ``percent_bw`` [T] (the residual force as % of
     body weight), ``com`` [T, 3] (m), and ``weight`` (N) and ``floor`` (m).
     The numbers of mx's ``ground_forces`` (below), from the same solve.
+
+    ``ground_forces("walk.glb", animation=None)``, without a body: the forces
+    a glTF file carries (``save(m, "walk.glb", body: b, forces: true)``), on
+    the animation's frames from 0 s, number for number as they were saved:
+    ``times``, ``points``, ``forces``, ``residual_force``,
+    ``residual_moment``, ``percent_bw``, and ``up`` (the saved body's up, in
+    the file's axes) and ``animation`` (its name). ``mx.load("walk.glb",
+    forces=True)`` gives the same numbers as an mx.Motion.
     """
-    return _mx.ground_forces(motion, body, friction, points, floor, height)
+    return _mx.ground_forces(motion, body, friction, points, floor, height, animation)
 
 
 def help_text(name: str) -> Optional[str]:

@@ -144,8 +144,8 @@ def human(motion: Motion, mass: float = 70.0) -> Body:
     """The 44-DOF anatomical model sized from a clip."""
 
 def _sp(motion: Motion, body: Body, options: Optional[Dict[str, Any]] = None, on_tick: Optional[Callable[[float], None]] = None) -> Tuple[Motion, Dict[str, Any]]: ...
-def ground_forces(motion: Motion, body: Body, friction: float = 0.8, points: Optional[List[str]] = None, floor: Union[float, str, None] = None, height: Optional[float] = None) -> Dict[str, Any]:
-    """The contact forces per point and the residual per frame, as NumPy arrays."""
+def ground_forces(motion: Union[Motion, _Path], body: Optional[Body] = None, friction: float = 0.8, points: Optional[List[str]] = None, floor: Union[float, str, None] = None, height: Optional[float] = None, animation: Union[str, int, None] = None) -> Dict[str, Any]:
+    """The contact forces per point and the residual per frame, as NumPy arrays (or those a glTF file carries, given its path and no body)."""
 
 def _doc(name: str) -> Optional[str]: ...
 def _builtins() -> List[Tuple[str, str, str]]: ...

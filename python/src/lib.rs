@@ -120,25 +120,38 @@ fn _sp(
 /// [T], `points` (names), `forces` [T, P, 3] (N, world), `in_contact` [T, P],
 /// `residual_force` [T, 3] (N), `residual_moment` [T, 3] (N·m about the
 /// centre of mass), `percent_bw` [T], `com` [T, 3], `weight` (N), `floor` (m).
+/// `ground_forces(path, animation=None)` (no body): the forces a glTF file
+/// carries (saved with `forces:`), on the animation's frames from 0 s — the
+/// same `times`, `points`, `forces`, `residual_force`, `residual_moment`,
+/// `percent_bw`, and `up` (the saved body's, in the file's axes).
 #[pyfunction]
-#[pyo3(signature = (motion, body, friction = 0.8, points = None, floor = None, height = None))]
+#[pyo3(signature = (motion, body = None, friction = 0.8, points = None, floor = None, height = None, animation = None))]
+#[allow(clippy::too_many_arguments)]
 fn ground_forces(
     py: Python<'_>,
-    motion: &Bound<'_, PyMotion>,
-    body: &Bound<'_, PyBody>,
+    motion: &Bound<'_, PyAny>,
+    body: Option<&Bound<'_, PyBody>>,
     friction: f64,
     points: Option<Vec<String>>,
     floor: Option<&Bound<'_, PyAny>>,
     height: Option<f64>,
+    animation: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Py<PyAny>> {
     use mx::ground::{Floor, GroundOptions};
     use numpy::{PyArray1, PyArrayMethods};
-    let Some(mx::lang::host::Motion::Mu(m)) =
-        motion.get().value.as_object::<mx::lang::host::Motion>()
-    else {
+    let Some(body) = body else {
+        return saved_forces(py, motion, animation);
+    };
+    let mu = motion.cast::<PyMotion>().ok().and_then(|m| {
+        match m.get().value.as_object::<mx::lang::host::Motion>() {
+            Some(mx::lang::host::Motion::Mu(m)) => Some(m.clone()),
+            _ => None,
+        }
+    });
+    let Some(m) = mu else {
         return Err(errors::type_error(
             py,
-            "`motion` must be a motion unit (Mu), e.g. mx.load(\"walk.bvh\")",
+            "`motion` must be a motion unit (Mu), e.g. mx.load(\"walk.bvh\"), or a glTF file's path without a body",
         ));
     };
     let mut o = GroundOptions {
@@ -157,29 +170,78 @@ fn ground_forces(
             })?)
         }
     }
-    let (m, model) = (m.clone(), body.get().model.clone());
+    let model = body.get().model.clone();
     let g = py
         .detach(move || mx::ground::ground_forces(&m, &model, &o, friction))
         .map_err(|e| errors::value_error(py, e.to_string()))?;
+    let d = series_dict(py, &g.series())?;
     let (t, p) = (g.times.len(), g.points.len());
-    let flat = |rows: &[nalgebra::Vector3<f64>]| {
-        rows.iter()
-            .flat_map(|v| [v.x, v.y, v.z])
-            .collect::<Vec<f64>>()
-    };
-    let forces: Vec<f64> = g.forces.iter().flat_map(|fr| flat(fr)).collect();
-    let d = pyo3::types::PyDict::new(py);
-    d.set_item("times", PyArray1::from_vec(py, g.times.clone()))?;
-    d.set_item(
-        "points",
-        g.points.iter().map(|c| c.name.clone()).collect::<Vec<_>>(),
-    )?;
-    d.set_item("forces", PyArray1::from_vec(py, forces).reshape([t, p, 3])?)?;
     let contact: Vec<bool> = g.in_contact.iter().flatten().copied().collect();
     d.set_item(
         "in_contact",
         PyArray1::from_vec(py, contact).reshape([t, p])?,
     )?;
+    d.set_item("com", PyArray1::from_vec(py, flat(&g.com)).reshape([t, 3])?)?;
+    d.set_item("weight", g.weight)?;
+    d.set_item("floor", g.floor)?;
+    Ok(d.into_any().unbind())
+}
+
+/// The forces glTF file `path` carries for `animation` (a name or an index).
+fn saved_forces(
+    py: Python<'_>,
+    path: &Bound<'_, PyAny>,
+    animation: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    use mx::io::gltf::Which;
+    let Ok(path) = path.extract::<std::path::PathBuf>() else {
+        return Err(errors::type_error(
+            py,
+            "without `body`, `motion` must be the path of a glTF file saved with `forces:`",
+        ));
+    };
+    let which = match animation {
+        None => Which::First,
+        Some(a) => match (a.extract::<usize>(), a.extract::<String>()) {
+            (Ok(k), _) => Which::Index(k),
+            (_, Ok(n)) => Which::Name(n),
+            _ => {
+                return Err(errors::type_error(
+                    py,
+                    "`animation` must be an animation's name or its index (0 first)",
+                ));
+            }
+        },
+    };
+    let saved = py
+        .detach(move || mx::io::gltf::load_forces(&path, which))
+        .map_err(|e| errors::error(py, mx::lang::ErrorKind::Io, e.to_string()))?;
+    let d = series_dict(py, &saved.series)?;
+    if let Some(u) = saved.up {
+        d.set_item("up", numpy::PyArray1::from_vec(py, vec![u.x, u.y, u.z]))?;
+    }
+    d.set_item("animation", saved.animation)?;
+    Ok(d.into_any().unbind())
+}
+
+/// Rows of 3-vectors, flattened row by row.
+fn flat(rows: &[nalgebra::Vector3<f64>]) -> Vec<f64> {
+    rows.iter().flat_map(|v| [v.x, v.y, v.z]).collect()
+}
+
+/// The arrays both forms of `ground_forces` give: `times`, `points`,
+/// `forces` [T, P, 3], `residual_force`, `residual_moment` [T, 3], `percent_bw`.
+fn series_dict<'py>(
+    py: Python<'py>,
+    g: &mx::ground::ForceSeries,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    use numpy::{PyArray1, PyArrayMethods};
+    let (t, p) = (g.times.len(), g.points.len());
+    let forces: Vec<f64> = g.forces.iter().flat_map(|fr| flat(fr)).collect();
+    let d = pyo3::types::PyDict::new(py);
+    d.set_item("times", PyArray1::from_vec(py, g.times.clone()))?;
+    d.set_item("points", g.points.clone())?;
+    d.set_item("forces", PyArray1::from_vec(py, forces).reshape([t, p, 3])?)?;
     d.set_item(
         "residual_force",
         PyArray1::from_vec(py, flat(&g.residual_force)).reshape([t, 3])?,
@@ -188,14 +250,8 @@ fn ground_forces(
         "residual_moment",
         PyArray1::from_vec(py, flat(&g.residual_moment)).reshape([t, 3])?,
     )?;
-    d.set_item(
-        "percent_bw",
-        PyArray1::from_vec(py, (0..t).map(|k| g.percent_bw(k)).collect()),
-    )?;
-    d.set_item("com", PyArray1::from_vec(py, flat(&g.com)).reshape([t, 3])?)?;
-    d.set_item("weight", g.weight)?;
-    d.set_item("floor", g.floor)?;
-    Ok(d.into_any().unbind())
+    d.set_item("percent_bw", PyArray1::from_vec(py, g.percent_bw.clone()))?;
+    Ok(d)
 }
 
 /// The doc string of a built-in (what `:help NAME` shows), for the Python

@@ -48,3 +48,36 @@ def test_ground_forces_bad_options_raise_naming_them():
         mx.ground_forces(clip, body, points=["Nose"])
     with pytest.raises(mx.MxTypeError, match="floor"):
         mx.ground_forces(clip, body, floor=[1, 2])
+
+
+def test_a_glb_round_trip_keeps_the_forces(tmp_path):
+    """save(…, forces: true) writes ground_forces' numbers into the glTF
+    file; mx.ground_forces(path) and mx.load(path, forces=True) give them
+    back exactly, on the animation's frames from 0 s."""
+    import json
+
+    clip = mx.load(WALK)
+    body = mx.body_of(clip)
+    g = mx.ground_forces(clip, body)
+    out, plain = tmp_path / "walk.glb", tmp_path / "plain.glb"
+    it = mx.Interpreter()
+    it.set("w", clip)
+    it.set("b", body)
+    it.eval(f"save(w, {json.dumps(str(out))}, body: b, forces: true)")
+    it.eval(f"save(w, {json.dumps(str(plain))}, body: b)")
+    back = mx.ground_forces(out)
+    assert back["points"] == g["points"] and back["animation"] == "walk"
+    for key in ("forces", "residual_force", "residual_moment", "percent_bw"):
+        assert back[key].shape == g[key].shape
+        np.testing.assert_array_equal(back[key], g[key], err_msg=key)
+    np.testing.assert_allclose(back["times"], g["times"] - g["times"][0], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(back["up"], [0.0, 1.0, 0.0])
+    mu = mx.load(out, forces=True)
+    fy = mu.sample(back["times"])[:, mu.dofs.index("RightFoot.Fy")]
+    np.testing.assert_array_equal(fy, g["forces"][:, 1, 1])
+    # a file saved without forces says so, naming the file
+    with pytest.raises(mx.MxIOError, match="carries no contact forces") as e:
+        mx.ground_forces(plain)
+    assert "plain.glb" in str(e.value)
+    with pytest.raises(mx.MxTypeError, match="path"):
+        mx.ground_forces(42)

@@ -20,11 +20,12 @@ use super::points::{
     ContactPoint, GroundOptions, check_coordinates, contact_points, frame_times, sample_state,
     tracks,
 };
+use super::series::ForceSeries;
 use super::{GroundError, invalid, invalid_option};
 use crate::dynamics::{Workspace, inverse_dynamics, root_wrench};
 use crate::lie::Wrench;
 use crate::model::Model;
-use crate::motion::{Curve, Dof, Interval, Mu};
+use crate::motion::Mu;
 use nalgebra::Vector3;
 
 /// Per frame, the contact forces at each point and what they leave.
@@ -72,53 +73,27 @@ impl GroundForces {
         self.forces[k].iter().sum()
     }
 
+    /// The per-frame numbers alone, on the frames' grid.
+    pub fn series(&self) -> ForceSeries {
+        ForceSeries {
+            times: self.times.clone(),
+            frame_time: self.frame_time,
+            points: self.points.iter().map(|p| p.name.clone()).collect(),
+            forces: self.forces.clone(),
+            residual_force: self.residual_force.clone(),
+            residual_moment: self.residual_moment.clone(),
+            percent_bw: (0..self.times.len()).map(|k| self.percent_bw(k)).collect(),
+        }
+    }
+
     /// As a motion on the frames' clock, one DOF per number: `POINT.Fx/Fy/Fz`
     /// (N, world axes) per contact point, then `residual.Fx/Fy/Fz` (N),
     /// `residual.Mx/My/Mz` (N·m about the centre of mass) and
     /// `residual.percent_bw` (% of body weight). Sampled curves, so `plot`,
-    /// `save(…, "x.csv")` and the algebra take it as any motion.
+    /// `save(…, "x.csv")` and the algebra take it as any motion
+    /// ([`ForceSeries::to_motion`]).
     pub fn to_motion(&self) -> Result<Mu, GroundError> {
-        let t0 = self.times.first().copied().unwrap_or(0.0);
-        let n = self.times.len();
-        let stop = if n > 1 {
-            self.times[n - 1]
-        } else {
-            t0 + self.frame_time
-        };
-        let mut mu = Mu::new();
-        let mut add = |name: String, vals: Vec<f64>| -> Result<(), GroundError> {
-            let curve = if n > 1 {
-                Curve::samples(t0, self.frame_time, vals)?
-            } else {
-                Curve::constant(vals[0])?
-            };
-            mu.insert(name, Dof::new(vec![Interval::curve(curve, t0, stop)?])?);
-            Ok(())
-        };
-        let axes = ["x", "y", "z"];
-        for (j, p) in self.points.iter().enumerate() {
-            for (c, a) in axes.iter().enumerate() {
-                let vals = self.forces.iter().map(|fr| fr[j][c]).collect();
-                add(format!("{}.F{a}", p.name), vals)?;
-            }
-        }
-        for (c, a) in axes.iter().enumerate() {
-            add(
-                format!("residual.F{a}"),
-                self.residual_force.iter().map(|f| f[c]).collect(),
-            )?;
-        }
-        for (c, a) in axes.iter().enumerate() {
-            add(
-                format!("residual.M{a}"),
-                self.residual_moment.iter().map(|m| m[c]).collect(),
-            )?;
-        }
-        add(
-            "residual.percent_bw".into(),
-            (0..n).map(|k| self.percent_bw(k)).collect(),
-        )?;
-        Ok(mu)
+        self.series().to_motion()
     }
 }
 

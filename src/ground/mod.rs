@@ -18,7 +18,10 @@
 //! dynamics of the floating base per frame (on `body.rs`: the floating root,
 //! the centre of mass, the length scale) and gives the best contact forces
 //! per point, which `cone.rs` solves as a small SOCP (by `clarabel`), and
-//! what they leave; `residual.rs` summarises that as the ground residual.
+//! what they leave; `series.rs` holds those numbers on the frame grid and as
+//! the motion the language's `ground_forces` is (one DOF per number), both
+//! ways, for files that carry them; `residual.rs` summarises that as the
+//! ground residual.
 //!
 //! Layering: uses `lie`, `model`, `dynamics`, `motion`; used by `spacetime`
 //! (SP's contact planning, support hold and root), `report` and `lang`.
@@ -32,6 +35,7 @@ pub mod forces;
 pub mod points;
 pub mod residual;
 pub mod root;
+pub mod series;
 pub mod skate;
 pub mod stance;
 
@@ -46,6 +50,7 @@ pub use points::{
 };
 pub use residual::{GroundResidual, ground_residual};
 pub use root::{body_link, moving_root};
+pub use series::ForceSeries;
 pub use skate::{Penetration, Skate, foot_skate, penetration};
 pub use stance::{
     CONTACT_HEIGHT, CONTACT_SPEED, GROUND_BAND, in_stance, plan_speed_limit, plan_stances,

@@ -10,7 +10,7 @@ use mx::mocap::{Missing, bvh::Units, positions};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn quote(p: &Path) -> String {
+pub(crate) fn quote(p: &Path) -> String {
     format!("{:?}", p.to_string_lossy())
 }
 
@@ -18,7 +18,7 @@ fn quote(p: &Path) -> String {
 /// installs it into `target/gltf-validator`; `MX_GLTF_VALIDATOR` moves it).
 /// `None` (with a note) on a developer machine without it or without node;
 /// a panic in CI, where it must be there.
-fn validator() -> Option<PathBuf> {
+pub(crate) fn validator() -> Option<PathBuf> {
     let dir = std::env::var_os("MX_GLTF_VALIDATOR")
         .map(PathBuf::from)
         .unwrap_or_else(|| {
@@ -41,7 +41,7 @@ fn validator() -> Option<PathBuf> {
 }
 
 /// The validator's report on `file`: (errors, warnings, the messages).
-fn validate(modules: &Path, file: &Path) -> (u64, u64, String) {
+pub(crate) fn validate(modules: &Path, file: &Path) -> (u64, u64, String) {
     const SCRIPT: &str = r#"
 const fs = require("fs");
 const v = require("gltf-validator");

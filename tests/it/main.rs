@@ -19,6 +19,7 @@ mod dynamics_points;
 mod dynamics_sim;
 mod first_hour;
 mod gltf;
+mod gltf_forces;
 mod graph;
 mod ground;
 mod ground_forces;

@@ -222,7 +222,7 @@ fn stated_channels(v: &serde_json::Value) -> Option<Vec<Channel>> {
 /// The document's JSON as plain JSON, for what the `gltf` crate does not
 /// keep (node `extras`): a GLB's first chunk, or the whole `.gltf` file.
 /// `Null` when it does not parse (the `gltf` crate has read it already).
-fn raw_json(bytes: &[u8]) -> serde_json::Value {
+pub(super) fn raw_json(bytes: &[u8]) -> serde_json::Value {
     let json = match bytes {
         [
             b'g',

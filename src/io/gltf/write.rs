@@ -18,6 +18,9 @@
 //! y-up, as glTF asks). Each node's `extras.mx` holds its link's mass
 //! properties ([`mass_properties`]) and, for a body from a clip, its BVH
 //! channels ([`bvh_channels`]): the reader gives both back to `body_of`.
+//! An animation's `extras.mx` holds the frames whose Euler angles are not the
+//! principal ones ([`flipped_frames`]) and, when asked, the motion's contact
+//! forces per frame ([`super::forces`]).
 
 use std::path::Path;
 
@@ -25,6 +28,7 @@ use nalgebra::{Matrix4, Rotation3, UnitQuaternion, Vector3};
 use serde_json::{Value, json};
 
 use super::GltfError;
+use crate::ground::ForceSeries;
 use crate::lie::Se3;
 use crate::mocap::{Missing, frame_times, poses_at};
 use crate::model::Model;
@@ -65,6 +69,27 @@ pub fn to_bytes(
     rate: Option<f64>,
     container: Container,
 ) -> Result<Vec<u8>, GltfError> {
+    to_bytes_with_forces(body, clips, &[], rate, container)
+}
+
+/// [`to_bytes`], where `forces[i]` (when given) are the contact forces of
+/// `clips[i]` on the frames its animation is keyed on (`ground_forces` with
+/// the same `rate`), written to the animation's `extras.mx.forces`
+/// ([`super::forces`]). Forces on other frames are an error.
+pub fn to_bytes_with_forces(
+    body: &Model,
+    clips: &[Clip],
+    forces: &[Option<&ForceSeries>],
+    rate: Option<f64>,
+    container: Container,
+) -> Result<Vec<u8>, GltfError> {
+    if forces.len() > clips.len() {
+        return Err(GltfError::invalid(format!(
+            "{} sets of forces for {} motions",
+            forces.len(),
+            clips.len()
+        )));
+    }
     if clips.is_empty() {
         return Err(GltfError::invalid("no motion to write"));
     }
@@ -131,7 +156,10 @@ pub fn to_bytes(
     }
     doc.skins.push(skin);
 
-    for clip in clips {
+    // where each contact point's force acts: the node of its link
+    let node_of = |name: &str| links.iter().position(|&l| body.link(l).name == name);
+    let up = crate::ground::up_of(&body.default_gravity);
+    for (i, clip) in clips.iter().enumerate() {
         let times = frame_times(clip.motion, rate)?;
         let poses = poses_at(clip.motion, body, times, Missing::Error)?;
         if poses.links != links {
@@ -141,10 +169,20 @@ pub fn to_bytes(
         }
         let flipped = flipped_frames(clip.motion, body, &links, &channels, &poses.times)?;
         doc.animation(clip.name, &poses.times, &poses.poses, &parents, &rest_local);
-        if !flipped.is_empty()
+        let mut mx = serde_json::Map::new();
+        if !flipped.is_empty() {
+            mx.insert("flipped".into(), json!(flipped));
+        }
+        if let Some(f) = forces.get(i).copied().flatten() {
+            on_frames(f, &poses.times, clip.name)?;
+            let nodes: Vec<Option<usize>> = f.points.iter().map(|p| node_of(p)).collect();
+            let extras = super::forces::to_extras(f, poses.times[0], up, &nodes);
+            mx.insert("forces".into(), extras);
+        }
+        if !mx.is_empty()
             && let Some(a) = doc.animations.last_mut()
         {
-            a["extras"] = json!({ "mx": { "flipped": flipped } });
+            a["extras"] = json!({ "mx": mx });
         }
     }
     doc.finish(&roots, container)
@@ -152,9 +190,51 @@ pub fn to_bytes(
 
 /// Writes `clips` on `body` to `path` atomically (`.glb` binary, `.gltf` embedded).
 pub fn save(body: &Model, clips: &[Clip], rate: Option<f64>, path: &Path) -> Result<(), GltfError> {
-    let bytes = to_bytes(body, clips, rate, Container::for_path(path))?;
+    save_with_forces(body, clips, &[], rate, path)
+}
+
+/// [`save`] with contact forces per clip, as [`to_bytes_with_forces`] writes them.
+pub fn save_with_forces(
+    body: &Model,
+    clips: &[Clip],
+    forces: &[Option<&ForceSeries>],
+    rate: Option<f64>,
+    path: &Path,
+) -> Result<(), GltfError> {
+    let bytes = to_bytes_with_forces(body, clips, forces, rate, Container::for_path(path))?;
     crate::io::atomic::write_atomic(path, &bytes)?;
     Ok(())
+}
+
+/// `Err` unless `f` has one frame per time of the animation, at that time.
+fn on_frames(f: &ForceSeries, times: &[f64], name: &str) -> Result<(), GltfError> {
+    let fits = f.times.len() == times.len()
+        && f.forces.iter().all(|fr| fr.len() == f.points.len())
+        && [
+            f.forces.len(),
+            f.residual_force.len(),
+            f.residual_moment.len(),
+            f.percent_bw.len(),
+        ]
+        .iter()
+        .all(|&n| n == times.len())
+        && f.times
+            .iter()
+            .zip(times)
+            .all(|(a, b)| (a - b).abs() <= 1e-9 * b.abs().max(1.0));
+    if fits {
+        return Ok(());
+    }
+    let span = |t: &[f64]| match t {
+        [] => "no frames".to_string(),
+        [a, .., b] => format!("{} frames from {a} s to {b} s", t.len()),
+        [a] => format!("1 frame at {a} s"),
+    };
+    Err(GltfError::invalid(format!(
+        "the forces of `{name}` are on {}, its animation on {}: compute them on the motion saved at the rate saved (`forces: true` does)",
+        span(&f.times),
+        span(times)
+    )))
 }
 
 /// A link's mass properties as glTF `extras` (`{"mx": {…}}` on its node), so

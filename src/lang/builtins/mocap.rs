@@ -200,34 +200,11 @@ fn gltf_files(reg: &mut Registry) {
             ext,
             "glTF 2.0 skeleton animation: an Mu with DOFs `Joint.Zrotation/Xrotation/Yrotation` (Z·X·Y Euler, radians) per joint of the skin and \
              `Joint.X/Y/Zposition` (metres) at the root and wherever a joint's translation is animated; frames on the keys' grid from t = 0. \
-             `body_of(m)` gives its body (the saved one, masses and inertias, when mx wrote the file). Option `animation:` a name or an index (0 first; default the first). Meshes, scale and morph channels are ignored with a note.",
-            |path, a, ev| {
-                let which = match a.opt_named("animation") {
-                    None => crate::io::gltf::Which::First,
-                    Some(v) => match &v.value {
-                        Value::Str(s) => crate::io::gltf::Which::Name(s.to_string()),
-                        Value::Number(k) if *k >= 0.0 && k.fract() == 0.0 => crate::io::gltf::Which::Index(*k as usize),
-                        _ => return Err(a.type_error("animation", "an animation's name or its index (0 first)", &v)),
-                    },
-                };
-                let loaded = crate::io::gltf::load(path, which).map_err(|e| gltf_error(e, a.call_span()))?;
-                // Notes on stderr: stdout carries only `print` output.
-                for n in &loaded.notes {
-                    eprintln!("note: {}: {n}", path.display());
-                }
-                let clip = loaded.clip;
-                let source = Arc::new(ClipSource {
-                    path: path.display().to_string(),
-                    skeleton: Arc::new(clip.skeleton),
-                    metres_per_unit: clip.units.metres_per_unit,
-                    frame_time: clip.frame_time,
-                });
-                ev.ctx.session.get::<LoadedClips>().remember(source.clone());
-                Ok(Motion::Mu(clip.mu).with_provenance(Provenance {
-                    clip: Some(source),
-                    ..Provenance::default()
-                }))
-            },
+             `body_of(m)` gives its body (the saved one, masses and inertias, when mx wrote the file). Option `animation:` a name or an index (0 first; default the first). \
+             `forces: true` reads instead the contact forces the animation carries (saved with `forces:`): the motion `ground_forces` gave, on the animation's frames from t = 0 \
+             (`POINT.Fx/Fy/Fz`, `residual.Fx/…/Mz`, `residual.percent_bw`; N and N·m in the file's axes, the saved body's), number for number; an error when it carries none. \
+             Meshes, scale and morph channels are ignored with a note.",
+            load_gltf,
         );
         reg.saver(
             ext,
@@ -235,44 +212,199 @@ fn gltf_files(reg: &mut Registry) {
              each motion an animation of LINEAR rotation (quaternion) channels and the root's translation, keyed on its frames from 0 s; \
              each joint's mass, centre of mass and inertia in its node's `extras.mx`. \
              `save(m, \"x.glb\", body: b)`; several motions of one body: `save([a, b], \"x.glb\", body: b, names: [\"a\", \"b\"])`. \
-             `body:` defaults to the body of the clip m came from; `rate:` frames per second (default: the motion's own).",
-            |v, path, a, ev| {
-                let span = a.call_span();
-                let motions = motions_to_save(v, a)?;
-                let body = match a.opt_named("body") {
-                    Some(b) => body_of_arg(a, "body", &b)?.model.clone(),
-                    None => {
-                        let k = clip_of(v, &motions[0], ev).ok_or_else(|| no_skeleton(span))?;
-                        let mass = k.skeleton.stated_mass().unwrap_or(70.0);
-                        let (model, _) = mocap::body_of::body_of_motion(&k.skeleton, &motions[0], mass, k.metres_per_unit).map_err(|e| mocap_error(e, span))?;
-                        Arc::new(model)
-                    }
-                };
-                let rate = match a.opt_named("rate") {
-                    Some(r) => match r.value {
-                        Value::Number(x) if x.is_finite() && x > 0.0 => Some(x),
-                        _ => return Err(a.type_error("rate", "a positive number of frames per second", &r)),
-                    },
-                    None => None,
-                };
-                let names: Vec<String> = match a.opt_named("names") {
-                    None if motions.len() == 1 => vec![path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "motion".into())],
-                    None => (1..=motions.len()).map(|k| format!("motion {k}")).collect(),
-                    Some(l) => {
-                        let bad = |a: &Args| a.type_error("names", &format!("a list of {} strings, one per motion", motions.len()), &l);
-                        let Value::List(items) = &l.value else { return Err(bad(a)) };
-                        if items.len() != motions.len() {
-                            return Err(bad(a));
-                        }
-                        items.iter().map(|v| match v { Value::Str(s) => Ok(s.to_string()), _ => Err(bad(a)) }).collect::<MxResult<_>>()?
-                    }
-                };
-                let clips: Vec<crate::io::gltf::Clip> =
-                    names.iter().zip(&motions).map(|(name, motion)| crate::io::gltf::Clip { name, motion }).collect();
-                crate::io::gltf::save(&body, &clips, rate, path).map_err(|e| gltf_error(e, span))
-            },
+             `body:` defaults to the body of the clip m came from; `rate:` frames per second (default: the motion's own). \
+             `forces: ground_forces(m, b)` (or `forces: true`, which computes it with its defaults on the saved body and rate) also writes the contact forces per frame, \
+             on the animation's frames, to the animation's `extras.mx.forces`: the points' names and nodes, frames × points × 3 forces (N), the residual force (N), \
+             moment (N·m about the centre of mass) and % body weight, the frame times and the body's up, in the file's axes (y-up for a body from BVH). \
+             Several motions: a list, one per motion (`true`, `false` or a forces motion). Without `forces:` no dynamics runs. \
+             `load(\"x.glb\", forces: true)` reads them back.",
+            save_gltf,
         );
     }
+}
+
+/// `load("x.glb", animation: …, forces: …)`: the animation as a clip, or the contact forces it carries.
+fn load_gltf(path: &std::path::Path, a: &mut Args, ev: &mut Evaluator) -> MxResult<Value> {
+    let which = match a.opt_named("animation") {
+        None => crate::io::gltf::Which::First,
+        Some(v) => match &v.value {
+            Value::Str(s) => crate::io::gltf::Which::Name(s.to_string()),
+            Value::Number(k) if *k >= 0.0 && k.fract() == 0.0 => {
+                crate::io::gltf::Which::Index(*k as usize)
+            }
+            _ => {
+                return Err(a.type_error(
+                    "animation",
+                    "an animation's name or its index (0 first)",
+                    &v,
+                ));
+            }
+        },
+    };
+    let forces = match a.opt_named("forces") {
+        None => false,
+        Some(v) => match v.value {
+            Value::Bool(b) => b,
+            _ => {
+                return Err(a.type_error(
+                    "forces",
+                    "true (read the contact forces the animation carries) or false",
+                    &v,
+                ));
+            }
+        },
+    };
+    if forces {
+        let span = a.call_span();
+        let saved = crate::io::gltf::load_forces(path, which).map_err(|e| gltf_error(e, span))?;
+        let mu = saved.series.to_motion().map_err(|e| error_at(&e, span))?;
+        return Ok(Value::object(Motion::Mu(mu)));
+    }
+    let loaded = crate::io::gltf::load(path, which).map_err(|e| gltf_error(e, a.call_span()))?;
+    // Notes on stderr: stdout carries only `print` output.
+    for n in &loaded.notes {
+        eprintln!("note: {}: {n}", path.display());
+    }
+    let clip = loaded.clip;
+    let source = Arc::new(ClipSource {
+        path: path.display().to_string(),
+        skeleton: Arc::new(clip.skeleton),
+        metres_per_unit: clip.units.metres_per_unit,
+        frame_time: clip.frame_time,
+    });
+    ev.ctx.session.get::<LoadedClips>().remember(source.clone());
+    Ok(Motion::Mu(clip.mu).with_provenance(Provenance {
+        clip: Some(source),
+        ..Provenance::default()
+    }))
+}
+
+/// `save(m, "x.glb", body: …, rate: …, names: […], forces: …)`.
+fn save_gltf(v: &Value, path: &std::path::Path, a: &mut Args, ev: &mut Evaluator) -> MxResult<()> {
+    let span = a.call_span();
+    let motions = motions_to_save(v, a)?;
+    let body = match a.opt_named("body") {
+        Some(b) => body_of_arg(a, "body", &b)?.model.clone(),
+        None => {
+            let k = clip_of(v, &motions[0], ev).ok_or_else(|| no_skeleton(span))?;
+            let mass = k.skeleton.stated_mass().unwrap_or(70.0);
+            let (model, _) =
+                mocap::body_of::body_of_motion(&k.skeleton, &motions[0], mass, k.metres_per_unit)
+                    .map_err(|e| mocap_error(e, span))?;
+            Arc::new(model)
+        }
+    };
+    let rate = match a.opt_named("rate") {
+        Some(r) => match r.value {
+            Value::Number(x) if x.is_finite() && x > 0.0 => Some(x),
+            _ => return Err(a.type_error("rate", "a positive number of frames per second", &r)),
+        },
+        None => None,
+    };
+    let names: Vec<String> = match a.opt_named("names") {
+        None if motions.len() == 1 => vec![
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "motion".into()),
+        ],
+        None => (1..=motions.len()).map(|k| format!("motion {k}")).collect(),
+        Some(l) => {
+            let bad = |a: &Args| {
+                a.type_error(
+                    "names",
+                    &format!("a list of {} strings, one per motion", motions.len()),
+                    &l,
+                )
+            };
+            let Value::List(items) = &l.value else {
+                return Err(bad(a));
+            };
+            if items.len() != motions.len() {
+                return Err(bad(a));
+            }
+            items
+                .iter()
+                .map(|v| match v {
+                    Value::Str(s) => Ok(s.to_string()),
+                    _ => Err(bad(a)),
+                })
+                .collect::<MxResult<_>>()?
+        }
+    };
+    let forces = forces_to_save(a, &motions, &body, rate)?;
+    let forces: Vec<Option<&crate::ground::ForceSeries>> =
+        forces.iter().map(Option::as_ref).collect();
+    let clips: Vec<crate::io::gltf::Clip> = names
+        .iter()
+        .zip(&motions)
+        .map(|(name, motion)| crate::io::gltf::Clip { name, motion })
+        .collect();
+    crate::io::gltf::save_with_forces(&body, &clips, &forces, rate, path)
+        .map_err(|e| gltf_error(e, span))
+}
+
+/// The `forces:` of a glTF save, one entry per motion: `true` computes
+/// `ground_forces` (its defaults, on `body`, at the saved `rate`, so on the
+/// animation's frames); a forces motion is read at the animation's frames;
+/// `false` or nil, none; a list gives one of these per motion. No `forces:`:
+/// none, and no dynamics runs.
+fn forces_to_save(
+    a: &mut Args,
+    motions: &[Mu],
+    body: &crate::model::Model,
+    rate: Option<f64>,
+) -> MxResult<Vec<Option<crate::ground::ForceSeries>>> {
+    let Some(arg) = a.opt_named("forces") else {
+        return Ok(vec![]);
+    };
+    let what = "true (compute ground_forces(m, body)), false, what ground_forces(m, body) returns, or a list of these, one per motion";
+    let items: Vec<Value> = match &arg.value {
+        Value::List(items) if items.len() == motions.len() => items.to_vec(),
+        Value::List(_) => {
+            return Err(a.type_error(
+                "forces",
+                &format!("a list of {} entries, one per motion", motions.len()),
+                &arg,
+            ));
+        }
+        Value::Bool(_) | Value::Nil => vec![arg.value.clone(); motions.len()],
+        v if motions.len() == 1 => vec![v.clone()],
+        _ => {
+            return Err(a.type_error(
+                "forces",
+                &format!("a list of {} entries, one per motion", motions.len()),
+                &arg,
+            ));
+        }
+    };
+    let at = |e: &dyn crate::lang::host::errors::EngineError| error_at(e, arg.span);
+    items
+        .iter()
+        .zip(motions)
+        .map(|(item, m)| match item {
+            Value::Bool(false) | Value::Nil => Ok(None),
+            Value::Bool(true) => {
+                let o = crate::ground::GroundOptions {
+                    rate,
+                    ..Default::default()
+                };
+                let g = crate::ground::ground_forces(m, body, &o, 0.8).map_err(|e| at(&e))?;
+                Ok(Some(g.series()))
+            }
+            v => match v.as_object::<Motion>() {
+                Some(Motion::Mu(f)) => {
+                    let times = mocap::frame_times(m, rate).map_err(|e| at(&e))?;
+                    let r = rate
+                        .or_else(|| to_motion::sample_period(m).map(|dt| 1.0 / dt))
+                        .unwrap_or(30.0);
+                    crate::ground::ForceSeries::from_motion(f, &times, 1.0 / r)
+                        .map(Some)
+                        .map_err(|e| at(&e))
+                }
+                _ => Err(a.type_error("forces", what, &arg)),
+            },
+        })
+        .collect()
 }
 
 /// Bodies from clips: `body_of`, `human`, `fit`, `positions`.

@@ -294,7 +294,7 @@ impl EngineError for GltfError {
         match self {
             GltfError::File(f) => f.kind(),
             GltfError::Mocap(m) => m.kind(),
-            GltfError::Invalid(_) => ErrorKind::Io,
+            GltfError::Invalid(_) | GltfError::Forces { .. } => ErrorKind::Io,
         }
     }
     fn advice(&self) -> Option<&'static str> {
@@ -304,6 +304,9 @@ impl EngineError for GltfError {
             GltfError::Invalid(_) => {
                 Some("mx reads glTF files holding a skin (skeleton) and an animation of its joints")
             }
+            GltfError::Forces { .. } => Some(
+                "the contact forces are those `save(m, \"x.glb\", body: b, forces: true)` writes; load the file without `forces:` for its motion",
+            ),
         }
     }
     fn argument(&self) -> Option<&'static str> {
@@ -311,6 +314,7 @@ impl EngineError for GltfError {
             GltfError::File(f) => f.argument(),
             GltfError::Mocap(m) => m.argument(),
             GltfError::Invalid(_) => None,
+            GltfError::Forces { .. } => Some("forces"),
         }
     }
 }
