@@ -25,6 +25,7 @@
 //! clip itself.
 
 use crate::mocap::bvh::{Skeleton, joint_local_transform};
+use crate::mocap::up::channel_value;
 use crate::motion::Mu;
 use nalgebra::Vector3;
 
@@ -199,20 +200,8 @@ pub fn key_positions(
                 }
                 vals.clear();
                 for ((c, name), dof) in j.channels.iter().zip(&names[i]).zip(&dofs[i]) {
-                    let v = match dof {
-                        // a channel the motion lacks stays at rest
-                        None if c.is_rotation() => 0.0,
-                        None => j.offset[c.axis()],
-                        Some(d) => {
-                            let v = d.sample_value(name, t).ok().flatten()?;
-                            if c.is_rotation() {
-                                v.to_degrees()
-                            } else {
-                                v / metres_per_unit
-                            }
-                        }
-                    };
-                    vals.push(v);
+                    // (a channel the motion lacks stays at rest)
+                    vals.push(channel_value(j, *c, *dof, name, t, metres_per_unit)?);
                 }
                 let local = joint_local_transform(j, &vals, metres_per_unit);
                 world[i] = match j.parent {

@@ -13,10 +13,10 @@
 //! - else y, BVH's convention: a skeleton without feet (an arm, a pendulum)
 //!   keeps y-up, as do a rest pose and a motion that say nothing clear.
 
-use super::bvh::{Skeleton, joint_local_transform};
+use super::bvh::{BvhJoint, Channel, Skeleton, joint_local_transform};
 use crate::lie::Se3;
 use crate::model::topology::is_foot_name;
-use crate::motion::Mu;
+use crate::motion::{Dof, Mu};
 use nalgebra::Vector3;
 
 /// Standard gravity (m/s²).
@@ -99,6 +99,31 @@ fn rest_positions(sk: &Skeleton) -> Vec<Vector3<f64>> {
     out
 }
 
+/// BVH channel `c` of joint `j` at time t from its DOF `dof` (named `name`
+/// in the motion), in the file's degrees and units; a channel the motion
+/// lacks stays at rest. `None` where the DOF is undefined at t.
+pub(crate) fn channel_value(
+    j: &BvhJoint,
+    c: Channel,
+    dof: Option<&Dof>,
+    name: &str,
+    t: f64,
+    metres_per_unit: f64,
+) -> Option<f64> {
+    Some(match dof {
+        None if c.is_rotation() => 0.0,
+        None => j.offset[c.axis()],
+        Some(d) => {
+            let v = d.sample_value(name, t).ok().flatten()?;
+            if c.is_rotation() {
+                v.to_degrees()
+            } else {
+                v / metres_per_unit
+            }
+        }
+    })
+}
+
 /// Joint positions (metres) at up to [`SAMPLES`] frames of `mu` spread over
 /// its span, those where every channel it names is defined; a channel it
 /// lacks stays at rest.
@@ -122,19 +147,14 @@ fn frame_positions(sk: &Skeleton, mu: &Mu, metres_per_unit: f64) -> Vec<Vec<Vect
         for (j, names) in sk.joints.iter().zip(&names) {
             values.clear();
             for (c, name) in j.channels.iter().zip(names) {
-                let v = match mu.get(name) {
-                    None if c.is_rotation() => 0.0,
-                    None => j.offset[c.axis()],
-                    Some(d) => {
-                        let v = d.sample_value(name, t).ok().flatten()?;
-                        if c.is_rotation() {
-                            v.to_degrees()
-                        } else {
-                            v / metres_per_unit
-                        }
-                    }
-                };
-                values.push(v);
+                values.push(channel_value(
+                    j,
+                    *c,
+                    mu.get(name),
+                    name,
+                    t,
+                    metres_per_unit,
+                )?);
             }
             let local = joint_local_transform(j, &values, metres_per_unit);
             world.push(match j.parent {

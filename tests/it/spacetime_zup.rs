@@ -149,6 +149,20 @@ fn the_ground_measures_of_a_z_up_walk_are_the_walk_s() {
     }
 }
 
+/// One window per walk, a 30-frame natural cut, SP standing (its default,
+/// stated).
+fn natural_cut() -> (Protocol, usize, SpOptions) {
+    let p = Protocol {
+        windows_per_clip: Some(1),
+        ..Protocol::default()
+    };
+    let o = SpOptions {
+        contact: Contact::Auto,
+        ..SpOptions::default()
+    };
+    (p, 30, o)
+}
+
 /// The example SP follows is chosen by how its context matches the gap's,
 /// each joint compared as one rotation (`reference/pose.rs`), so the z-up
 /// copy of a walk follows the same stretch of itself as the walk, at the
@@ -156,15 +170,7 @@ fn the_ground_measures_of_a_z_up_walk_are_the_walk_s() {
 /// for the same poses and 12 of 20 walks chose another stretch or none.
 #[test]
 fn a_z_up_walk_follows_the_same_example_as_the_walk() {
-    let p = Protocol {
-        windows_per_clip: Some(1),
-        ..Protocol::default()
-    };
-    let gap = 30;
-    let o = SpOptions {
-        contact: Contact::Auto,
-        ..SpOptions::default()
-    };
+    let (p, gap, o) = natural_cut();
     for walk in walks() {
         let up = rotated_up(&walk).unwrap();
         let start = walk.windows(&p, gap)[0];
@@ -206,15 +212,7 @@ fn a_z_up_walk_follows_the_same_example_as_the_walk() {
             itself depends on the chart: its unknowns, prior and basis are per Euler channel \
             (a Hermite base plus 5 coefficients per channel spans other motions in another chart)"]
 fn sp_plans_and_fills_a_z_up_walk_as_the_walk_turned() {
-    let p = Protocol {
-        windows_per_clip: Some(1),
-        ..Protocol::default()
-    };
-    let gap = 30;
-    let o = SpOptions {
-        contact: Contact::Auto,
-        ..SpOptions::default()
-    };
+    let (p, gap, o) = natural_cut();
     let mut failed = vec![];
     for walk in walks() {
         let up = rotated_up(&walk).unwrap();
